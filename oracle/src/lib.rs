@@ -1,0 +1,16 @@
+//! The oracle: Verity's CPU path tracer, the ground truth every approximation is measured
+//! against (DESIGN.md "Ground truth is defined per effect").
+
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod bsdf;
+pub mod frame;
+pub mod geometry;
+pub mod integrator;
+pub mod light;
+pub mod render;
+pub mod sampler;
+pub mod sampling;
+
+pub use render::{render, CheckpointConfig, Progress, RenderError, RenderJob, RenderResult, StopRule};

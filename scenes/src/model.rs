@@ -1,0 +1,555 @@
+//! The scene model both renderers load: camera, film, shapes, materials, lights, environment.
+//!
+//! Conventions (DESIGN.md, "Conventions"): right-handed, +Y up, metres; linear Rec.709 RGB;
+//! the camera looks down −Z in its own frame; pixel (i, j) covers the raster square
+//! [i, i+1]×[j, j+1] with row 0 at the top. Every quantity here is in world space: loaders
+//! bake node and `transform` chains into the geometry, so renderers never see a scene graph.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use glam::{Affine3A, Vec2, Vec3};
+
+use crate::texture::Texture;
+
+/// Linear Rec.709 RGB triple (radiance, reflectance, …).
+pub type Rgb = Vec3;
+
+/// A whole scene, ready to render.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// File the scene was loaded from (for messages and report headers).
+    pub source: PathBuf,
+    /// The viewpoint.
+    pub camera: Camera,
+    /// Output raster size and render defaults.
+    pub film: Film,
+    /// Default render settings from the scene file (the CLI overrides them).
+    pub render: RenderSettings,
+    /// Image textures, referenced by index from [`TexRgb`]/[`TexScalar`].
+    pub textures: Vec<Arc<Texture>>,
+    /// Materials, referenced by index from [`Shape::material`].
+    pub materials: Vec<Material>,
+    /// Surfaces. A shape's object id (AOV) is its index + 1; 0 is the background.
+    pub shapes: Vec<Shape>,
+    /// Delta and distant lights. Area lights are emissive [`Shape`]s.
+    pub lights: Vec<Light>,
+    /// Distant environment, if any.
+    pub environment: Option<Environment>,
+}
+
+/// Pinhole camera (DESIGN.md "Camera"): `to_world` maps the camera frame (looking down −Z,
+/// +Y up) to world space; `fov_y_deg` is the full vertical field of view in degrees.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// Rigid camera-to-world transform (no scale).
+    pub to_world: Affine3A,
+    /// Full vertical field of view, degrees, in (0, 180).
+    pub fov_y_deg: f32,
+}
+
+impl Camera {
+    /// Camera at `eye` looking at `target` with the given `up` hint.
+    pub fn look_at(eye: Vec3, target: Vec3, up: Vec3, fov_y_deg: f32) -> Self {
+        // look_at_rh builds world→view; invert to get view→world.
+        let view = Affine3A::look_at_rh(eye, target, up);
+        Camera { to_world: view.inverse(), fov_y_deg }
+    }
+
+    /// Camera position in world space.
+    pub fn position(&self) -> Vec3 {
+        self.to_world.translation.into()
+    }
+
+    /// Unit view direction (the camera's −Z axis) in world space.
+    pub fn forward(&self) -> Vec3 {
+        (-Vec3::from(self.to_world.matrix3.z_axis)).normalize()
+    }
+
+    /// World-space direction of the ray through raster position (x, y) of a `width`×`height`
+    /// film; (0, 0) is the top-left corner of pixel (0, 0), (width, height) the bottom-right
+    /// corner of the last pixel. Normalised. This is the one projection both renderers use:
+    /// x_cam = (2x/W − 1)·tan(fov/2)·W/H, y_cam = (1 − 2y/H)·tan(fov/2), z_cam = −1.
+    pub fn ray_direction(&self, x: f32, y: f32, width: u32, height: u32) -> Vec3 {
+        let tan_half = (self.fov_y_deg.to_radians() * 0.5).tan();
+        let aspect = width as f32 / height as f32;
+        let xc = (2.0 * x / width as f32 - 1.0) * tan_half * aspect;
+        let yc = (1.0 - 2.0 * y / height as f32) * tan_half;
+        self.to_world.transform_vector3(Vec3::new(xc, yc, -1.0)).normalize()
+    }
+}
+
+/// Output raster.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Film {
+    /// Width in pixels (1..=16384).
+    pub width: u32,
+    /// Height in pixels (1..=16384).
+    pub height: u32,
+}
+
+/// Which light-transport quantity the oracle computes (DESIGN.md "Ground truth").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum IntegratorKind {
+    /// Full path tracing up to `max_depth` (Mitsuba's meaning: 1 = emitters seen directly,
+    /// 2 = direct illumination, −1 = unbounded).
+    #[default]
+    Path,
+    /// Emission + one bounce of direct light + perfect-specular chains.
+    Direct,
+    /// Ambient occlusion with a radius: fraction of unoccluded cosine-weighted directions.
+    Ao,
+}
+
+/// Render defaults a scene file may carry; every one can be overridden on the command line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderSettings {
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Light-transport mode.
+    pub integrator: IntegratorKind,
+    /// Path depth, Mitsuba semantics; −1 = unbounded.
+    pub max_depth: i32,
+    /// Depth at which Russian roulette starts (Mitsuba's `rr_depth`).
+    pub rr_depth: u32,
+    /// Ambient-occlusion radius in metres (`ao` integrator).
+    pub ao_radius: f32,
+    /// Seed of the sampler's scrambling.
+    pub seed: u64,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            spp: 64,
+            integrator: IntegratorKind::Path,
+            max_depth: 6,
+            rr_depth: 5,
+            ao_radius: 1.0,
+            seed: 0,
+        }
+    }
+}
+
+/// How a texture coordinate outside [0, 1] is mapped back in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum WrapMode {
+    /// Tile (glTF REPEAT).
+    #[default]
+    Repeat,
+    /// Clamp to the edge texel (glTF CLAMP_TO_EDGE).
+    Clamp,
+    /// Mirror every other tile (glTF MIRRORED_REPEAT).
+    Mirror,
+}
+
+/// An RGB material input: a constant, or a texture times a factor (glTF's convention).
+#[derive(Clone, Debug, PartialEq)]
+pub enum TexRgb {
+    /// Same value everywhere.
+    Constant(Rgb),
+    /// `factor` × texture(uv); the texture is an index into [`Scene::textures`].
+    Image {
+        /// Index into [`Scene::textures`].
+        texture: usize,
+        /// Multiplier applied to the texel (linear RGB).
+        factor: Rgb,
+    },
+}
+
+/// A scalar material input: a constant, or one channel of a texture times a factor.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TexScalar {
+    /// Same value everywhere.
+    Constant(f32),
+    /// `factor` × texture(uv)[channel].
+    Image {
+        /// Index into [`Scene::textures`].
+        texture: usize,
+        /// Channel 0..=3 (glTF: roughness is G = 1, metallic is B = 2).
+        channel: usize,
+        /// Multiplier.
+        factor: f32,
+    },
+}
+
+/// Smith masking-shadowing variant for GGX (DESIGN.md "BSDFs").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Masking {
+    /// Height-correlated Smith G2 (Heitz 2014, eq. 99), as glTF specifies.
+    #[default]
+    HeightCorrelated,
+    /// Separable Smith G1(wo)·G1(wi), as Mitsuba's `roughconductor` uses.
+    Separable,
+}
+
+/// Materials (DESIGN.md "BSDFs"). All are two-sided except the dielectric, which has an
+/// inside and an outside.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Material {
+    /// Lambertian diffuse: f = albedo/π.
+    Diffuse {
+        /// Albedo ρ ∈ [0, 1].
+        albedo: TexRgb,
+    },
+    /// Normalized Phong lobe around the mirror direction: f·cosθi = ks·(n+2)/(2π)·cosⁿα,
+    /// α the angle between ωi and the mirror of ωo (Lafortune & Willems 1994).
+    Phong {
+        /// Specular reflectance ks ∈ [0, 1].
+        reflectance: TexRgb,
+        /// Exponent n ≥ 0.
+        exponent: f32,
+    },
+    /// GGX / Trowbridge-Reitz microfacet reflection (Walter et al. 2007) with Schlick Fresnel
+    /// F = f0 + (1 − f0)(1 − cosθd)⁵ (f0 = 1 gives F ≡ 1, Mitsuba's `roughconductor` with
+    /// `material="none"`), times `reflectance`. alpha = roughness².
+    Ggx {
+        /// Multiplier on the lobe (Mitsuba's `specular_reflectance`).
+        reflectance: TexRgb,
+        /// Schlick's normal-incidence reflectance.
+        f0: Rgb,
+        /// Perceptual roughness in [0, 1]; alpha = roughness².
+        roughness: TexScalar,
+        /// Smith masking variant.
+        masking: Masking,
+    },
+    /// glTF 2.0 metallic-roughness material (glTF 2.0 spec, Appendix B): Lambert diffuse and
+    /// GGX specular mixed by Schlick Fresnel (f0 = 0.04 dielectric, base colour for metals).
+    MetalRough {
+        /// Base colour (sRGB texture decoded to linear).
+        base_color: TexRgb,
+        /// Metalness in [0, 1].
+        metallic: TexScalar,
+        /// Perceptual roughness in [0, 1].
+        roughness: TexScalar,
+    },
+    /// Ideal specular reflection, f = reflectance·δ(ωi − mirror(ωo)) / cosθi.
+    Mirror {
+        /// Reflectance.
+        reflectance: Rgb,
+    },
+    /// Ideal smooth dielectric interface (exact Fresnel, Snell refraction).
+    Dielectric {
+        /// Interior index of refraction.
+        int_ior: f32,
+        /// Exterior index of refraction.
+        ext_ior: f32,
+    },
+}
+
+/// Optional per-shape normal map (tangent space, MikkTSpace convention as glTF).
+#[derive(Clone, Debug, PartialEq)]
+pub struct NormalMap {
+    /// Index into [`Scene::textures`] (a linear texture).
+    pub texture: usize,
+    /// glTF `normalTexture.scale`: multiplies the tangent-space X and Y.
+    pub scale: f32,
+}
+
+/// Light emitted by a surface (an area light). Radiance in W·m⁻²·sr⁻¹.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Emission {
+    /// Emitted radiance (may be textured, e.g. glTF emissiveTexture × factor × strength).
+    pub radiance: TexRgb,
+    /// Emit from both sides; default false = front side only (the side the geometric normal
+    /// points to), as Mitsuba's `area` emitter.
+    pub two_sided: bool,
+}
+
+/// A triangle mesh in world space.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Mesh {
+    /// Vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Per-vertex shading normals (unit), or empty for flat shading.
+    pub normals: Vec<Vec3>,
+    /// Per-vertex texture coordinates, or empty.
+    pub uvs: Vec<Vec2>,
+    /// Per-vertex tangents (xyz unit, w = handedness ±1), or empty.
+    pub tangents: Vec<glam::Vec4>,
+    /// Triangle vertex indices, counter-clockwise seen from the front.
+    pub indices: Vec<[u32; 3]>,
+}
+
+/// Geometry of a shape, in world space.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Geometry {
+    /// Analytic sphere. uv follows Mitsuba's `sphere` in world axes: for the unit offset
+    /// d = (p − center)/radius, u = φ/2π with φ = atan2(d.y, d.x) ∈ [0, 2π), v = acos(d.z)/π.
+    Sphere {
+        /// Centre.
+        center: Vec3,
+        /// Radius > 0.
+        radius: f32,
+    },
+    /// Parallelogram `center + s·half_u + t·half_v`, s, t ∈ [−1, 1]; front normal
+    /// normalize(half_u × half_v). This is Mitsuba's `rectangle` ([-1,1]², normal +Z) under
+    /// the affine map with columns (half_u, half_v, n, center). uv = ((s+1)/2, (t+1)/2).
+    Rectangle {
+        /// Centre.
+        center: Vec3,
+        /// Half edge along the first axis.
+        half_u: Vec3,
+        /// Half edge along the second axis.
+        half_v: Vec3,
+    },
+    /// Ellipse `center + r·(cos φ·half_u + sin φ·half_v)`, r ∈ [0, 1]; front normal
+    /// normalize(half_u × half_v) (Mitsuba's `disk` under the same affine map).
+    Disk {
+        /// Centre.
+        center: Vec3,
+        /// First semi-axis.
+        half_u: Vec3,
+        /// Second semi-axis.
+        half_v: Vec3,
+    },
+    /// Triangle mesh (boxes are loaded as 12-triangle meshes with outward normals).
+    Mesh(Arc<Mesh>),
+}
+
+/// A surface in the scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shape {
+    /// Name (unique within the scene; names the `visibility.<name>` AOV of emissive shapes).
+    pub name: String,
+    /// World-space geometry.
+    pub geometry: Geometry,
+    /// Index into [`Scene::materials`].
+    pub material: usize,
+    /// Emission, making this shape an area light.
+    pub emission: Option<Emission>,
+    /// Optional tangent-space normal map.
+    pub normal_map: Option<NormalMap>,
+}
+
+/// Delta and distant lights (area lights are emissive shapes).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Light {
+    /// Isotropic point light; `intensity` in W/sr.
+    Point {
+        /// Name (for the `visibility.<name>` AOV).
+        name: String,
+        /// Position.
+        position: Vec3,
+        /// Radiant intensity, W/sr.
+        intensity: Rgb,
+    },
+    /// Spot light with Mitsuba's falloff: full intensity inside `beam_width_deg`, falling
+    /// linearly in angle to zero at `cutoff_deg` (Mitsuba 3 `spot`).
+    Spot {
+        /// Name.
+        name: String,
+        /// Position.
+        position: Vec3,
+        /// Unit direction the spot points to.
+        direction: Vec3,
+        /// Radiant intensity on the axis, W/sr.
+        intensity: Rgb,
+        /// Half-angle where the falloff reaches zero, degrees, (0, 90].
+        cutoff_deg: f32,
+        /// Half-angle of full intensity, degrees, [0, cutoff].
+        beam_width_deg: f32,
+    },
+    /// Distant light. `irradiance` is measured on a surface facing the light (W/m²).
+    /// With `angular_diameter_deg > 0` it is a uniform disk (the sun) of radiance
+    /// L = E / (π·sin²(θmax)), θmax = diameter/2, so the irradiance is E at any size.
+    Directional {
+        /// Name.
+        name: String,
+        /// Unit direction the light travels to (Mitsuba's convention).
+        direction: Vec3,
+        /// Irradiance on a surface facing the light, W/m².
+        irradiance: Rgb,
+        /// Apparent diameter of the source, degrees, [0, 180); 0 = delta light.
+        angular_diameter_deg: f32,
+    },
+}
+
+impl Light {
+    /// The light's name.
+    pub fn name(&self) -> &str {
+        match self {
+            Light::Point { name, .. } | Light::Spot { name, .. } | Light::Directional { name, .. } => name,
+        }
+    }
+}
+
+/// Distant environment (DESIGN.md "Environment map"): equirectangular, Mitsuba's `envmap`
+/// orientation: u = 0 faces −Z, u = 0.25 faces +X, u = 0.5 faces +Z; row 0 is +Y.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Environment {
+    /// The same radiance from every direction.
+    Constant {
+        /// Radiance, W·m⁻²·sr⁻¹.
+        radiance: Rgb,
+    },
+    /// An equirectangular image times `scale`.
+    Map {
+        /// Index into [`Scene::textures`] (a linear, usually EXR/HDR, texture).
+        texture: usize,
+        /// Radiance multiplier.
+        scale: f32,
+    },
+}
+
+/// Equirectangular direction ↔ uv mapping shared by both renderers (DESIGN.md convention).
+/// For unit direction d: φ = atan2(d.x, −d.z) wrapped to [0, 2π), u = φ/2π, v = acos(d.y)/π,
+/// so u = 0 → −Z, u = 0.25 → +X, u = 0.5 → +Z and v = 0 (row 0) → +Y.
+pub fn equirect_uv(d: Vec3) -> Vec2 {
+    // φ measured from −Z towards +X: d = (sin φ sin θ, cos θ, −cos φ sin θ).
+    let phi = d.x.atan2(-d.z); // (−π, π]
+    let mut u = phi / std::f32::consts::TAU;
+    if u < 0.0 {
+        u += 1.0;
+    }
+    let v = d.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI;
+    Vec2::new(u, v)
+}
+
+/// Inverse of [`equirect_uv`]: the unit direction at texture coordinate (u, v).
+pub fn equirect_direction(uv: Vec2) -> Vec3 {
+    let phi = uv.x * std::f32::consts::TAU;
+    let theta = uv.y * std::f32::consts::PI;
+    let (sp, cp) = phi.sin_cos();
+    let (st, ct) = theta.sin_cos();
+    Vec3::new(sp * st, ct, -cp * st)
+}
+
+impl Scene {
+    /// Appends another scene's textures, materials, shapes and lights, re-indexing its
+    /// references; keeps this scene's camera, film, settings and environment (a TOML file
+    /// that includes a glTF file adds camera, lights and environment around it).
+    pub fn merge(&mut self, other: Scene) {
+        let tex_off = self.textures.len();
+        let mat_off = self.materials.len();
+        let fix_rgb = |t: &mut TexRgb| {
+            if let TexRgb::Image { texture, .. } = t {
+                *texture += tex_off;
+            }
+        };
+        let fix_scalar = |t: &mut TexScalar| {
+            if let TexScalar::Image { texture, .. } = t {
+                *texture += tex_off;
+            }
+        };
+        self.textures.extend(other.textures);
+        for mut m in other.materials {
+            match &mut m {
+                Material::Diffuse { albedo } => fix_rgb(albedo),
+                Material::Phong { reflectance, .. } => fix_rgb(reflectance),
+                Material::Ggx { reflectance, roughness, .. } => {
+                    fix_rgb(reflectance);
+                    fix_scalar(roughness);
+                }
+                Material::MetalRough { base_color, metallic, roughness } => {
+                    fix_rgb(base_color);
+                    fix_scalar(metallic);
+                    fix_scalar(roughness);
+                }
+                Material::Mirror { .. } | Material::Dielectric { .. } => {}
+            }
+            self.materials.push(m);
+        }
+        for mut s in other.shapes {
+            s.material += mat_off;
+            if let Some(e) = &mut s.emission {
+                fix_rgb(&mut e.radiance);
+            }
+            if let Some(n) = &mut s.normal_map {
+                n.texture += tex_off;
+            }
+            self.shapes.push(s);
+        }
+        self.lights.extend(other.lights);
+        if self.environment.is_none() {
+            if let Some(mut env) = other.environment {
+                if let Environment::Map { texture, .. } = &mut env {
+                    *texture += tex_off;
+                }
+                self.environment = Some(env);
+            }
+        }
+    }
+
+    /// Names of all lights in AOV order: emissive shapes first (scene order), then
+    /// [`Scene::lights`]. The environment is not a named light.
+    pub fn light_names(&self) -> Vec<String> {
+        let area = self.shapes.iter().filter(|s| s.emission.is_some()).map(|s| s.name.clone());
+        area.chain(self.lights.iter().map(|l| l.name().to_string())).collect()
+    }
+}
+
+impl TexRgb {
+    /// Value at texture coordinate `uv`.
+    pub fn eval(&self, uv: Vec2, textures: &[Arc<Texture>]) -> Rgb {
+        match self {
+            TexRgb::Constant(c) => *c,
+            TexRgb::Image { texture, factor } => textures[*texture].sample(uv).truncate() * *factor,
+        }
+    }
+
+    /// Mean value over the texture (for light power estimates and AOV defaults).
+    pub fn mean(&self, textures: &[Arc<Texture>]) -> Rgb {
+        match self {
+            TexRgb::Constant(c) => *c,
+            TexRgb::Image { texture, factor } => {
+                let t = &textures[*texture];
+                let sum: glam::Vec4 = t.texels.iter().copied().sum();
+                sum.truncate() / t.texels.len().max(1) as f32 * *factor
+            }
+        }
+    }
+}
+
+impl TexScalar {
+    /// Value at texture coordinate `uv`.
+    pub fn eval(&self, uv: Vec2, textures: &[Arc<Texture>]) -> f32 {
+        match self {
+            TexScalar::Constant(c) => *c,
+            TexScalar::Image { texture, channel, factor } => textures[*texture].sample(uv)[*channel] * *factor,
+        }
+    }
+}
+
+impl Geometry {
+    /// World-space axis-aligned bounds (min, max).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        match self {
+            Geometry::Sphere { center, radius } => (*center - Vec3::splat(*radius), *center + Vec3::splat(*radius)),
+            Geometry::Rectangle { center, half_u, half_v } => {
+                let e = half_u.abs() + half_v.abs();
+                (*center - e, *center + e)
+            }
+            Geometry::Disk { center, half_u, half_v } => {
+                // Extent of an ellipse along each axis: sqrt(u_i² + v_i²).
+                let s = *half_u * *half_u + *half_v * *half_v;
+                let e = Vec3::new(s.x.sqrt(), s.y.sqrt(), s.z.sqrt());
+                (*center - e, *center + e)
+            }
+            Geometry::Mesh(m) => m.positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(*p), hi.max(*p))),
+        }
+    }
+}
+
+impl Scene {
+    /// World-space bounds of all shapes, or a unit box at the origin for an empty scene.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let (lo, hi) = self
+            .shapes
+            .iter()
+            .map(|s| s.geometry.bounds())
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
+        if lo.x > hi.x {
+            (Vec3::splat(-1.0), Vec3::ONE)
+        } else {
+            (lo, hi)
+        }
+    }
+
+    /// Centre and radius of a sphere enclosing [`Scene::bounds`] (for distant lights).
+    pub fn bounding_sphere(&self) -> (Vec3, f32) {
+        let (lo, hi) = self.bounds();
+        let c = (lo + hi) * 0.5;
+        (c, ((hi - lo) * 0.5).length().max(1e-3))
+    }
+}
