@@ -92,5 +92,7 @@ pub enum RenderError {
 /// Renders `job`, calling `progress` after every pass.
 pub fn render(job: &RenderJob, progress: &mut dyn FnMut(&Progress)) -> Result<RenderResult, RenderError> {
     let _ = (job, progress);
-    Err(RenderError::Scene("the oracle's render loop is not written yet".into()))
+    Err(RenderError::Scene(
+        "the oracle's render loop is not written yet".into(),
+    ))
 }

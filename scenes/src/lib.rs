@@ -21,7 +21,12 @@ pub use model::*;
 
 /// Loads a scene from a `.toml` scene file or a `.gltf`/`.glb` asset, chosen by extension.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    match path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).as_deref() {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .as_deref()
+    {
         Some("toml") => toml::load(path),
         Some("gltf") | Some("glb") => gltf::load(path),
         _ => Err(SceneError::new(path, "unknown scene file type")

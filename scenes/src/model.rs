@@ -53,7 +53,10 @@ impl Camera {
     pub fn look_at(eye: Vec3, target: Vec3, up: Vec3, fov_y_deg: f32) -> Self {
         // look_at_rh builds world→view; invert to get view→world.
         let view = Affine3A::look_at_rh(eye, target, up);
-        Camera { to_world: view.inverse(), fov_y_deg }
+        Camera {
+            to_world: view.inverse(),
+            fov_y_deg,
+        }
     }
 
     /// Camera position in world space.
@@ -75,7 +78,9 @@ impl Camera {
         let aspect = width as f32 / height as f32;
         let xc = (2.0 * x / width as f32 - 1.0) * tan_half * aspect;
         let yc = (1.0 - 2.0 * y / height as f32) * tan_half;
-        self.to_world.transform_vector3(Vec3::new(xc, yc, -1.0)).normalize()
+        self.to_world
+            .transform_vector3(Vec3::new(xc, yc, -1.0))
+            .normalize()
     }
 }
 
@@ -437,11 +442,19 @@ impl Scene {
             match &mut m {
                 Material::Diffuse { albedo } => fix_rgb(albedo),
                 Material::Phong { reflectance, .. } => fix_rgb(reflectance),
-                Material::Ggx { reflectance, roughness, .. } => {
+                Material::Ggx {
+                    reflectance,
+                    roughness,
+                    ..
+                } => {
                     fix_rgb(reflectance);
                     fix_scalar(roughness);
                 }
-                Material::MetalRough { base_color, metallic, roughness } => {
+                Material::MetalRough {
+                    base_color,
+                    metallic,
+                    roughness,
+                } => {
                     fix_rgb(base_color);
                     fix_scalar(metallic);
                     fix_scalar(roughness);
@@ -474,8 +487,13 @@ impl Scene {
     /// Names of all lights in AOV order: emissive shapes first (scene order), then
     /// [`Scene::lights`]. The environment is not a named light.
     pub fn light_names(&self) -> Vec<String> {
-        let area = self.shapes.iter().filter(|s| s.emission.is_some()).map(|s| s.name.clone());
-        area.chain(self.lights.iter().map(|l| l.name().to_string())).collect()
+        let area = self
+            .shapes
+            .iter()
+            .filter(|s| s.emission.is_some())
+            .map(|s| s.name.clone());
+        area.chain(self.lights.iter().map(|l| l.name().to_string()))
+            .collect()
     }
 }
 
@@ -506,7 +524,11 @@ impl TexScalar {
     pub fn eval(&self, uv: Vec2, textures: &[Arc<Texture>]) -> f32 {
         match self {
             TexScalar::Constant(c) => *c,
-            TexScalar::Image { texture, channel, factor } => textures[*texture].sample(uv)[*channel] * *factor,
+            TexScalar::Image {
+                texture,
+                channel,
+                factor,
+            } => textures[*texture].sample(uv)[*channel] * *factor,
         }
     }
 }
@@ -515,18 +537,33 @@ impl Geometry {
     /// World-space axis-aligned bounds (min, max).
     pub fn bounds(&self) -> (Vec3, Vec3) {
         match self {
-            Geometry::Sphere { center, radius } => (*center - Vec3::splat(*radius), *center + Vec3::splat(*radius)),
-            Geometry::Rectangle { center, half_u, half_v } => {
+            Geometry::Sphere { center, radius } => {
+                (*center - Vec3::splat(*radius), *center + Vec3::splat(*radius))
+            }
+            Geometry::Rectangle {
+                center,
+                half_u,
+                half_v,
+            } => {
                 let e = half_u.abs() + half_v.abs();
                 (*center - e, *center + e)
             }
-            Geometry::Disk { center, half_u, half_v } => {
+            Geometry::Disk {
+                center,
+                half_u,
+                half_v,
+            } => {
                 // Extent of an ellipse along each axis: sqrt(u_i² + v_i²).
                 let s = *half_u * *half_u + *half_v * *half_v;
                 let e = Vec3::new(s.x.sqrt(), s.y.sqrt(), s.z.sqrt());
                 (*center - e, *center + e)
             }
-            Geometry::Mesh(m) => m.positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(*p), hi.max(*p))),
+            Geometry::Mesh(m) => m
+                .positions
+                .iter()
+                .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(*p), hi.max(*p))
+                }),
         }
     }
 }
@@ -538,7 +575,9 @@ impl Scene {
             .shapes
             .iter()
             .map(|s| s.geometry.bounds())
-            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), (a, b)| {
+                (lo.min(a), hi.max(b))
+            });
         if lo.x > hi.x {
             (Vec3::splat(-1.0), Vec3::ONE)
         } else {

@@ -57,8 +57,18 @@ pub fn linear_to_srgb(c: f32) -> f32 {
 impl Texture {
     /// A texture from linear RGBA texels (row 0 at the top).
     pub fn from_texels(width: u32, height: u32, texels: Vec<Vec4>, wrap: [WrapMode; 2]) -> Self {
-        assert_eq!(texels.len(), (width * height) as usize, "texel count must be width × height");
-        Texture { source: PathBuf::new(), width, height, texels, wrap }
+        assert_eq!(
+            texels.len(),
+            (width * height) as usize,
+            "texel count must be width × height"
+        );
+        Texture {
+            source: PathBuf::new(),
+            width,
+            height,
+            texels,
+            wrap,
+        }
     }
 
     /// Texel (i, j) after applying the wrap mode to out-of-range indices.
@@ -102,7 +112,11 @@ fn wrap_index(i: i64, n: i64, mode: WrapMode) -> i64 {
 
 /// Loads an image file as a texture: PNG/JPEG (8/16-bit, decoded per `color_space`), EXR and
 /// Radiance HDR (always linear). Errors name the file.
-pub fn load_texture(path: &Path, color_space: ColorSpace, wrap: [WrapMode; 2]) -> Result<Texture, SceneError> {
+pub fn load_texture(
+    path: &Path,
+    color_space: ColorSpace,
+    wrap: [WrapMode; 2],
+) -> Result<Texture, SceneError> {
     let _ = (path, color_space, wrap);
     Err(SceneError::new(path, "texture loading is not written yet"))
 }
