@@ -5,6 +5,8 @@
 #![warn(missing_docs)]
 
 pub mod bsdf;
+pub mod checkpoint;
+pub mod film;
 pub mod frame;
 pub mod geometry;
 pub mod integrator;

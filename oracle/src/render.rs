@@ -1,10 +1,22 @@
 //! Rendering a scene to a layered image: progressive passes, stopping rules, checkpoints.
+//!
+//! Each pixel accumulates its samples in index order (Welford's running mean and variance in
+//! f64), one thread per pixel at a time. A pixel's result therefore depends only on the
+//! scene, the seed and the sample count — not on the thread count, the pass sizes or whether
+//! the render was interrupted and resumed from a checkpoint: the bits are identical.
 
 use std::path::PathBuf;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
+use rayon::prelude::*;
 use scenes::layered::LayeredImage;
 use scenes::{RenderSettings, Scene};
+
+use crate::film::{Film, PixelStats};
+use crate::geometry::{Accel, Ray};
+use crate::integrator::{self, Context};
+use crate::light::LightSet;
+use crate::sampler::PixelSampler;
 
 /// When to stop sampling. Rendering stops at the first rule met; `spp` always bounds it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,7 +53,7 @@ pub struct RenderJob<'a> {
     pub checkpoint: Option<CheckpointConfig>,
 }
 
-/// Progress report, sent after every pass.
+/// Progress report, sent before the first pass and after every pass.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Progress {
     /// Samples per pixel done.
@@ -79,6 +91,14 @@ pub enum RenderError {
     /// The scene cannot be rendered as given.
     #[error("{0}")]
     Scene(String),
+    /// The progress callback asked to stop; a checkpoint was written if one was configured.
+    #[error("render interrupted at {spp} spp (checkpoint written: {checkpointed})")]
+    Interrupted {
+        /// Samples per pixel done.
+        spp: u32,
+        /// Whether the state was saved for `--resume`.
+        checkpointed: bool,
+    },
     /// A checkpoint could not be read or written.
     #[error("checkpoint {path}: {message}")]
     Checkpoint {
@@ -89,10 +109,173 @@ pub enum RenderError {
     },
 }
 
-/// Renders `job`, calling `progress` after every pass.
-pub fn render(job: &RenderJob, progress: &mut dyn FnMut(&Progress)) -> Result<RenderResult, RenderError> {
-    let _ = (job, progress);
-    Err(RenderError::Scene(
-        "the oracle's render loop is not written yet".into(),
-    ))
+/// Seconds a pass aims to take: short enough for responsive progress and time budgets.
+const PASS_TARGET_SECONDS: f64 = 1.0;
+
+/// Renders `job`, calling `progress` after every pass; when it returns false the render stops
+/// with [`RenderError::Interrupted`], saving a checkpoint first if one is configured.
+pub fn render(job: &RenderJob, progress: &mut dyn FnMut(&Progress) -> bool) -> Result<RenderResult, RenderError> {
+    let scene = job.scene;
+    let (width, height) = (scene.film.width, scene.film.height);
+    if width == 0 || height == 0 {
+        return Err(RenderError::Scene(format!("{}: film size {width}x{height} is empty", scene.source.display())));
+    }
+    if job.stop.spp == 0 {
+        return Err(RenderError::Scene("spp must be at least 1".into()));
+    }
+    let accel = Accel::build(scene).map_err(|e| RenderError::Scene(format!("{}: {e}", scene.source.display())))?;
+    let lights = LightSet::new(scene).map_err(|e| RenderError::Scene(format!("{}: {e}", scene.source.display())))?;
+    let ctx = Context { scene, accel: &accel, lights: &lights, settings: job.settings };
+    let names = scene.light_names();
+    let fingerprint = crate::checkpoint::fingerprint(job);
+
+    let mut film = Film::new(width, height, names.len());
+    let mut prior_seconds = 0.0;
+    if let Some(cp) = job.checkpoint.as_ref().filter(|c| c.resume && c.path.exists()) {
+        let state = crate::checkpoint::load(&cp.path, fingerprint, &film)?;
+        prior_seconds = state.seconds;
+        film = state.film;
+    }
+    let start = Instant::now();
+    let mut last_checkpoint = Instant::now();
+    let object_ids = object_id_pass(&ctx, width, height);
+    let mut samples_per_second = 0.0f64;
+    loop {
+        let done = film.spp;
+        let elapsed = start.elapsed().as_secs_f64() + prior_seconds;
+        let rel_err = film.mean_relative_error();
+        let go_on = progress(&Progress {
+            spp_done: done,
+            spp_target: job.stop.spp,
+            elapsed: Duration::from_secs_f64(elapsed),
+            paths: film.paths,
+            rays: film.rays,
+            rel_err,
+        });
+        if !go_on {
+            let checkpointed = job.checkpoint.is_some();
+            if let Some(cp) = &job.checkpoint {
+                crate::checkpoint::save(&cp.path, fingerprint, &film, elapsed)?;
+            }
+            return Err(RenderError::Interrupted { spp: done, checkpointed });
+        }
+        if stop_now(&job.stop, done, elapsed, rel_err) {
+            break;
+        }
+        let pass = pass_size(done, job.stop.spp, samples_per_second, width, height);
+        let t = Instant::now();
+        run_pass(&ctx, &mut film, done, done + pass);
+        let dt = t.elapsed().as_secs_f64().max(1e-6);
+        samples_per_second = f64::from(pass) * f64::from(width) * f64::from(height) / dt;
+        if let Some(cp) = &job.checkpoint {
+            if last_checkpoint.elapsed() >= cp.interval && film.spp < job.stop.spp {
+                let seconds = start.elapsed().as_secs_f64() + prior_seconds;
+                crate::checkpoint::save(&cp.path, fingerprint, &film, seconds)?;
+                last_checkpoint = Instant::now();
+            }
+        }
+    }
+    let seconds = start.elapsed().as_secs_f64() + prior_seconds;
+    if let Some(cp) = &job.checkpoint {
+        // The render finished: a stale checkpoint must not be resumed into a later job.
+        let _ = std::fs::remove_file(&cp.path);
+    }
+    let mut image = film.to_layered(&names, &object_ids);
+    let attrs = [
+        ("scene", scene.source.display().to_string()),
+        ("renderer", format!("verity oracle {}", env!("CARGO_PKG_VERSION"))),
+        ("integrator", format!("{:?}", job.settings.integrator).to_lowercase()),
+        ("spp", film.spp.to_string()),
+        ("seconds", format!("{seconds:.3}")),
+        ("seed", job.settings.seed.to_string()),
+        ("max_depth", job.settings.max_depth.to_string()),
+        ("rr_depth", job.settings.rr_depth.to_string()),
+        ("paths", film.paths.to_string()),
+        ("rays", film.rays.to_string()),
+        ("nonfinite_samples", film.nonfinite.to_string()),
+        ("variance", "variance of the pixel mean (sample variance / spp)".to_string()),
+    ];
+    image.attributes.extend(attrs.into_iter().map(|(k, v)| (k.to_string(), v)));
+    Ok(RenderResult { image, spp: film.spp, seconds, paths: film.paths, rays: film.rays })
+}
+
+fn stop_now(stop: &StopRule, done: u32, elapsed: f64, rel_err: f32) -> bool {
+    done >= stop.spp
+        || stop.time.is_some_and(|t| done > 0 && elapsed >= t.as_secs_f64())
+        || stop.target_rel_err.is_some_and(|e| done >= 16 && rel_err <= e)
+}
+
+/// Samples per pixel of the next pass: about [`PASS_TARGET_SECONDS`] of work, at least 1,
+/// never past the target.
+fn pass_size(done: u32, target: u32, samples_per_second: f64, width: u32, height: u32) -> u32 {
+    let remaining = target - done;
+    if samples_per_second <= 0.0 {
+        return 1.min(remaining);
+    }
+    let pixels = f64::from(width) * f64::from(height);
+    let ideal = (samples_per_second * PASS_TARGET_SECONDS / pixels).floor() as u32;
+    ideal.clamp(1, 4096).min(remaining)
+}
+
+/// Samples [first, end) of every pixel, rows in parallel.
+fn run_pass(ctx: &Context, film: &mut Film, first: u32, end: u32) {
+    let width = film.width;
+    let camera = ctx.scene.camera;
+    let origin = camera.position();
+    let seed = ctx.settings.seed;
+    let (w, h) = (film.width, film.height);
+    let nl = film.light_count;
+    let (paths, rays, nonfinite) = film
+        .rows_mut()
+        .enumerate()
+        .map(|(y, row)| (y as u32, row))
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .map(|(y, row)| {
+            let mut counts = (0u64, 0u64, 0u64);
+            let mut vis = vec![0.0f32; nl];
+            for (x, px) in row.chunks_mut(PixelStats::stride(nl)).enumerate().take(width as usize) {
+                let x = x as u32;
+                for s in first..end {
+                    let mut sampler = PixelSampler::new(x, y, s, seed);
+                    let jitter = sampler.next_2d();
+                    let dir = camera.ray_direction(x as f32 + jitter.x, y as f32 + jitter.y, w, h);
+                    let cs = integrator::trace(ctx, Ray { origin, dir }, &mut sampler);
+                    let mut rays = u64::from(cs.rays);
+                    vis.iter_mut().for_each(|v| *v = 0.0);
+                    if let Some(fh) = &cs.first_hit {
+                        // A sampler stream of its own, so visibility never shifts the
+                        // integrator's dimensions.
+                        let mut vs = PixelSampler::new(x, y, s, seed ^ 0x5649_5349_4249_4c45);
+                        rays += u64::from(integrator::light_visibility(ctx, &fh.hit, &mut vs, &mut vis));
+                    }
+                    if !PixelStats::add(px, nl, &cs, &vis, &camera) {
+                        counts.2 += 1;
+                    }
+                    counts.0 += 1;
+                    counts.1 += rays;
+                }
+            }
+            counts
+        })
+        .reduce(|| (0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
+    film.spp = end;
+    film.paths += paths;
+    film.rays += rays;
+    film.nonfinite += nonfinite;
+}
+
+/// Object id of the surface through each pixel centre (shape index + 1; 0 = background).
+/// Ids are not averaged: an edge pixel gets the id at its centre.
+fn object_id_pass(ctx: &Context, width: u32, height: u32) -> Vec<f32> {
+    let camera = ctx.scene.camera;
+    let origin = camera.position();
+    (0..width * height)
+        .into_par_iter()
+        .map(|i| {
+            let (x, y) = (i % width, i / width);
+            let dir = camera.ray_direction(x as f32 + 0.5, y as f32 + 0.5, width, height);
+            ctx.accel.intersect(&Ray { origin, dir }, f32::INFINITY).map_or(0.0, |h| (h.shape + 1) as f32)
+        })
+        .collect()
 }

@@ -197,8 +197,9 @@ pub enum Material {
         /// Albedo ρ ∈ [0, 1].
         albedo: TexRgb,
     },
-    /// Normalized Phong lobe around the mirror direction: f·cosθi = ks·(n+2)/(2π)·cosⁿα,
-    /// α the angle between ωi and the mirror of ωo (Lafortune & Willems 1994).
+    /// Normalized Phong lobe around the mirror direction: f = ks·(n+2)/(2π)·cosⁿα (the
+    /// integrand adds cosθi), α the angle between ωi and the mirror of ωo (Lafortune &
+    /// Willems 1994, "Using the modified Phong reflectance model for physically based rendering").
     Phong {
         /// Specular reflectance ks ∈ [0, 1].
         reflectance: TexRgb,

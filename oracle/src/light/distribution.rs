@@ -1,0 +1,221 @@
+//! Piecewise-constant distributions on [0, 1) and [0, 1)², pbrt-v4 §A.5.1 (PiecewiseConstant1D)
+//! and §A.5.2 (PiecewiseConstant2D).
+//!
+//! A 1D function given by `n` non-negative cell values f_i on [0, 1) has the density
+//! p(x) = f_⌊nx⌋ / I with I = Σ f_i / n, and the CDF P(k/n) = Σ_{i<k} f_i / (n I). Sampling inverts
+//! the CDF by binary search and linear interpolation inside the cell. A 2D function on an
+//! `nu`×`nv` grid (row-major, rows along v) is sampled as the marginal p(v) of the row integrals
+//! times the conditional p(u | v) of the chosen row; its density is p(u, v) = f(u, v) / I₂ with
+//! I₂ = Σ f / (nu·nv).
+//!
+//! A function that is zero everywhere becomes uniform (pbrt-v4 does the same for its CDF), so a
+//! distribution always has a valid density. Running sums are taken in f64, so the CDF of a
+//! multi-megapixel environment map stays monotone and ends at exactly 1.
+//!
+//! | parameter | type | default | unit |
+//! |---|---|---|---|
+//! | `func` | `&[f32]`, ≥ 0 (negative and NaN count as 0) | — | any |
+//! | `nu`, `nv` (2D) | `usize` | — | cells |
+
+use glam::Vec2;
+
+/// Largest f32 below 1: sample coordinates are clamped to [0, ONE_MINUS_EPSILON].
+const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+
+/// A piecewise-constant density on [0, 1) with `len()` equal cells.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Distribution1D {
+    /// Cell values (all ones when the input was zero everywhere).
+    func: Vec<f32>,
+    /// CDF at the cell boundaries, `func.len() + 1` entries, cdf[0] = 0, cdf[n] = 1.
+    cdf: Vec<f32>,
+    /// ∫₀¹ f(x) dx = Σ f_i / n.
+    integral: f32,
+}
+
+impl Distribution1D {
+    /// Distribution proportional to `func` (an empty or all-zero `func` gives the uniform
+    /// distribution over max(len, 1) cells).
+    pub fn new(func: &[f32]) -> Self {
+        let mut func: Vec<f32> = func
+            .iter()
+            .map(|&f| if f > 0.0 && f.is_finite() { f } else { 0.0 })
+            .collect();
+        if func.is_empty() {
+            func.push(0.0);
+        }
+        let mut sum: f64 = func.iter().map(|&f| f as f64).sum();
+        if !(sum > 0.0) {
+            func.iter_mut().for_each(|f| *f = 1.0);
+            sum = func.len() as f64;
+        }
+        let n = func.len();
+        let mut cdf = Vec::with_capacity(n + 1);
+        let mut running = 0.0f64;
+        cdf.push(0.0);
+        for &f in &func {
+            running += f as f64;
+            cdf.push((running / sum) as f32);
+        }
+        cdf[n] = 1.0;
+        Distribution1D {
+            func,
+            cdf,
+            integral: (sum / n as f64) as f32,
+        }
+    }
+
+    /// Number of cells.
+    pub fn len(&self) -> usize {
+        self.func.len()
+    }
+
+    /// Always false: a distribution has at least one cell.
+    pub fn is_empty(&self) -> bool {
+        self.func.is_empty()
+    }
+
+    /// ∫₀¹ f(x) dx of the (possibly uniformised) function.
+    pub fn integral(&self) -> f32 {
+        self.integral
+    }
+
+    /// Cell value f_i.
+    pub fn value(&self, i: usize) -> f32 {
+        self.func[i]
+    }
+
+    /// The cell `o` with cdf[o] ≤ u < cdf[o+1] and the position of u inside it, in [0, 1).
+    fn find(&self, u: f32) -> (usize, f32) {
+        let u = u.clamp(0.0, ONE_MINUS_EPSILON);
+        // Largest o with cdf[o] ≤ u; zero-width cells are skipped because the last of equal
+        // CDF entries is taken, and cdf[n] = 1 > u bounds o by n − 1.
+        let o = (self.cdf.partition_point(|&c| c <= u) - 1).min(self.func.len() - 1);
+        let width = self.cdf[o + 1] - self.cdf[o];
+        let du = if width > 0.0 {
+            ((u - self.cdf[o]) / width).clamp(0.0, ONE_MINUS_EPSILON)
+        } else {
+            0.0
+        };
+        (o, du)
+    }
+
+    /// Continuous sample: (x ∈ [0, 1), density p(x), cell index).
+    pub fn sample_continuous(&self, u: f32) -> (f32, f32, usize) {
+        let (o, du) = self.find(u);
+        let n = self.func.len() as f32;
+        let x = keep_in_cell((o as f32 + du) / n, o, self.func.len());
+        (x, self.func[o] / self.integral, o)
+    }
+
+    /// Discrete sample: (cell index, its probability, u remapped to [0, 1) inside the cell so
+    /// the caller can reuse it).
+    pub fn sample_discrete(&self, u: f32) -> (usize, f32, f32) {
+        let (o, du) = self.find(u);
+        (o, self.pmf(o), du)
+    }
+
+    /// Density p(x) of [`Distribution1D::sample_continuous`] at x ∈ [0, 1); 0 outside.
+    pub fn pdf(&self, x: f32) -> f32 {
+        if !(0.0..=1.0).contains(&x) {
+            return 0.0;
+        }
+        let n = self.func.len();
+        let i = ((x * n as f32) as usize).min(n - 1);
+        self.func[i] / self.integral
+    }
+
+    /// Probability of cell `i` under [`Distribution1D::sample_discrete`]: f_i / Σ f.
+    pub fn pmf(&self, i: usize) -> f32 {
+        match self.func.get(i) {
+            Some(&f) => f / (self.integral * self.func.len() as f32),
+            None => 0.0,
+        }
+    }
+}
+
+/// Nudges `x` by ulps until ⌊x·n⌋ = o, so a sample's reported density is its own cell's even
+/// where (o + du)/n rounds onto the next cell boundary.
+fn keep_in_cell(x: f32, o: usize, n: usize) -> f32 {
+    let mut x = x.clamp(0.0, ONE_MINUS_EPSILON);
+    for _ in 0..8 {
+        let i = ((x * n as f32) as usize).min(n - 1);
+        if i == o {
+            break;
+        }
+        // x ≥ 0, so one ulp down/up is ∓1 on the bit pattern (and i > o implies x > 0).
+        x = f32::from_bits(if i > o { x.to_bits() - 1 } else { x.to_bits() + 1 });
+    }
+    x
+}
+
+/// A piecewise-constant density on [0, 1)² over an `nu`×`nv` grid of cells.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Distribution2D {
+    /// p(u | v) for each row v.
+    conditional: Vec<Distribution1D>,
+    /// p(v) from the row integrals.
+    marginal: Distribution1D,
+}
+
+impl Distribution2D {
+    /// Distribution proportional to the row-major grid `func` (`nv` rows of `nu` cells; row
+    /// index along v). A grid whose size does not match `nu`·`nv` is padded with zeros or cut.
+    pub fn new(func: &[f32], nu: usize, nv: usize) -> Self {
+        let (nu, nv) = (nu.max(1), nv.max(1));
+        let conditional: Vec<Distribution1D> = (0..nv)
+            .map(|v| {
+                let start = (v * nu).min(func.len());
+                let end = ((v + 1) * nu).min(func.len());
+                let mut row = func[start..end].to_vec();
+                row.resize(nu, 0.0);
+                Distribution1D::new(&row)
+            })
+            .collect();
+        // A row that was all zero was uniformised; its marginal weight must stay zero.
+        let row_integrals: Vec<f32> = (0..nv)
+            .map(|v| {
+                let start = (v * nu).min(func.len());
+                let end = ((v + 1) * nu).min(func.len());
+                let sum: f64 = func[start..end]
+                    .iter()
+                    .map(|&f| if f > 0.0 && f.is_finite() { f as f64 } else { 0.0 })
+                    .sum();
+                (sum / nu as f64) as f32
+            })
+            .collect();
+        Distribution2D {
+            conditional,
+            marginal: Distribution1D::new(&row_integrals),
+        }
+    }
+
+    /// Grid size (nu, nv).
+    pub fn size(&self) -> (usize, usize) {
+        (self.conditional[0].len(), self.conditional.len())
+    }
+
+    /// Row index of coordinate v.
+    fn row(&self, v: f32) -> usize {
+        let nv = self.conditional.len();
+        ((v * nv as f32) as usize).min(nv - 1)
+    }
+
+    /// Sample a point: `u.y` picks the row from the marginal, `u.x` the position in the row.
+    /// Returns (point in [0, 1)², density p(u, v)).
+    pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
+        let (v, pdf_v, iv) = self.marginal.sample_continuous(u.y);
+        let (x, pdf_u, _) = self.conditional[iv].sample_continuous(u.x);
+        (Vec2::new(x, v), pdf_u * pdf_v)
+    }
+
+    /// Density p(u, v) of [`Distribution2D::sample`]; 0 outside [0, 1]².
+    pub fn pdf(&self, p: Vec2) -> f32 {
+        if !(0.0..=1.0).contains(&p.x) || !(0.0..=1.0).contains(&p.y) {
+            return 0.0;
+        }
+        // p(u | v)·p(v) = (f/I_row)·(I_row/I₂); a zero row that was uniformised in its
+        // conditional keeps density zero through its marginal.
+        self.conditional[self.row(p.y)].pdf(p.x) * self.marginal.pdf(p.y)
+    }
+}
