@@ -34,7 +34,7 @@ impl std::fmt::Write for Fnv {
 
 /// Identifies everything that determines the image: the whole scene (geometry, materials,
 /// textures, lights, camera, film), the settings and the oracle version. Not the stopping
-/// rule: a checkpoint may be continued to more samples.
+/// rule nor `settings.spp`: a checkpoint may be continued to more samples.
 pub fn fingerprint(job: &RenderJob) -> u64 {
     let mut h = Fnv(0xcbf2_9ce4_8422_2325);
     let s = job.scene;
@@ -44,7 +44,7 @@ pub fn fingerprint(job: &RenderJob) -> u64 {
         env!("CARGO_PKG_VERSION"),
         s.camera,
         s.film,
-        job.settings,
+        scenes::RenderSettings { spp: 0, ..job.settings },
         s.materials,
         s.shapes,
         s.lights,

@@ -19,7 +19,7 @@ cd "$work"
 npm pack --silent "@pmndrs/assets@${version}" >/dev/null
 tar xzf "pmndrs-assets-${version}.tgz" package/hdri/city.exr.js
 python3 -m venv venv
-venv/bin/pip install --quiet "numpy>=1.24" "OpenEXR>=3.3"
+venv/bin/pip install --quiet "numpy>=1.24" "OpenEXR==3.5.3"
 
 venv/bin/python - "$work/package/hdri/city.exr.js" "$here/potsdamer_platz_512.exr" <<'PY'
 import base64, re, sys

@@ -217,9 +217,7 @@ impl LayeredImage {
             match text_field_key(key) {
                 Some(field) => *field(&mut attributes) = Some(text),
                 None => {
-                    attributes
-                        .other
-                        .insert(exr_text(key), AttributeValue::Text(text));
+                    attributes.other.insert(exr_text(key), AttributeValue::Text(text));
                 }
             }
         }
@@ -283,7 +281,9 @@ impl LayeredImage {
                     name = channel_name(part, &name);
                 }
                 if channel.sample_data.len() != w * h {
-                    return Err(fail(format!("channel `{name}` is subsampled, which is not supported")));
+                    return Err(fail(format!(
+                        "channel `{name}` is subsampled, which is not supported"
+                    )));
                 }
                 if out.channel(&name).is_some() {
                     return Err(fail(format!("channel `{name}` appears twice")));
@@ -328,7 +328,10 @@ impl LayeredImage {
         let pixels = self.preview_rgb8(exposure_stops).ok_or_else(|| {
             io::Error::new(
                 io::ErrorKind::InvalidInput,
-                format!("{}: the image has no R, G, B or Y channels to preview", path.display()),
+                format!(
+                    "{}: the image has no R, G, B or Y channels to preview",
+                    path.display()
+                ),
             )
         })?;
         let bytes: Vec<u8> = pixels.into_iter().flatten().collect();
@@ -476,9 +479,9 @@ pub fn write_atomic_with(
 /// and call, so concurrent writers never share one).
 fn temp_path(path: &Path) -> io::Result<PathBuf> {
     static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let name = path.file_name().ok_or_else(|| {
-        io::Error::new(io::ErrorKind::InvalidInput, "the path does not name a file")
-    })?;
+    let name = path
+        .file_name()
+        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "the path does not name a file"))?;
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
     let tmp_name = format!(".{}.{}.{n}.tmp", name.to_string_lossy(), std::process::id());
     Ok(path.with_file_name(tmp_name))
@@ -489,7 +492,11 @@ fn temp_path(path: &Path) -> io::Result<PathBuf> {
 fn sync_parent_dir(path: &Path) {
     #[cfg(unix)]
     if let Some(dir) = path.parent() {
-        let dir = if dir.as_os_str().is_empty() { Path::new(".") } else { dir };
+        let dir = if dir.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            dir
+        };
         if let Ok(d) = File::open(dir) {
             let _ = d.sync_all();
         }

@@ -412,6 +412,32 @@ pub fn equirect_uv(d: Vec3) -> Vec2 {
     Vec2::new(u, v)
 }
 
+/// Radiance of an equirectangular environment image towards unit direction `d`, with Mitsuba
+/// 3's `envmap` texel placement (measured against Mitsuba 3.9.1 here): columns at texel
+/// centres, u = (i + ½)/W, wrapping around; rows at v = j/(H − 1), so the first and last rows
+/// sit exactly on the poles. Bilinear between those positions. Both renderers and the Mitsuba
+/// exporter rely on this, so the same image means the same sky.
+pub fn environment_lookup(texture: &Texture, d: Vec3) -> glam::Vec4 {
+    let uv = equirect_uv(d);
+    let (w, h) = (texture.width as i64, texture.height as i64);
+    let x = uv.x * w as f32 - 0.5;
+    let y = if h > 1 { uv.y * (h - 1) as f32 } else { 0.0 };
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let (i, j) = (x0 as i64, (y0 as i64).clamp(0, h - 1));
+    let j1 = (j + 1).min(h - 1);
+    let texel = |i: i64, j: i64| texture.texels[(j * w + i.rem_euclid(w)) as usize];
+    let top = texel(i, j) * (1.0 - fx) + texel(i + 1, j) * fx;
+    let bottom = texel(i, j1) * (1.0 - fx) + texel(i + 1, j1) * fx;
+    top * (1.0 - fy) + bottom * fy
+}
+
+/// The direction of environment texel (i, j) under [`environment_lookup`]'s placement.
+pub fn environment_texel_direction(i: u32, j: u32, width: u32, height: u32) -> Vec3 {
+    let v = if height > 1 { j as f32 / (height - 1) as f32 } else { 0.5 };
+    equirect_direction(Vec2::new((i as f32 + 0.5) / width as f32, v))
+}
+
 /// Inverse of [`equirect_uv`]: the unit direction at texture coordinate (u, v).
 pub fn equirect_direction(uv: Vec2) -> Vec3 {
     let phi = uv.x * std::f32::consts::TAU;

@@ -110,13 +110,179 @@ fn wrap_index(i: i64, n: i64, mode: WrapMode) -> i64 {
     }
 }
 
+/// Largest texture accepted, in texels (2^27 = 16384 × 8192, 2 GiB of RGBA f32).
+const MAX_TEXELS: u64 = 1 << 27;
+
 /// Loads an image file as a texture: PNG/JPEG (8/16-bit, decoded per `color_space`), EXR and
 /// Radiance HDR (always linear). Errors name the file.
+///
+/// The format is recognised from the file's first bytes, not its name. Grey images fill R,
+/// G and B; a missing alpha is 1. EXR files need `R`, `G`, `B` (and optionally `A`) or a
+/// single `Y` channel. NaN or infinite texels are an error.
 pub fn load_texture(
     path: &Path,
     color_space: ColorSpace,
     wrap: [WrapMode; 2],
 ) -> Result<Texture, SceneError> {
-    let _ = (path, color_space, wrap);
-    Err(SceneError::new(path, "texture loading is not written yet"))
+    let bytes =
+        std::fs::read(path).map_err(|e| SceneError::new(path, format!("cannot read the image: {e}")))?;
+    // The decoders are third-party code fed with untrusted files: a panic in one of them
+    // becomes an error about this file, never a crash of the caller.
+    let decoded = std::panic::catch_unwind(|| {
+        if bytes.starts_with(&EXR_MAGIC) {
+            decode_exr(&bytes)
+        } else {
+            decode_image(&bytes, color_space)
+        }
+    })
+    .unwrap_or_else(|_| Err("the image decoder failed on this file".to_string()));
+    let (width, height, texels) = decoded.map_err(|m| {
+        SceneError::new(path, m).hint("use a PNG, JPEG (8/16-bit), OpenEXR or Radiance HDR image")
+    })?;
+    if let Some(i) = texels.iter().position(|t| !t.is_finite()) {
+        let (x, y) = (i % width as usize, i / width as usize);
+        return Err(
+            SceneError::new(path, format!("texel ({x}, {y}) is NaN or infinite"))
+                .hint("textures must hold finite values"),
+        );
+    }
+    Ok(Texture {
+        source: path.to_path_buf(),
+        width,
+        height,
+        texels,
+        wrap,
+    })
+}
+
+/// The first four bytes of every OpenEXR file (OpenEXR file layout, "Magic Number").
+const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
+
+/// Width, height and RGBA texels, or what went wrong.
+type Decoded = Result<(u32, u32, Vec<Vec4>), String>;
+
+/// Checks the size limits.
+fn check_size(width: u64, height: u64) -> Result<(u32, u32), String> {
+    if width == 0 || height == 0 {
+        return Err(format!("the image is empty ({width}×{height})"));
+    }
+    if width * height > MAX_TEXELS {
+        return Err(format!("{width}×{height} texels is more than the limit of 2^27"));
+    }
+    Ok((width as u32, height as u32))
+}
+
+/// PNG, JPEG or Radiance HDR through the `image` crate (its default memory limits apply).
+fn decode_image(bytes: &[u8], color_space: ColorSpace) -> Decoded {
+    let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| e.to_string())?;
+    if reader.format().is_none() {
+        return Err("not a PNG, JPEG, OpenEXR or Radiance HDR image".to_string());
+    }
+    let img = reader
+        .decode()
+        .map_err(|e| format!("cannot decode the image: {e}"))?;
+    let (width, height) = check_size(u64::from(img.width()), u64::from(img.height()))?;
+    let color = img.color();
+    let bits = 8 * color.bytes_per_pixel() / color.channel_count();
+    let texels = match bits {
+        8 => {
+            // Exact decode of every 8-bit code once.
+            let lut: Vec<f32> = (0..=255u8)
+                .map(|c| decode_unorm(f32::from(c) / 255.0, color_space))
+                .collect();
+            let rgba = img.to_rgba8();
+            rgba.pixels()
+                .map(|p| {
+                    let [r, g, b, a] = p.0;
+                    Vec4::new(
+                        lut[r as usize],
+                        lut[g as usize],
+                        lut[b as usize],
+                        f32::from(a) / 255.0,
+                    )
+                })
+                .collect()
+        }
+        16 => img
+            .to_rgba16()
+            .pixels()
+            .map(|p| {
+                let [r, g, b, a] = p.0.map(|c| f32::from(c) / 65535.0);
+                Vec4::new(
+                    decode_unorm(r, color_space),
+                    decode_unorm(g, color_space),
+                    decode_unorm(b, color_space),
+                    a,
+                )
+            })
+            .collect(),
+        // Float images (Radiance HDR) are linear radiance whatever `color_space` says.
+        _ => img.to_rgba32f().pixels().map(|p| Vec4::from_array(p.0)).collect(),
+    };
+    Ok((width, height, texels))
+}
+
+/// An integer-coded colour component in [0, 1] → linear.
+fn decode_unorm(c: f32, color_space: ColorSpace) -> f32 {
+    match color_space {
+        ColorSpace::Srgb => srgb_to_linear(c),
+        ColorSpace::Linear => c,
+    }
+}
+
+/// OpenEXR: the first valid layer, largest level; `R`,`G`,`B`[,`A`] or `Y`[,`A`]; linear.
+fn decode_exr(bytes: &[u8]) -> Decoded {
+    use exr::prelude::{read, FlatSamples, ReadChannels, ReadLayers};
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(std::io::Cursor::new(bytes))
+        .map_err(|e| format!("cannot decode the OpenEXR image: {e}"))?;
+    let layer = &image.layer_data;
+    let (width, height) = check_size(layer.size.width() as u64, layer.size.height() as u64)?;
+    let n = width as usize * height as usize;
+    let channel = |name: &str| -> Result<Option<Vec<f32>>, String> {
+        let Some(c) = layer
+            .channel_data
+            .list
+            .iter()
+            .find(|c| c.name.to_string() == name)
+        else {
+            return Ok(None);
+        };
+        let values: Vec<f32> = match &c.sample_data {
+            FlatSamples::F16(v) => v.iter().map(|h| h.to_f32()).collect(),
+            FlatSamples::F32(v) => v.clone(),
+            FlatSamples::U32(v) => v.iter().map(|&u| u as f32).collect(),
+        };
+        if values.len() != n {
+            return Err(format!("channel {name} is subsampled, which is not supported"));
+        }
+        Ok(Some(values))
+    };
+    let names: Vec<String> = layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect();
+    let alpha = channel("A")?;
+    let (r, g, b) = match (channel("R")?, channel("G")?, channel("B")?, channel("Y")?) {
+        (Some(r), Some(g), Some(b), _) => (r, g, b),
+        (None, None, None, Some(y)) => (y.clone(), y.clone(), y),
+        _ => {
+            return Err(format!(
+                "the OpenEXR image has channels {names:?}; expected R, G, B (and optionally A) or Y"
+            ))
+        }
+    };
+    let texels = (0..n)
+        .map(|i| Vec4::new(r[i], g[i], b[i], alpha.as_ref().map_or(1.0, |a| a[i])))
+        .collect();
+    Ok((width, height, texels))
 }

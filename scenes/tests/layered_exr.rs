@@ -58,7 +58,10 @@ fn sample_image() -> LayeredImage {
     img.push_channel("depth.Z", tricky_values(n, 2));
     img.push_channel("object_id.Y", (0..n).map(|i| (i % 3) as f32).collect());
     img.push_channel("visibility.sun lamp.Y", tricky_values(n, 3));
-    img.push_channel("visibility.a_light_with_a_name_longer_than_31_bytes.Y", vec![0.25; n]);
+    img.push_channel(
+        "visibility.a_light_with_a_name_longer_than_31_bytes.Y",
+        vec![0.25; n],
+    );
     img.set_attribute("scene", "scenes/cornell-box.toml");
     img.set_attribute("integrator", "path");
     img.set_attribute("software", "verity 0.1.0");
@@ -70,7 +73,11 @@ fn sample_image() -> LayeredImage {
 }
 
 fn assert_bitwise_equal(expected: &LayeredImage, actual: &LayeredImage) {
-    assert_eq!((expected.width, expected.height), (actual.width, actual.height), "size");
+    assert_eq!(
+        (expected.width, expected.height),
+        (actual.width, actual.height),
+        "size"
+    );
     let mut names_e: Vec<&str> = expected.channels.iter().map(|(n, _)| n.as_str()).collect();
     let mut names_a: Vec<&str> = actual.channels.iter().map(|(n, _)| n.as_str()).collect();
     names_e.sort_unstable();
@@ -146,7 +153,10 @@ fn layered_exr_reads_half_and_uint_channels_and_named_parts() {
     let dir = test_dir("foreign");
     let path = dir.join("foreign.exr");
     let size = Vec2(3, 2);
-    let half: Vec<f16> = [0.5f32, 1.0, -2.0, 65504.0, 0.0, 0.25].iter().map(|&v| f16::from_f32(v)).collect();
+    let half: Vec<f16> = [0.5f32, 1.0, -2.0, 65504.0, 0.0, 0.25]
+        .iter()
+        .map(|&v| f16::from_f32(v))
+        .collect();
     let beauty = Layer::new(
         size,
         LayerAttributes::named("beauty"),
@@ -158,7 +168,9 @@ fn layered_exr_reads_half_and_uint_channels_and_named_parts() {
     );
     let mut attrs = LayerAttributes::named("aov");
     attrs.owner = Some(Text::from("someone"));
-    attrs.other.insert(Text::from("note"), AttributeValue::Text(Text::from("hi")));
+    attrs
+        .other
+        .insert(Text::from("note"), AttributeValue::Text(Text::from("hi")));
     attrs.other.insert(Text::from("number"), AttributeValue::F32(1.5));
     let aov = Layer::new(
         size,
@@ -169,15 +181,24 @@ fn layered_exr_reads_half_and_uint_channels_and_named_parts() {
             FlatSamples::F32(vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0]),
         )])),
     );
-    Image::from_layers(ImageAttributes::new(IntegerBounds::from_dimensions(size)), vec![beauty, aov])
-        .write()
-        .to_file(&path)
-        .unwrap();
+    Image::from_layers(
+        ImageAttributes::new(IntegerBounds::from_dimensions(size)),
+        vec![beauty, aov],
+    )
+    .write()
+    .to_file(&path)
+    .unwrap();
 
     let img = LayeredImage::read_exr(&path).unwrap();
     assert_eq!((img.width, img.height), (3, 2));
-    assert_eq!(img.channel("beauty.R").unwrap(), &[0.5, 1.0, -2.0, 65504.0, 0.0, 0.25]);
-    assert_eq!(img.channel("beauty.id").unwrap(), &[0.0, 1.0, 2.0, 3.0, 4.0, 4_000_000.0]);
+    assert_eq!(
+        img.channel("beauty.R").unwrap(),
+        &[0.5, 1.0, -2.0, 65504.0, 0.0, 0.25]
+    );
+    assert_eq!(
+        img.channel("beauty.id").unwrap(),
+        &[0.0, 1.0, 2.0, 3.0, 4.0, 4_000_000.0]
+    );
     assert_eq!(img.channel("aov.Z").unwrap(), &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
     assert_eq!(img.attribute("owner"), Some("someone"));
     assert_eq!(img.attribute("note"), Some("hi"));
@@ -203,14 +224,20 @@ fn layered_exr_malformed_files_give_errors_naming_the_file() {
         let path = dir.join(name);
         std::fs::write(&path, &data).unwrap();
         let err = LayeredImage::read_exr(&path).expect_err(name);
-        assert!(err.contains(name), "error for {name} does not name the file: {err}");
+        assert!(
+            err.contains(name),
+            "error for {name} does not name the file: {err}"
+        );
     }
 
     // Every truncation and many single-byte corruptions: an error or an image, never a panic.
     let cut = dir.join("cut.exr");
     for len in (0..bytes.len()).step_by(7) {
         std::fs::write(&cut, &bytes[..len]).unwrap();
-        assert!(LayeredImage::read_exr(&cut).is_err(), "file cut at {len} bytes was accepted");
+        assert!(
+            LayeredImage::read_exr(&cut).is_err(),
+            "file cut at {len} bytes was accepted"
+        );
     }
     for pos in (0..bytes.len()).step_by(5) {
         let mut corrupt = bytes.clone();
@@ -223,4 +250,35 @@ fn layered_exr_malformed_files_give_errors_naming_the_file() {
     let err = LayeredImage::read_exr(&missing).unwrap_err();
     assert!(err.contains("missing.exr"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Files written by the reference implementation (Python `OpenEXR` 3.5.3, i.e. OpenEXR 3.x):
+///
+/// ```python
+/// R = (np.arange(12, dtype=np.float16).reshape(3, 4) - 4) / 8
+/// h = {"compression": OpenEXR.PIZ_COMPRESSION, "type": OpenEXR.scanlineimage,
+///      "note": "written by OpenEXR 3.5.3"}
+/// OpenEXR.File(h, {"R": R, "G": R * 2, "B": R * 3,
+///     "depth.Z": np.full((3, 4), 2.5, dtype=np.float32),
+///     "id.Y": np.arange(12, dtype=np.uint32).reshape(3, 4)}).write("layered_openexr_piz.exr")
+/// # and two ZIP parts "left" (Y = 1) and "right" (Y = 0), 3x2: layered_openexr_parts.exr
+/// ```
+#[test]
+fn layered_exr_reads_files_written_by_openexr() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests");
+    let img = LayeredImage::read_exr(dir.join("layered_openexr_piz.exr")).unwrap();
+    assert_eq!((img.width, img.height), (4, 3));
+    let expected_r: Vec<f32> = (0..12).map(|i| (i as f32 - 4.0) / 8.0).collect();
+    assert_eq!(img.channel("R").unwrap(), expected_r.as_slice());
+    let expected_b: Vec<f32> = expected_r.iter().map(|r| r * 3.0).collect();
+    assert_eq!(img.channel("B").unwrap(), expected_b.as_slice());
+    assert_eq!(img.channel("depth.Z").unwrap(), &[2.5; 12]);
+    let ids: Vec<f32> = (0..12).map(|i| i as f32).collect();
+    assert_eq!(img.channel("id.Y").unwrap(), ids.as_slice());
+    assert_eq!(img.attribute("note"), Some("written by OpenEXR 3.5.3"));
+
+    let parts = LayeredImage::read_exr(dir.join("layered_openexr_parts.exr")).unwrap();
+    assert_eq!((parts.width, parts.height), (3, 2));
+    assert_eq!(parts.channel("left.Y").unwrap(), &[1.0; 6]);
+    assert_eq!(parts.channel("right.Y").unwrap(), &[0.0; 6]);
 }

@@ -7,7 +7,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{Vec3, Vec4};
 use oracle::{RenderJob, RenderResult, StopRule};
 use scenes::layered::LayeredImage;
 use scenes::texture::Texture;
@@ -55,13 +55,13 @@ pub fn square(center: Vec3, size: f32, normal: Vec3) -> Geometry {
     Geometry::Rectangle { center, half_u: u, half_v: v }
 }
 
-/// An equirectangular environment texture whose texel at direction d holds `f(d)`.
+/// An equirectangular environment texture whose texel at direction d holds `f(d)`
+/// (texel directions as [`scenes::environment_lookup`] places them).
 pub fn analytic_environment(width: u32, height: u32, f: impl Fn(Vec3) -> Vec3) -> Texture {
     let mut texels = Vec::with_capacity((width * height) as usize);
     for j in 0..height {
         for i in 0..width {
-            let uv = Vec2::new((i as f32 + 0.5) / width as f32, (j as f32 + 0.5) / height as f32);
-            texels.push(f(equirect_direction(uv)).extend(1.0));
+            texels.push(f(environment_texel_direction(i, j, width, height)).extend(1.0));
         }
     }
     Texture::from_texels(width, height, texels, [WrapMode::Repeat, WrapMode::Clamp])

@@ -110,3 +110,123 @@ impl Ggx {
         self.reflectance * schlick(self.f0, cos_d)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::f64::consts::PI;
+
+    use super::*;
+    use crate::bsdf::check::{direction, standard_checks, Expect};
+    use crate::bsdf::Bsdf;
+
+    /// Λ(θ) = (−1 + √(1 + α² tan²θ))/2 from the angle.
+    fn lambda(alpha: f64, theta: f64) -> f64 {
+        0.5 * ((1.0 + alpha * alpha * theta.tan().powi(2)).sqrt() - 1.0)
+    }
+
+    /// Hand-derived in-plane values. With ωi opposite ωo in azimuth, θh = |θi − θo|/2 and
+    /// θd = (θo + θi)/2; with ωi on ωo's azimuth, θh = (θo + θi)/2 and θd = |θo − θi|/2.
+    /// D = α²/(π cos⁴θh (α² + tan²θh)²) (Walter's form), eval = k F(θd) D G2/(4 cos θo),
+    /// pdf = G1(θo) D/(4 cos θo).
+    #[test]
+    fn bsdf_ggx_closed_form_sweep() {
+        let (k, f0) = (0.9f64, 0.04f64);
+        for masking in [Masking::HeightCorrelated, Masking::Separable] {
+            for roughness in [0.05f64, 0.3, 0.8] {
+                let alpha = (roughness * roughness).max(1e-3);
+                let bsdf = Bsdf::Ggx(Ggx::new(Rgb::splat(k as f32), Rgb::splat(f0 as f32), roughness as f32, masking));
+                for theta_o in [0.0f64, 30.0, 70.0] {
+                    let wo = direction(theta_o as f32, 0.0);
+                    for theta_i in [0.0f64, 15.0, 30.0, 50.0, 85.0] {
+                        let (to, ti) = (theta_o.to_radians(), theta_i.to_radians());
+                        for opposite in [true, false] {
+                            let (th, td) = if opposite {
+                                ((ti - to).abs() / 2.0, (to + ti) / 2.0)
+                            } else {
+                                ((to + ti) / 2.0, (to - ti).abs() / 2.0)
+                            };
+                            let d = alpha * alpha
+                                / (PI * th.cos().powi(4) * (alpha * alpha + th.tan().powi(2)).powi(2));
+                            let (lo, li) = (lambda(alpha, to), lambda(alpha, ti));
+                            let g2 = match masking {
+                                Masking::HeightCorrelated => 1.0 / (1.0 + lo + li),
+                                Masking::Separable => 1.0 / ((1.0 + lo) * (1.0 + li)),
+                            };
+                            let f = f0 + (1.0 - f0) * (1.0 - td.cos()).powi(5);
+                            let expected_eval = k * f * d * g2 / (4.0 * to.cos());
+                            let expected_pdf = d / ((1.0 + lo) * 4.0 * to.cos());
+                            let wi = direction(theta_i as f32, if opposite { std::f32::consts::PI } else { 0.0 });
+                            let (e, p) = (bsdf.eval(wo, wi).x as f64, bsdf.pdf(wo, wi) as f64);
+                            assert!(
+                                (e - expected_eval).abs() <= 1e-3 * expected_eval + 1e-6
+                                    && (p - expected_pdf).abs() <= 1e-3 * expected_pdf + 1e-6,
+                                "{masking:?}, r {roughness}, θo {theta_o}°, θi {theta_i}°, opposite {opposite}: \
+                                 eval {e} vs {expected_eval}, pdf {p} vs {expected_pdf}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        // Hand values, roughness 0.3 (α = 0.09), f0 = 1, k = 1 at normal incidence: D/4 =
+        // 1/(4πα²) = 9.824379 for eval and pdf. f0 = 0.04, θo = θi = 45° opposite (h = z):
+        // Λ = 0.00202092, F = 0.04206927, eval = F D G2/(4 cos 45°) = 0.5821479 (height-correlated),
+        // 0.5821455 (separable), pdf = D/((1 + Λ) 4 cos 45°) = 13.865749.
+        let white = Bsdf::Ggx(Ggx::new(Rgb::ONE, Rgb::ONE, 0.3, Masking::HeightCorrelated));
+        let (e, p) = (white.eval(Vec3::Z, Vec3::Z).x, white.pdf(Vec3::Z, Vec3::Z));
+        assert!((e - 9.824_379).abs() < 1e-4 && (p - 9.824_379).abs() < 1e-4, "eval {e}, pdf {p}");
+        for (masking, expected) in [(Masking::HeightCorrelated, 0.582_147_9), (Masking::Separable, 0.582_145_5)] {
+            let b = Bsdf::Ggx(Ggx::new(Rgb::ONE, Rgb::splat(0.04), 0.3, masking));
+            let (wo, wi) = (direction(45.0, 0.0), direction(45.0, std::f32::consts::PI));
+            let (e, p) = (b.eval(wo, wi).x, b.pdf(wo, wi));
+            assert!(
+                (e - expected).abs() < 1e-5 && (p - 13.865_749).abs() < 1e-3,
+                "{masking:?}: eval {e} vs {expected}, pdf {p} vs 13.865749"
+            );
+        }
+    }
+
+    fn properties(roughness: f32, seed: u64) {
+        for (masking, chi2) in [(Masking::HeightCorrelated, true), (Masking::Separable, false)] {
+            let expect = Expect {
+                white: true,
+                lossless: false,
+                energy_max_theta_deg: 90.0,
+                albedo: None,
+                chi2,
+            };
+            let bsdf = Bsdf::Ggx(Ggx::new(Rgb::ONE, Rgb::ONE, roughness, masking));
+            standard_checks(&format!("GGX r = {roughness}, {masking:?}"), &bsdf, &expect, seed);
+        }
+        // Coloured Schlick Fresnel: consistency and reciprocity with F varying per channel.
+        let expect = Expect {
+            white: true,
+            lossless: false,
+            energy_max_theta_deg: 90.0,
+            albedo: None,
+            chi2: false,
+        };
+        let bsdf = Bsdf::Ggx(Ggx::new(
+            Rgb::new(0.9, 0.8, 1.0),
+            Rgb::new(0.95, 0.6, 0.04),
+            roughness,
+            Masking::HeightCorrelated,
+        ));
+        standard_checks(&format!("GGX r = {roughness}, coloured"), &bsdf, &expect, seed + 100);
+    }
+
+    #[test]
+    fn bsdf_ggx_properties_r005() {
+        properties(0.05, 21);
+    }
+
+    #[test]
+    fn bsdf_ggx_properties_r03() {
+        properties(0.3, 22);
+    }
+
+    #[test]
+    fn bsdf_ggx_properties_r08() {
+        properties(0.8, 23);
+    }
+}

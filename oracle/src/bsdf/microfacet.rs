@@ -47,25 +47,28 @@ impl TrowbridgeReitz {
     }
 
     /// Normal distribution D(m) = α²/(π((m.z)²(α² − 1) + 1)²), zero for m.z ≤ 0
-    /// (Walter et al. 2007, eq. 33).
+    /// (Walter et al. 2007, eq. 33). For unit m the denominator's (m.z)²(α² − 1) + 1 is
+    /// evaluated as α²(m.z)² + (m.x)² + (m.y)², which keeps its precision near the pole
+    /// (1 − (m.z)² loses all digits there when α is small).
     #[inline]
     pub fn d(&self, m: Vec3) -> f32 {
         if m.z <= 0.0 {
             return 0.0;
         }
         let a2 = self.alpha * self.alpha;
-        let t = m.z * m.z * (a2 - 1.0) + 1.0;
+        let t = a2 * m.z * m.z + (m.x * m.x + m.y * m.y);
         a2 / (PI * t * t)
     }
 
-    /// Smith Λ(ω) = (−1 + √(1 + α² tan²θ))/2 (Heitz 2014 §5; Walter et al. 2007, eq. 34).
+    /// Smith Λ(ω) = (−1 + √(1 + α² tan²θ))/2 (Heitz 2014 §5; Walter et al. 2007, eq. 34),
+    /// with tan²θ = ((ω.x)² + (ω.y)²)/(ω.z)² for unit ω.
     #[inline]
     pub fn lambda(&self, w: Vec3) -> f32 {
         let cos2 = w.z * w.z;
         if cos2 == 0.0 {
             return f32::INFINITY;
         }
-        let a2_tan2 = self.alpha * self.alpha * ((1.0 - cos2).max(0.0) / cos2);
+        let a2_tan2 = self.alpha * self.alpha * ((w.x * w.x + w.y * w.y) / cos2);
         0.5 * ((1.0 + a2_tan2).sqrt() - 1.0)
     }
 
@@ -152,24 +155,28 @@ pub fn half_vector(wo: Vec3, wi: Vec3) -> Option<Vec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::chi2::Pcg32;
+    use crate::bsdf::chi2::{integrate_sphere, Pcg32};
 
-    /// ∫ D(m) cos θm dωm = 1 (Walter et al. 2007, eq. 4), by the midpoint rule in (cos θ, φ)
-    /// after the change of variable t = cos θ that D is smooth in.
+    /// ∫ D(m) cos θm dωm = 1 (Walter et al. 2007, eq. 4) and ∫ D_ωo(m) dωm = 1 (Heitz 2018 §2),
+    /// by adaptive quadrature.
     #[test]
-    fn bsdf_microfacet_projected_area_is_one() {
+    fn bsdf_microfacet_distributions_are_normalised() {
         for roughness in [0.05f32, 0.3, 0.8, 1.0] {
             let dist = TrowbridgeReitz::from_roughness(roughness);
-            // Substitute x = tan²θ/α², which makes ∫ D cos dω = ∫₀^∞ dx/(1 + x)² exactly; here
-            // integrate directly in cos θ with a fine midpoint rule near the peak instead.
-            let n = 400_000;
-            let mut sum = 0.0f64;
-            for i in 0..n {
-                let z = (i as f64 + 0.5) / n as f64;
-                let m = Vec3::new((1.0 - z * z).sqrt() as f32, 0.0, z as f32);
-                sum += dist.d(m) as f64 * z * TAU as f64 / n as f64;
+            let projected = integrate_sphere(&|m| (dist.d(m) * m.z.max(0.0)) as f64);
+            assert!(
+                (projected - 1.0).abs() < 1e-4,
+                "roughness {roughness}: ∫D cos = {projected}, expected 1"
+            );
+            for theta_deg in [0.0f32, 60.0, 88.0] {
+                let (s, c) = theta_deg.to_radians().sin_cos();
+                let wo = Vec3::new(s, 0.0, c);
+                let visible = integrate_sphere(&|m| dist.visible_normal_pdf(wo, m) as f64);
+                assert!(
+                    (visible - 1.0).abs() < 1e-4,
+                    "roughness {roughness}, θo = {theta_deg}°: ∫D_ωo = {visible}, expected 1"
+                );
             }
-            assert!((sum - 1.0).abs() < 2e-3, "roughness {roughness}: ∫D cos = {sum}, expected 1");
         }
     }
 

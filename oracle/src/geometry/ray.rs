@@ -91,8 +91,8 @@ pub fn spawn_ray(p: Vec3, ng: Vec3, dir: Vec3) -> Ray {
 /// Ray from surface point `p` (geometric normal `ng`) towards the point `q`, offset at `p`;
 /// returns (ray, tmax). When `ng_q` is given, `q` lies on a surface and is offset along
 /// ±`ng_q` towards the ray's origin, so that surface is not hit; tmax is further shortened by
-/// the relative [`SHADOW_EPSILON`] (pbrt-v4 §6.8.6, `SpawnRayTo`). A zero-length segment
-/// returns tmax = 0 (nothing can occlude it).
+/// the relative [`SHADOW_EPSILON`] (pbrt-v4 §6.8.6, `SpawnRayTo`). A segment that collapses
+/// to zero length after the offsets returns tmax = 0 (nothing can occlude it).
 pub fn spawn_ray_to(p: Vec3, ng: Vec3, q: Vec3, ng_q: Option<Vec3>) -> (Ray, f32) {
     let origin = offset_point(p, facing(ng, q - p));
     let target = match ng_q {

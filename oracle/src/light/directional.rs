@@ -4,7 +4,7 @@
 //! ωs = −direction. E is the irradiance on a surface facing the light.
 //!
 //! - Angular diameter 0: a delta light; li = E along ωs, so a surface with normal n receives
-//!   E·cosθ (pbrt-v4 §12.4 DistantLight).
+//!   E·cosθ (pbrt-v4 §12.3 DistantLight).
 //! - Angular diameter 2θmax > 0: a disk of uniform radiance L = E/(π sin²θmax) filling the cone
 //!   of half-angle θmax about ωs. A facing surface then receives ∫ L cosθ dω = L·π·sin²θmax = E
 //!   at any size. Directions are sampled uniformly in the cone, pdf = 1/(2π(1 − cosθmax))
@@ -12,7 +12,7 @@
 //!   0.5° sun keeps full precision; [`DirectionalLight::radiance_from_direction`] returns L
 //!   inside the cone so BSDF-sampled rays can hit the sun.
 //!
-//! Power Φ = π·R²·E with R the scene's bounding-sphere radius (pbrt-v4 §12.4 DistantLight::Phi).
+//! Power Φ = π·R²·E with R the scene's bounding-sphere radius (pbrt-v4 §12.3 DistantLight::Phi).
 //!
 //! | parameter | type | default | unit |
 //! |---|---|---|---|
@@ -145,5 +145,103 @@ impl DirectionalLight {
     /// Φ = π·R²·E (channel average).
     pub fn power(&self) -> f32 {
         PI * self.scene_radius * self.scene_radius * average(self.irradiance)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::light::test_support::{irradiance, Pcg32};
+    use crate::light::Emitter;
+
+    const E: Rgb = Vec3::new(3.0, 2.0, 1.0);
+
+    #[test]
+    fn light_directional_delta_gives_e_cos() {
+        let dir = Vec3::new(0.3, -1.0, 0.2).normalize();
+        let l = DirectionalLight::new(dir, E, 0.0, 10.0).unwrap();
+        let n = Vec3::new(0.1, 1.0, -0.3).normalize();
+        let s = l.sample_li(Vec2::splat(0.7)).unwrap();
+        let got = s.li * n.dot(s.wi) / s.pdf;
+        let want = E * n.dot(-dir);
+        assert!(
+            s.delta && s.dist.is_infinite() && (got - want).abs().max_element() < 1e-5,
+            "E {got}, expected {want}"
+        );
+        assert_eq!(l.pdf_li(-dir), 0.0);
+        assert_eq!(l.radiance_from_direction(-dir), Rgb::ZERO);
+        assert!((l.power() - PI * 100.0 * 2.0).abs() < 1e-3, "power {}", l.power());
+    }
+
+    #[test]
+    fn light_directional_sun_disk_irradiance_is_e_at_any_size() {
+        let dir = Vec3::new(-0.2, -1.0, 0.4).normalize();
+        for diameter in [0.1f32, 0.53, 5.0, 60.0, 120.0, 179.0] {
+            let l = DirectionalLight::new(dir, E, diameter, 1.0).unwrap();
+            let e = Emitter::Directional(l.clone());
+            irradiance(&e, Vec3::ZERO, -dir, 50_000, 4).assert_matches(
+                E,
+                4.0,
+                1e-4,
+                &format!("facing, {diameter}°"),
+            );
+            // Tilted by τ with the cone above the horizon (τ + θmax < 90°): by symmetry of the
+            // disk ∫ L (n·ω) dω = n·(−dir) · L π sin²θmax = E cos τ.
+            let half = 0.5 * diameter;
+            if half < 60.0 {
+                let tau = (80.0 - half).min(30.0).to_radians();
+                let frame = Frame::from_normal(-dir);
+                let n = frame.to_world(Vec3::new(tau.sin(), 0.0, tau.cos()));
+                let want = E * tau.cos();
+                irradiance(&e, Vec3::ZERO, n, 100_000, 6).assert_matches(
+                    want,
+                    4.0,
+                    1e-4,
+                    &format!("tilted, {diameter}°"),
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn light_directional_sun_pdf_and_radiance_agree_with_samples() {
+        let dir = Vec3::new(0.5, -1.0, 0.1).normalize();
+        let mut rng = Pcg32::new(12, 1);
+        for diameter in [0.53f32, 10.0, 170.0] {
+            let l = DirectionalLight::new(dir, E, diameter, 1.0).unwrap();
+            let (mut edge, n) = (0, 20_000);
+            for k in 0..n {
+                let s = l.sample_li(rng.next_2d()).unwrap();
+                let (pdf, rad) = (l.pdf_li(s.wi), l.radiance_from_direction(s.wi));
+                if pdf == s.pdf && rad == s.li {
+                    continue;
+                }
+                // Only directions within f32 rounding of the rim may fall outside the cone.
+                let sin2 = (-dir).cross(s.wi).length_squared();
+                let sin2_max = (0.5 * diameter.to_radians()).sin().powi(2);
+                assert!(
+                    (sin2 / sin2_max - 1.0).abs() < 1e-3,
+                    "{diameter}° sample {k}: pdf {} vs pdf_li {pdf}, li {} vs {rad}, sin²/sin²max = {}",
+                    s.pdf,
+                    s.li,
+                    sin2 / sin2_max
+                );
+                edge += 1;
+            }
+            assert!(edge * 1000 < n, "{diameter}°: {edge} of {n} samples on the rim");
+            let outside = Frame::from_normal(-dir).to_world(Vec3::new(0.0, 1.0, 0.0));
+            assert_eq!(l.radiance_from_direction(outside), Rgb::ZERO);
+            assert_eq!(l.pdf_li(dir), 0.0, "opposite direction");
+        }
+    }
+
+    #[test]
+    fn light_directional_rejects_bad_input() {
+        let e = DirectionalLight::new(Vec3::ZERO, E, 0.0, 1.0).unwrap_err();
+        assert!(e.contains("direction"), "{e}");
+        let e = DirectionalLight::new(Vec3::Y, -E, 0.0, 1.0).unwrap_err();
+        assert!(e.contains("irradiance"), "{e}");
+        let e = DirectionalLight::new(Vec3::Y, E, 180.0, 1.0).unwrap_err();
+        assert!(e.contains("angular_diameter_deg"), "{e}");
     }
 }

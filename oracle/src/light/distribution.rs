@@ -1,5 +1,5 @@
-//! Piecewise-constant distributions on [0, 1) and [0, 1)², pbrt-v4 §A.5.1 (PiecewiseConstant1D)
-//! and §A.5.2 (PiecewiseConstant2D).
+//! Piecewise-constant distributions on [0, 1) and [0, 1)², pbrt-v4 Appendix A.4
+//! (PiecewiseConstant1D) and A.5 (PiecewiseConstant2D).
 //!
 //! A 1D function given by `n` non-negative cell values f_i on [0, 1) has the density
 //! p(x) = f_⌊nx⌋ / I with I = Σ f_i / n, and the CDF P(k/n) = Σ_{i<k} f_i / (n I). Sampling inverts
@@ -45,7 +45,7 @@ impl Distribution1D {
             func.push(0.0);
         }
         let mut sum: f64 = func.iter().map(|&f| f as f64).sum();
-        if !(sum > 0.0) {
+        if sum <= 0.0 {
             func.iter_mut().for_each(|f| *f = 1.0);
             sum = func.len() as f64;
         }
@@ -78,11 +78,6 @@ impl Distribution1D {
     /// ∫₀¹ f(x) dx of the (possibly uniformised) function.
     pub fn integral(&self) -> f32 {
         self.integral
-    }
-
-    /// Cell value f_i.
-    pub fn value(&self, i: usize) -> f32 {
-        self.func[i]
     }
 
     /// The cell `o` with cdf[o] ≤ u < cdf[o+1] and the position of u inside it, in [0, 1).
@@ -190,11 +185,6 @@ impl Distribution2D {
         }
     }
 
-    /// Grid size (nu, nv).
-    pub fn size(&self) -> (usize, usize) {
-        (self.conditional[0].len(), self.conditional.len())
-    }
-
     /// Row index of coordinate v.
     fn row(&self, v: f32) -> usize {
         let nv = self.conditional.len();
@@ -217,5 +207,127 @@ impl Distribution2D {
         // p(u | v)·p(v) = (f/I_row)·(I_row/I₂); a zero row that was uniformised in its
         // conditional keeps density zero through its marginal.
         self.conditional[self.row(p.y)].pdf(p.x) * self.marginal.pdf(p.y)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::light::test_support::{assert_chi_square, Pcg32};
+
+    #[test]
+    fn light_distribution_1d_pmf_and_pdf_are_normalised() {
+        let d = Distribution1D::new(&[0.0, 1.0, 3.0, 0.0, 0.5, 2.5]);
+        let pmf_sum: f32 = (0..d.len()).map(|i| d.pmf(i)).sum();
+        let n = 60_000;
+        let pdf_int: f32 = (0..n)
+            .map(|k| d.pdf((k as f32 + 0.5) / n as f32) / n as f32)
+            .sum();
+        assert!((pmf_sum - 1.0).abs() < 1e-6, "Σ pmf = {pmf_sum}, expected 1");
+        assert!((pdf_int - 1.0).abs() < 1e-4, "∫ pdf = {pdf_int}, expected 1");
+        assert!(
+            (d.pmf(2) - 3.0 / 7.0).abs() < 1e-6,
+            "pmf(2) = {}, expected 3/7",
+            d.pmf(2)
+        );
+        let uniform = Distribution1D::new(&[0.0, 0.0, 0.0, 0.0]);
+        assert!(
+            (uniform.pmf(3) - 0.25).abs() < 1e-7,
+            "all-zero pmf {}",
+            uniform.pmf(3)
+        );
+        assert!(
+            (uniform.pdf(0.3) - 1.0).abs() < 1e-7,
+            "all-zero pdf {}",
+            uniform.pdf(0.3)
+        );
+    }
+
+    #[test]
+    fn light_distribution_1d_samples_follow_the_function() {
+        let func = [0.0, 1.0, 3.0, 0.0, 0.5, 2.5, 1e-3, 7.0];
+        let d = Distribution1D::new(&func);
+        let mut rng = Pcg32::new(1, 1);
+        let n = 400_000u64;
+        let mut counts = vec![0u64; func.len()];
+        for _ in 0..n {
+            let u = rng.next_f32();
+            let (x, pdf, i) = d.sample_continuous(u);
+            assert!(
+                ((x * func.len() as f32) as usize) == i && pdf == d.pdf(x),
+                "x {x} cell {i} pdf {pdf}"
+            );
+            let (j, pmf, du) = d.sample_discrete(u);
+            assert!(
+                j == i && pmf == d.pmf(j) && (0.0..1.0).contains(&du),
+                "discrete {j} {pmf} {du}"
+            );
+            counts[i] += 1;
+        }
+        let expected: Vec<f64> = (0..func.len()).map(|i| d.pmf(i) as f64 * n as f64).collect();
+        assert!(counts[0] == 0 && counts[3] == 0, "zero cells sampled: {counts:?}");
+        assert_chi_square(&counts, &expected, "1D histogram");
+    }
+
+    #[test]
+    fn light_distribution_1d_edge_samples_stay_in_nonzero_cells() {
+        let d = Distribution1D::new(&[0.0, 2.0, 0.0]);
+        for u in [0.0, 1e-9, 0.5, 1.0 - 1e-7, 1.0, 2.0] {
+            let (x, pdf, i) = d.sample_continuous(u);
+            assert!(
+                i == 1 && pdf == 3.0 && (1.0 / 3.0..2.0 / 3.0).contains(&x),
+                "u {u}: x {x} pdf {pdf} cell {i}"
+            );
+        }
+    }
+
+    #[test]
+    fn light_distribution_2d_pdf_integrates_to_one_and_histogram_matches() {
+        let (nu, nv) = (13usize, 7usize);
+        let mut rng = Pcg32::new(5, 2);
+        let func: Vec<f32> = (0..nu * nv)
+            .map(|k| {
+                if k % 11 == 3 || k / nu == 4 {
+                    0.0
+                } else {
+                    rng.next_f32().powi(3) * 10.0
+                }
+            })
+            .collect();
+        let d = Distribution2D::new(&func, nu, nv);
+        // ∫ pdf over [0,1]² by the midpoint rule (exact for a piecewise-constant pdf).
+        let (gu, gv) = (nu * 4, nv * 4);
+        let integral: f64 = (0..gu * gv)
+            .map(|k| {
+                let p = Vec2::new(
+                    ((k % gu) as f32 + 0.5) / gu as f32,
+                    ((k / gu) as f32 + 0.5) / gv as f32,
+                );
+                d.pdf(p) as f64 / (gu * gv) as f64
+            })
+            .sum();
+        assert!((integral - 1.0).abs() < 1e-5, "∫ pdf = {integral}, expected 1");
+        let total: f64 = func.iter().map(|&f| f as f64).sum();
+        let n = 1_000_000u64;
+        let mut counts = vec![0u64; nu * nv];
+        for _ in 0..n {
+            let (p, pdf) = d.sample(rng.next_2d());
+            let cell = ((p.y * nv as f32) as usize) * nu + (p.x * nu as f32) as usize;
+            assert!(
+                pdf == d.pdf(p) && pdf > 0.0,
+                "point {p}: sample pdf {pdf}, pdf() {}",
+                d.pdf(p)
+            );
+            counts[cell] += 1;
+        }
+        let expected: Vec<f64> = func.iter().map(|&f| f as f64 / total * n as f64).collect();
+        for (k, &f) in func.iter().enumerate() {
+            assert!(
+                f > 0.0 || counts[k] == 0,
+                "cell {k} has weight 0 but {} samples",
+                counts[k]
+            );
+        }
+        assert_chi_square(&counts, &expected, "2D histogram");
     }
 }

@@ -3,8 +3,8 @@
 //! A delta light at `position` with radiant intensity I (W/sr) in every direction. Seen from a
 //! point p at distance r it contributes the incident "radiance" I/r² along the single direction
 //! ωi = (position − p)/r, so the irradiance on a surface with normal n is E = I·cosθ/r²
-//! (inverse-square law; pbrt-v4 §12.1 PointLight::SampleLi). Emitted power Φ = 4π·I
-//! (pbrt-v4 §12.1 PointLight::Phi).
+//! (inverse-square law; pbrt-v4 §12.2 PointLight::SampleLi). Emitted power Φ = 4π·I
+//! (pbrt-v4 §12.2 PointLight::Phi).
 //!
 //! | parameter | type | default | unit |
 //! |---|---|---|---|
@@ -41,7 +41,7 @@ impl PointLight {
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
         let d = self.position - p;
         let r2 = d.length_squared();
-        if !(r2 > 0.0) || is_black(self.intensity) {
+        if !(r2 > 0.0 && r2.is_finite()) || is_black(self.intensity) {
             return None;
         }
         let dist = r2.sqrt();
@@ -80,6 +80,10 @@ mod tests {
             s.dist
         );
         assert!(light.sample_li(light.position).is_none());
-        assert!((light.power() - 12.0 * PI).abs() < 1e-4, "power {}", light.power());
+        assert!(
+            (light.power() - 12.0 * PI).abs() < 1e-4,
+            "power {}",
+            light.power()
+        );
     }
 }

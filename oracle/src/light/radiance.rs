@@ -2,7 +2,7 @@
 //! checks every light shares.
 //!
 //! L(uv) = c for a constant, or factor × texture(uv) (bilinear, [`Texture::sample`]) for an image,
-//! in W·m⁻²·sr⁻¹. The mean over the texels feeds the power estimate of pbrt-v4 §12.6
+//! in W·m⁻²·sr⁻¹. The mean over the texels feeds the power estimate of pbrt-v4 §12.4
 //! (DiffuseAreaLight::Phi averages its image the same way).
 //!
 //! | parameter | type | default | unit |
@@ -121,7 +121,10 @@ pub fn check_direction(field: &str, v: Vec3) -> Result<Vec3, String> {
     check_vec(field, v)?;
     let n = v.normalize_or_zero();
     if n == Vec3::ZERO {
-        return Err(format!("{field} = ({}, {}, {}) must be a non-zero direction", v.x, v.y, v.z));
+        return Err(format!(
+            "{field} = ({}, {}, {}) must be a non-zero direction",
+            v.x, v.y, v.z
+        ));
     }
     Ok(n)
 }

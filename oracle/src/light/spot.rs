@@ -82,13 +82,14 @@ impl SpotLight {
     /// Falloff s(θ) for the unit direction `d` leaving the light.
     pub fn falloff(&self, d: Vec3) -> f32 {
         let cos_theta = self.direction.dot(d);
-        if !(cos_theta > self.cos_cutoff) {
-            return 0.0;
+        if cos_theta >= self.cos_beam || (cos_theta > self.cos_cutoff && self.cutoff <= self.beam) {
+            1.0
+        } else if cos_theta > self.cos_cutoff {
+            ((self.cutoff - cos_theta.acos()) / (self.cutoff - self.beam)).clamp(0.0, 1.0)
+        } else {
+            // Outside the cutoff cone (or a NaN direction).
+            0.0
         }
-        if cos_theta >= self.cos_beam || self.cutoff <= self.beam {
-            return 1.0;
-        }
-        ((self.cutoff - cos_theta.clamp(-1.0, 1.0).acos()) / (self.cutoff - self.beam)).clamp(0.0, 1.0)
     }
 
     /// The one direction towards the light with li = I·s(θ)/r²; `None` outside the cone or at
@@ -96,7 +97,7 @@ impl SpotLight {
     pub fn sample_li(&self, p: Vec3) -> Option<LightSample> {
         let d = self.position - p;
         let r2 = d.length_squared();
-        if !(r2 > 0.0) {
+        if !(r2 > 0.0 && r2.is_finite()) {
             return None;
         }
         let dist = r2.sqrt();
@@ -142,12 +143,20 @@ mod tests {
         let light = spot();
         let h = 2.0f32;
         // Receivers on the plane y = −h facing up, at polar angle θ from the axis.
-        for (theta_deg, falloff) in [(0.0f32, 1.0f32), (15.0, 1.0), (30.0, 0.5), (35.0, 0.25), (45.0, 0.0)] {
+        for (theta_deg, falloff) in [
+            (0.0f32, 1.0f32),
+            (15.0, 1.0),
+            (30.0, 0.5),
+            (35.0, 0.25),
+            (45.0, 0.0),
+        ] {
             let theta = theta_deg.to_radians();
             let p = Vec3::new(h * theta.tan(), -h, 0.0);
             let r2 = p.length_squared();
             let want = 10.0 * falloff * theta.cos() / r2;
-            let got = light.sample_li(p).map_or(0.0, |s| s.li.x * s.wi.dot(Vec3::Y) / s.pdf);
+            let got = light
+                .sample_li(p)
+                .map_or(0.0, |s| s.li.x * s.wi.dot(Vec3::Y) / s.pdf);
             assert!(
                 (got - want).abs() <= 1e-5 * want.max(1e-3),
                 "θ = {theta_deg}°: E = {got}, expected {want}"

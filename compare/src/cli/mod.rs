@@ -1,0 +1,160 @@
+//! The `verity` command line: the top-level parser and one module per subcommand.
+//!
+//! Exit statuses (compare/README.md): 0 success, 1 the work failed (render or writing the
+//! output), 2 bad usage or bad input (unknown flag, invalid value, unreadable scene). Errors
+//! are one `error: <message>` line on stderr; a panic is reported the same way, never with a
+//! backtrace.
+
+use std::ffi::OsString;
+use std::panic::{self, AssertUnwindSafe};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+pub mod render;
+
+/// Verity tells a real-time renderer how wrong it is.
+#[derive(Debug, Parser)]
+#[command(
+    name = "verity",
+    version,
+    about = "Verity: measure real-time rendering approximations against a path-traced ground truth",
+    after_help = "Exit status: 0 success, 1 the render or writing its output failed, 2 bad usage or input."
+)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render a scene with the oracle (the CPU path tracer) to a layered EXR and a PNG preview.
+    Render(render::RenderArgs),
+}
+
+/// Why a command failed, which decides the exit status.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Failure {
+    /// The work itself failed (render error, output not writable): exit status 1.
+    Run,
+    /// Bad usage or bad input (invalid flag value, unreadable scene): exit status 2.
+    Input,
+}
+
+impl Failure {
+    /// The process exit status.
+    pub fn exit_status(self) -> u8 {
+        match self {
+            Failure::Run => 1,
+            Failure::Input => 2,
+        }
+    }
+}
+
+/// A failed command: what kind of failure, and a message that names the file or flag.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CliError {
+    /// Decides the exit status.
+    pub failure: Failure,
+    /// Printed as `error: <message>`.
+    pub message: String,
+}
+
+impl CliError {
+    /// Bad usage or input (exit status 2).
+    pub fn input(message: impl Into<String>) -> Self {
+        CliError {
+            failure: Failure::Input,
+            message: message.into(),
+        }
+    }
+
+    /// The work failed (exit status 1).
+    pub fn run(message: impl Into<String>) -> Self {
+        CliError {
+            failure: Failure::Run,
+            message: message.into(),
+        }
+    }
+}
+
+/// The `verity` program: parses `std::env::args_os()` and runs the subcommand.
+pub fn main() -> ExitCode {
+    run_from(std::env::args_os())
+}
+
+/// Parses `args` (program name first) and runs the subcommand, printing errors on stderr.
+pub fn run_from(args: impl IntoIterator<Item = OsString>) -> ExitCode {
+    let args: Vec<OsString> = args.into_iter().collect();
+    let cli = match Cli::try_parse_from(&args) {
+        Ok(cli) => cli,
+        Err(e) => {
+            // clap prints `error: …` with usage for mistakes, and help/version on stdout.
+            let _ = e.print();
+            return ExitCode::from(e.exit_code().clamp(0, 255) as u8);
+        }
+    };
+    let command_line = shell_words(&args);
+    // A panic is a bug: report it as one error line (with its location), never a backtrace.
+    panic::set_hook(Box::new(|info| {
+        eprintln!("error: internal error (a bug in verity, please report it): {info}");
+    }));
+    let outcome = panic::catch_unwind(AssertUnwindSafe(|| dispatch(cli, &command_line)));
+    let _ = panic::take_hook();
+    match outcome {
+        Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Err(e)) => {
+            eprintln!("error: {}", e.message);
+            ExitCode::from(e.failure.exit_status())
+        }
+        Err(_) => ExitCode::from(Failure::Run.exit_status()),
+    }
+}
+
+fn dispatch(cli: Cli, command_line: &str) -> Result<(), CliError> {
+    match cli.command {
+        Command::Render(args) => render::run(&args, command_line),
+    }
+}
+
+/// The arguments as one line a POSIX shell would split back into them (for EXR headers):
+/// words with characters outside `[A-Za-z0-9_./=:,+@%-]` are single-quoted.
+pub fn shell_words(args: &[OsString]) -> String {
+    let quote = |a: &OsString| {
+        let s = a.to_string_lossy();
+        let plain = !s.is_empty()
+            && s.chars()
+                .all(|c| c.is_ascii_alphanumeric() || "_./=:,+@%-".contains(c));
+        if plain {
+            s.into_owned()
+        } else {
+            format!("'{}'", s.replace('\'', r"'\''"))
+        }
+    };
+    args.iter().map(quote).collect::<Vec<_>>().join(" ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shell_words_quotes_only_what_needs_it() {
+        let args: Vec<OsString> = ["verity", "render", "my scene.toml", "--out=a.exr", "it's", ""]
+            .iter()
+            .map(OsString::from)
+            .collect();
+        assert_eq!(
+            shell_words(&args),
+            r"verity render 'my scene.toml' --out=a.exr 'it'\''s' ''"
+        );
+    }
+
+    #[test]
+    fn cli_definition_is_consistent() {
+        use clap::CommandFactory;
+        Cli::command().debug_assert();
+    }
+}

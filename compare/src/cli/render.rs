@@ -1,0 +1,461 @@
+//! `verity render`: render a scene with the oracle to a layered EXR plus a PNG preview.
+//!
+//! Flags override the scene file's `[render]` and `[film]` defaults. The render stops at the
+//! first of `--spp`, `--time` and `--target-error` reached; with `--time` or `--target-error`
+//! and no `--spp`, the scene's spp no longer bounds it (only [`SPP_CAP`] does).
+//! Checkpoints go to `<out>.checkpoint` every 60 s by default (so renders shorter than a
+//! minute never write one); the oracle removes it when the render finishes.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use clap::{Args, ValueEnum};
+use oracle::{CheckpointConfig, Progress, RenderJob, RenderResult, StopRule};
+use scenes::{Film, IntegratorKind, RenderSettings, Scene};
+
+use super::CliError;
+use crate::progress::{format_duration, format_sig3, rate, ProgressMode, ProgressReporter};
+
+/// Largest width or height `--resolution` accepts.
+pub const MAX_RESOLUTION: u32 = 16384;
+
+/// The spp bound of renders limited only by `--time` or `--target-error`.
+pub const SPP_CAP: u32 = 1 << 24;
+
+/// Checkpoint interval when `--checkpoint-every` is not given.
+pub const DEFAULT_CHECKPOINT_INTERVAL: Duration = Duration::from_secs(60);
+
+/// Flags of `verity render`.
+#[derive(Args, Clone, Debug)]
+pub struct RenderArgs {
+    /// Scene file: a TOML scene (see scenes/README.md) or a glTF 2.0 asset (.gltf, .glb).
+    #[arg(value_name = "SCENE")]
+    pub scene: PathBuf,
+
+    /// Samples per pixel (≥ 1) [default: the scene's].
+    #[arg(long, value_name = "N", value_parser = parse_spp, allow_negative_numbers = true)]
+    pub spp: Option<u32>,
+
+    /// Stop after the pass that crosses this wall-clock budget, in seconds.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_duration, allow_negative_numbers = true)]
+    pub time: Option<Duration>,
+
+    /// Stop when the image's mean relative standard error drops below E (> 0).
+    #[arg(long, value_name = "E", value_parser = parse_target_error, allow_negative_numbers = true)]
+    pub target_error: Option<f32>,
+
+    /// Light transport: full paths, direct light only, or ambient occlusion
+    /// [default: the scene's].
+    #[arg(long, value_enum)]
+    pub integrator: Option<IntegratorArg>,
+
+    /// Path depth with Mitsuba's meaning: 1 = emitters seen directly, 2 = direct light,
+    /// −1 = unbounded [default: the scene's].
+    #[arg(long, value_name = "D", allow_negative_numbers = true, value_parser = parse_max_depth)]
+    pub max_depth: Option<i32>,
+
+    /// Seed of the sampler's scrambling [default: the scene's].
+    #[arg(long, value_name = "K", allow_negative_numbers = true)]
+    pub seed: Option<u64>,
+
+    /// Image size, e.g. 640x480, each side in 1..=16384 [default: the scene's].
+    #[arg(long, value_name = "WxH", value_parser = parse_resolution)]
+    pub resolution: Option<Film>,
+
+    /// Ambient-occlusion radius in metres (> 0), for `--integrator ao` [default: the scene's].
+    #[arg(long, value_name = "R", value_parser = parse_ao_radius, allow_negative_numbers = true)]
+    pub ao_radius: Option<f32>,
+
+    /// Output EXR; the PNG preview goes beside it with the extension .png
+    /// [default: out/<scene stem>.exr].
+    #[arg(long, value_name = "FILE.exr")]
+    pub out: Option<PathBuf>,
+
+    /// Exposure of the PNG preview in stops (the EXR is not scaled).
+    #[arg(long, value_name = "STOPS", default_value_t = 0.0, allow_negative_numbers = true,
+          value_parser = parse_exposure)]
+    pub exposure: f32,
+
+    /// Write a checkpoint to <out>.checkpoint at most this often; 0 turns checkpoints off
+    /// [default: 60].
+    #[arg(long, value_name = "SECONDS", value_parser = parse_checkpoint_interval, allow_negative_numbers = true)]
+    pub checkpoint_every: Option<Duration>,
+
+    /// Continue from <out>.checkpoint if it exists (same scene and settings).
+    #[arg(long)]
+    pub resume: bool,
+
+    /// Show no progress (errors and the final summary line are still printed).
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// `--integrator` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum IntegratorArg {
+    /// Full path tracing up to --max-depth.
+    Path,
+    /// Emission + one bounce of direct light + perfect-specular chains.
+    Direct,
+    /// Ambient occlusion within --ao-radius.
+    Ao,
+}
+
+impl From<IntegratorArg> for IntegratorKind {
+    fn from(a: IntegratorArg) -> Self {
+        match a {
+            IntegratorArg::Path => IntegratorKind::Path,
+            IntegratorArg::Direct => IntegratorKind::Direct,
+            IntegratorArg::Ao => IntegratorKind::Ao,
+        }
+    }
+}
+
+/// The name `--integrator` uses for `kind`.
+pub fn integrator_name(kind: IntegratorKind) -> &'static str {
+    match kind {
+        IntegratorKind::Path => "path",
+        IntegratorKind::Direct => "direct",
+        IntegratorKind::Ao => "ao",
+    }
+}
+
+/// Runs `verity render`; `command_line` goes into the EXR header.
+pub fn run(args: &RenderArgs, command_line: &str) -> Result<(), CliError> {
+    let out = output_path(args)?;
+    let checkpoint = checkpoint_config(args, &out)?;
+    let mut scene = load_scene(&args.scene)?;
+    let (stop, spp_is_cap) = apply_overrides(args, &mut scene);
+
+    let mut reporter = ProgressReporter::new(ProgressMode::detect(args.quiet), stop, spp_is_cap);
+    reporter.note(&start_line(args, &scene, &stop, spp_is_cap, &out));
+    if let Some(c) = checkpoint.as_ref().filter(|c| c.resume) {
+        if !c.path.exists() {
+            reporter.note(&format!(
+                "render: no checkpoint at {}; starting afresh",
+                c.path.display()
+            ));
+        }
+    }
+    let job = RenderJob {
+        scene: &scene,
+        settings: scene.render,
+        stop,
+        checkpoint,
+    };
+    let mut last: Option<Progress> = None;
+    let result = oracle::render(&job, &mut |p| {
+        reporter.update(p);
+        last = Some(*p);
+        true
+    });
+    reporter.finish();
+    let mut result = result.map_err(|e| CliError::run(format!("rendering {}: {e}", args.scene.display())))?;
+
+    let mut image = std::mem::take(&mut result.image);
+    add_header(
+        &mut image,
+        args,
+        &scene.render,
+        &result,
+        last.as_ref(),
+        command_line,
+    );
+    image.write_exr(&out).map_err(|e| CliError::run(e.to_string()))?;
+    let preview = out.with_extension("png");
+    image
+        .write_png_preview(&preview, args.exposure)
+        .map_err(|e| CliError::run(e.to_string()))?;
+    println!("{}", final_line(&args.scene, &image, &result, &out));
+    Ok(())
+}
+
+/// `--out`, or `out/<scene stem>.exr`; must end in `.exr`; its directory is created now so
+/// that a long render cannot fail at the very end for want of it.
+fn output_path(args: &RenderArgs) -> Result<PathBuf, CliError> {
+    let out = match &args.out {
+        Some(out) => out.clone(),
+        None => {
+            let stem = args.scene.file_stem().unwrap_or_else(|| "render".as_ref());
+            Path::new("out").join(stem).with_extension("exr")
+        }
+    };
+    let is_exr = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    if !is_exr || out.file_stem().is_none() {
+        return Err(CliError::input(format!(
+            "--out {}: the output must be a .exr file (the PNG preview is written beside it)",
+            out.display()
+        )));
+    }
+    if out.is_dir() {
+        return Err(CliError::input(format!(
+            "--out {}: is a directory",
+            out.display()
+        )));
+    }
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            CliError::input(format!(
+                "--out {}: cannot create directory {}: {e}",
+                out.display(),
+                dir.display()
+            ))
+        })?;
+    }
+    Ok(out)
+}
+
+/// `<out>.checkpoint` at the chosen interval, or none with `--checkpoint-every 0`.
+fn checkpoint_config(args: &RenderArgs, out: &Path) -> Result<Option<CheckpointConfig>, CliError> {
+    let interval = args.checkpoint_every.unwrap_or(DEFAULT_CHECKPOINT_INTERVAL);
+    if interval.is_zero() {
+        if args.resume {
+            return Err(CliError::input(
+                "--resume needs checkpoints, but --checkpoint-every 0 turns them off",
+            ));
+        }
+        return Ok(None);
+    }
+    let mut path = out.as_os_str().to_owned();
+    path.push(".checkpoint");
+    Ok(Some(CheckpointConfig {
+        path: path.into(),
+        interval,
+        resume: args.resume,
+    }))
+}
+
+fn load_scene(path: &Path) -> Result<Scene, CliError> {
+    if !path.is_file() {
+        let why = if path.exists() {
+            "is not a file"
+        } else {
+            "no such file"
+        };
+        return Err(CliError::input(format!("{}: {why}", path.display())));
+    }
+    scenes::load(path).map_err(|e| CliError::input(e.to_string()))
+}
+
+/// Applies the flags to the scene's film and render settings; returns the stopping rule and
+/// whether its spp is only the [`SPP_CAP`] safety bound.
+fn apply_overrides(args: &RenderArgs, scene: &mut Scene) -> (StopRule, bool) {
+    if let Some(film) = args.resolution {
+        scene.film = film;
+    }
+    let s = &mut scene.render;
+    if let Some(i) = args.integrator {
+        s.integrator = i.into();
+    }
+    if let Some(d) = args.max_depth {
+        s.max_depth = d;
+    }
+    if let Some(seed) = args.seed {
+        s.seed = seed;
+    }
+    if let Some(r) = args.ao_radius {
+        s.ao_radius = r;
+    }
+    // `settings.spp` keeps the scene's value: the checkpoint fingerprint covers the settings,
+    // and a checkpoint may be continued to a different spp.
+    let budget_only = args.spp.is_none() && (args.time.is_some() || args.target_error.is_some());
+    let spp = match args.spp {
+        Some(n) => n,
+        None if budget_only => SPP_CAP,
+        None => s.spp,
+    };
+    let stop = StopRule {
+        spp,
+        time: args.time,
+        target_rel_err: args.target_error,
+    };
+    (stop, budget_only)
+}
+
+/// `render SCENE: 640x480, path (max depth 6, seed 0), 256 spp -> OUT`
+fn start_line(args: &RenderArgs, scene: &Scene, stop: &StopRule, spp_is_cap: bool, out: &Path) -> String {
+    let s = &scene.render;
+    let mut line = format!(
+        "render {}: {}x{}, {}",
+        args.scene.display(),
+        scene.film.width,
+        scene.film.height,
+        integrator_name(s.integrator)
+    );
+    line += &match s.integrator {
+        IntegratorKind::Ao => format!(" (radius {} m, seed {})", s.ao_radius, s.seed),
+        _ => format!(" (max depth {}, seed {})", s.max_depth, s.seed),
+    };
+    if !spp_is_cap {
+        line += &format!(", {} spp", stop.spp);
+    }
+    if let Some(t) = stop.time {
+        line += &format!(", at most {}", format_duration(t.as_secs_f64()));
+    }
+    if let Some(e) = stop.target_rel_err {
+        line += &format!(", until rel. error < {e}");
+    }
+    line + &format!(" -> {}", out.display())
+}
+
+/// Header attributes that make the EXR self-describing.
+fn add_header(
+    image: &mut scenes::layered::LayeredImage,
+    args: &RenderArgs,
+    settings: &RenderSettings,
+    result: &RenderResult,
+    last: Option<&Progress>,
+    command_line: &str,
+) {
+    let version = env!("CARGO_PKG_VERSION");
+    let attrs = [
+        ("software", format!("verity {version}")),
+        ("verity_version", version.to_string()),
+        ("scene", args.scene.display().to_string()),
+        ("integrator", integrator_name(settings.integrator).to_string()),
+        ("spp", result.spp.to_string()),
+        ("seconds", format!("{:.3}", result.seconds)),
+        ("seed", settings.seed.to_string()),
+        ("max_depth", settings.max_depth.to_string()),
+        ("rr_depth", settings.rr_depth.to_string()),
+        ("ao_radius", settings.ao_radius.to_string()),
+        ("paths", result.paths.to_string()),
+        ("rays", result.rays.to_string()),
+        ("command_line", command_line.to_string()),
+    ];
+    for (k, v) in attrs {
+        image.set_attribute(k, v);
+    }
+    if let Some(p) = last.filter(|p| p.rel_err.is_finite()) {
+        image.set_attribute("rel_err", p.rel_err.to_string());
+    }
+}
+
+/// `rendered SCENE: WxH, N spp, T s, X Mpaths/s, Y Mrays/s -> OUT`
+fn final_line(scene: &Path, image: &scenes::layered::LayeredImage, r: &RenderResult, out: &Path) -> String {
+    format!(
+        "rendered {}: {}x{}, {} spp, {:.2} s, {} Mpaths/s, {} Mrays/s -> {}",
+        scene.display(),
+        image.width,
+        image.height,
+        r.spp,
+        r.seconds,
+        format_sig3(rate(r.paths, r.seconds) / 1e6),
+        format_sig3(rate(r.rays, r.seconds) / 1e6),
+        out.display()
+    )
+}
+
+fn parse_spp(s: &str) -> Result<u32, String> {
+    let n: u32 = s.parse().map_err(|_| "expected a whole number ≥ 1".to_string())?;
+    if n == 0 {
+        return Err("samples per pixel must be ≥ 1".into());
+    }
+    Ok(n)
+}
+
+fn parse_positive(s: &str, what: &str) -> Result<f64, String> {
+    let x: f64 = s.parse().map_err(|_| format!("expected {what}"))?;
+    if !(x.is_finite() && x > 0.0) {
+        return Err(format!("expected {what}, got {s}"));
+    }
+    Ok(x)
+}
+
+fn parse_duration(s: &str) -> Result<Duration, String> {
+    let secs = parse_positive(s, "a positive number of seconds")?;
+    Duration::try_from_secs_f64(secs).map_err(|_| format!("{s} seconds is too long"))
+}
+
+fn parse_checkpoint_interval(s: &str) -> Result<Duration, String> {
+    if s.parse::<f64>() == Ok(0.0) {
+        return Ok(Duration::ZERO);
+    }
+    parse_duration(s).map_err(|e| format!("{e} (or 0 for no checkpoints)"))
+}
+
+fn parse_target_error(s: &str) -> Result<f32, String> {
+    parse_positive(s, "a positive relative error such as 0.01").map(|x| x as f32)
+}
+
+fn parse_ao_radius(s: &str) -> Result<f32, String> {
+    parse_positive(s, "a positive radius in metres").map(|x| x as f32)
+}
+
+fn parse_exposure(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(x) if x.is_finite() && x.abs() <= 64.0 => Ok(x),
+        _ => Err("expected a number of stops in −64..=64".into()),
+    }
+}
+
+fn parse_max_depth(s: &str) -> Result<i32, String> {
+    match s.parse::<i32>() {
+        Ok(d) if d >= -1 => Ok(d),
+        _ => Err("expected −1 (unbounded) or a depth ≥ 0".into()),
+    }
+}
+
+/// `WxH` (also `W×H`), each side in 1..=[`MAX_RESOLUTION`].
+fn parse_resolution(s: &str) -> Result<Film, String> {
+    let usage = || format!("expected WIDTHxHEIGHT such as 640x480, each in 1..={MAX_RESOLUTION}");
+    let (w, h) = s.split_once(['x', 'X', '×']).ok_or_else(usage)?;
+    let side = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|n| (1..=MAX_RESOLUTION).contains(n))
+    };
+    match (side(w), side(h)) {
+        (Some(width), Some(height)) => Ok(Film { width, height }),
+        _ => Err(usage()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn resolution_parsing() {
+        assert_eq!(
+            parse_resolution("640x480"),
+            Ok(Film {
+                width: 640,
+                height: 480
+            })
+        );
+        assert_eq!(
+            parse_resolution("16×16"),
+            Ok(Film {
+                width: 16,
+                height: 16
+            })
+        );
+        assert_eq!(
+            parse_resolution("16384x1"),
+            Ok(Film {
+                width: 16384,
+                height: 1
+            })
+        );
+        for bad in ["0x5", "5x0", "16385x1", "640", "x480", "-1x4", "axb", "1.5x2"] {
+            assert!(parse_resolution(bad).is_err(), "{bad} was accepted");
+        }
+    }
+
+    #[test]
+    fn number_flags_reject_nonsense() {
+        assert_eq!(parse_spp("1"), Ok(1));
+        assert!(parse_spp("0").is_err() && parse_spp("-3").is_err() && parse_spp("2.5").is_err());
+        assert_eq!(parse_duration("1.5"), Ok(Duration::from_millis(1500)));
+        for bad in ["0", "-1", "nan", "inf", "1e300"] {
+            assert!(parse_duration(bad).is_err(), "--time {bad} was accepted");
+        }
+        assert_eq!(parse_checkpoint_interval("0"), Ok(Duration::ZERO));
+        assert_eq!(parse_max_depth("-1"), Ok(-1));
+        assert!(parse_max_depth("-2").is_err());
+        assert!(parse_exposure("nan").is_err() && parse_exposure("-2.5") == Ok(-2.5));
+        assert!(parse_target_error("0").is_err() && parse_ao_radius("-1").is_err());
+    }
+}

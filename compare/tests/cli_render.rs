@@ -1,0 +1,327 @@
+//! `verity render` end to end: tiny renders of the built-in Cornell box, the EXR and PNG it
+//! writes, its header, its summary line, and how checkpoints and budgets are handled.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use scenes::layered::LayeredImage;
+
+fn verity_in(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_verity"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run verity")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+fn test_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("verity-cli-render-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn cornell_box() -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell-box.toml");
+    path.canonicalize().unwrap_or(path).display().to_string()
+}
+
+fn assert_success(out: &Output, what: &str) {
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{what}: expected exit 0\nstdout:\n{}\nstderr:\n{}",
+        text(&out.stdout),
+        text(&out.stderr)
+    );
+}
+
+/// Width and height from a PNG's IHDR chunk (PNG spec §11.2.2).
+fn png_size(path: &Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(
+        &bytes[..8],
+        b"\x89PNG\r\n\x1a\n",
+        "{} is not a PNG",
+        path.display()
+    );
+    let be = |o: usize| u32::from_be_bytes(bytes[o..o + 4].try_into().unwrap());
+    (be(16), be(20))
+}
+
+/// Names of every entry in `dir`, sorted.
+fn entries(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn cli_render_tiny_cornell_box() {
+    let dir = test_dir("tiny");
+    let scene = cornell_box();
+    let out_path = dir.join("cb.exr");
+    let out_arg = out_path.display().to_string();
+    let out = verity_in(
+        &dir,
+        &[
+            "render",
+            &scene,
+            "--resolution",
+            "16x16",
+            "--spp",
+            "4",
+            "--seed",
+            "7",
+            "--out",
+            &out_arg,
+        ],
+    );
+    assert_success(&out, "tiny render");
+
+    let stdout = text(&out.stdout);
+    let prefix = format!("rendered {scene}: 16x16, 4 spp, ");
+    assert!(
+        stdout.starts_with(&prefix),
+        "summary line must start with `{prefix}`:\n{stdout}"
+    );
+    assert!(
+        stdout.trim_end().ends_with(&format!("Mrays/s -> {out_arg}")) && stdout.contains(" Mpaths/s, "),
+        "summary line format:\n{stdout}"
+    );
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.starts_with(&format!("render {scene}: 16x16, path")),
+        "start line:\n{stderr}"
+    );
+
+    let img = LayeredImage::read_exr(&out_path).unwrap();
+    assert_eq!((img.width, img.height), (16, 16));
+    let rgb = img.rgb("").expect("R, G, B channels");
+    assert!(
+        rgb.iter().all(|c| c.is_finite() && c.min_element() >= 0.0),
+        "RGB must be finite and ≥ 0"
+    );
+    assert!(
+        rgb.iter().any(|c| c.max_element() > 0.0),
+        "the Cornell box is not black"
+    );
+    assert!(img.rgb("variance").is_some(), "variance channels");
+    let expected = [
+        ("spp", "4"),
+        ("seed", "7"),
+        ("integrator", "path"),
+        ("scene", scene.as_str()),
+        ("verity_version", env!("CARGO_PKG_VERSION")),
+    ];
+    for (key, value) in expected {
+        assert_eq!(img.attribute(key), Some(value), "attribute {key}");
+    }
+    let command_line = img.attribute("command_line").unwrap();
+    assert!(
+        command_line.contains("render") && command_line.contains("--spp 4"),
+        "{command_line}"
+    );
+    assert!(img.attribute("seconds").unwrap().parse::<f64>().unwrap() >= 0.0);
+
+    assert_eq!(png_size(&dir.join("cb.png")), (16, 16));
+    assert_eq!(
+        entries(&dir),
+        ["cb.exr", "cb.png"],
+        "no checkpoint or temporary file may remain"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn cli_render_default_output_and_overrides() {
+    let dir = test_dir("default-out");
+    let scene = cornell_box();
+    let args = [
+        "render",
+        &scene,
+        "--resolution",
+        "8x6",
+        "--spp",
+        "2",
+        "--integrator",
+        "ao",
+        "--ao-radius",
+        "0.5",
+        "--max-depth",
+        "-1",
+        "--quiet",
+    ];
+    let out = verity_in(&dir, &args);
+    assert_success(&out, "default output");
+    assert_eq!(text(&out.stderr), "", "--quiet prints nothing on stderr");
+    assert!(
+        text(&out.stdout).contains("-> out/cornell-box.exr"),
+        "{}",
+        text(&out.stdout)
+    );
+    let img = LayeredImage::read_exr(dir.join("out/cornell-box.exr")).unwrap();
+    assert_eq!((img.width, img.height), (8, 6));
+    assert_eq!(img.attribute("integrator"), Some("ao"));
+    assert_eq!(img.attribute("ao_radius"), Some("0.5"));
+    // Ambient occlusion is a visible fraction: within [0, 1].
+    for (i, c) in img.rgb("").unwrap().iter().enumerate() {
+        assert!(
+            c.min_element() >= 0.0 && c.max_element() <= 1.0,
+            "ao pixel {i} = {c}"
+        );
+    }
+    assert_eq!(png_size(&dir.join("out/cornell-box.png")), (8, 6));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn cli_render_time_budget_without_spp() {
+    let dir = test_dir("time");
+    let scene = cornell_box();
+    let out = verity_in(
+        &dir,
+        &[
+            "render",
+            &scene,
+            "--resolution",
+            "8x8",
+            "--time",
+            "0.3",
+            "--out",
+            "t.exr",
+        ],
+    );
+    assert_success(&out, "time budget");
+    let img = LayeredImage::read_exr(dir.join("t.exr")).unwrap();
+    let spp: u32 = img.attribute("spp").unwrap().parse().unwrap();
+    let seconds: f64 = img.attribute("seconds").unwrap().parse().unwrap();
+    assert!(spp >= 1, "spp {spp}");
+    assert!(
+        seconds >= 0.3,
+        "stops after the pass that crosses 0.3 s, stopped at {seconds} s"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn cli_render_resume_with_a_bad_checkpoint_fails_with_exit_1() {
+    let dir = test_dir("resume");
+    let scene = cornell_box();
+    let args = [
+        "render",
+        &scene,
+        "--resolution",
+        "8x8",
+        "--spp",
+        "2",
+        "--out",
+        "r.exr",
+        "--resume",
+    ];
+
+    // No checkpoint yet: a note, then a fresh render.
+    let out = verity_in(&dir, &args);
+    assert_success(&out, "resume without checkpoint");
+    assert!(
+        text(&out.stderr).contains("no checkpoint at r.exr.checkpoint"),
+        "{}",
+        text(&out.stderr)
+    );
+
+    std::fs::write(dir.join("r.exr.checkpoint"), b"not a checkpoint").unwrap();
+    let before = std::fs::read(dir.join("r.exr")).unwrap();
+    let out = verity_in(&dir, &args);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "a render failure exits 1:\n{stderr}");
+    assert!(
+        stderr.contains("error: ") && stderr.contains("r.exr.checkpoint"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(
+        std::fs::read(dir.join("r.exr")).unwrap(),
+        before,
+        "a failed render keeps the old output"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A render killed after its first checkpoint resumes from it and ends with exactly the bits
+/// of an uninterrupted render of the same sample count.
+#[test]
+fn cli_render_resumes_from_checkpoint_bit_exactly() {
+    use std::time::{Duration, Instant};
+    let dir = test_dir("kill-resume");
+    let scene = cornell_box();
+    let common = ["render", scene.as_str(), "--resolution", "2x2", "--quiet"];
+    let mut child = Command::new(env!("CARGO_BIN_EXE_verity"))
+        .args(common)
+        .args([
+            "--spp",
+            "100000000",
+            "--checkpoint-every",
+            "0.05",
+            "--out",
+            "k.exr",
+        ])
+        .current_dir(&dir)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("start verity");
+    let checkpoint = dir.join("k.exr.checkpoint");
+    let start = Instant::now();
+    while !checkpoint.exists() {
+        if let Some(status) = child.try_wait().unwrap() {
+            panic!("the render ended ({status}) before writing a checkpoint");
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "no checkpoint after 120 s"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+
+    // Resume with a budget already spent: the render stops at the checkpoint's spp.
+    let out = verity_in(
+        &dir,
+        &[&common[..], &["--time", "0.001", "--resume", "--out", "k.exr"]].concat(),
+    );
+    assert_success(&out, "resume");
+    assert!(!checkpoint.exists(), "a finished render removes its checkpoint");
+    let resumed = LayeredImage::read_exr(dir.join("k.exr")).unwrap();
+    let spp = resumed.attribute("spp").unwrap().to_string();
+    assert!(spp.parse::<u32>().unwrap() >= 1, "spp {spp}");
+
+    let out = verity_in(
+        &dir,
+        &[&common[..], &["--spp", &spp, "--out", "fresh.exr"]].concat(),
+    );
+    assert_success(&out, "uninterrupted");
+    let fresh = LayeredImage::read_exr(dir.join("fresh.exr")).unwrap();
+    for c in ["R", "G", "B", "variance.R"] {
+        let bits = |img: &LayeredImage| {
+            img.channel(c)
+                .unwrap()
+                .iter()
+                .map(|v| v.to_bits())
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(
+            bits(&resumed),
+            bits(&fresh),
+            "channel {c} at {spp} spp: resumed vs uninterrupted"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,0 +1,154 @@
+//! `verity` usage: help, exit statuses, and error messages that name the flag or file.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn verity(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_verity"))
+        .args(args)
+        .output()
+        .expect("run verity")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+fn test_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("verity-cli-usage-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn cornell_box() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenes/cornell-box.toml")
+        .display()
+        .to_string()
+}
+
+/// Exit status 2, one `error:` line naming `needle`, no panic.
+fn assert_usage_error(out: &Output, needle: &str, what: &str) {
+    let stderr = text(&out.stderr);
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "{what}: expected exit 2; stderr:\n{stderr}"
+    );
+    assert!(
+        stderr.starts_with("error: "),
+        "{what}: stderr must start with `error: `:\n{stderr}"
+    );
+    assert!(
+        stderr.contains(needle),
+        "{what}: stderr must name `{needle}`:\n{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{what}: panicked:\n{stderr}");
+}
+
+#[test]
+fn cli_help_lists_every_subcommand() {
+    let out = verity(&["--help"]);
+    assert_eq!(out.status.code(), Some(0));
+    let stdout = text(&out.stdout);
+    assert!(stdout.contains("render"), "--help must list `render`:\n{stdout}");
+    assert!(
+        stdout.contains("Exit status"),
+        "--help must document exit statuses:\n{stdout}"
+    );
+
+    let out = verity(&["render", "--help"]);
+    assert_eq!(out.status.code(), Some(0));
+    let stdout = text(&out.stdout);
+    for flag in [
+        "--spp",
+        "--time",
+        "--target-error",
+        "--integrator",
+        "--max-depth",
+        "--seed",
+        "--resolution",
+        "--ao-radius",
+        "--out",
+        "--exposure",
+        "--checkpoint-every",
+        "--resume",
+        "--quiet",
+    ] {
+        assert!(
+            stdout.contains(flag),
+            "render --help must document {flag}:\n{stdout}"
+        );
+    }
+
+    let out = verity(&["--version"]);
+    assert_eq!(out.status.code(), Some(0));
+    assert_eq!(
+        text(&out.stdout).trim(),
+        format!("verity {}", env!("CARGO_PKG_VERSION"))
+    );
+}
+
+#[test]
+fn cli_no_subcommand_is_a_usage_error() {
+    let out = verity(&[]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    let out = verity(&["paint"]);
+    assert_usage_error(&out, "paint", "unknown subcommand");
+}
+
+#[test]
+fn cli_bad_flag_values_exit_2_naming_the_flag() {
+    let scene = cornell_box();
+    let cases: [(&[&str], &str); 15] = [
+        (&["--spp", "0"], "--spp"),
+        (&["--spp", "many"], "--spp"),
+        (&["--resolution", "0x5"], "--resolution"),
+        (&["--resolution", "16385x16"], "--resolution"),
+        (&["--resolution", "640"], "--resolution"),
+        (&["--integrator", "photon"], "--integrator"),
+        (&["--max-depth", "-2"], "--max-depth"),
+        (&["--time", "-1"], "--time"),
+        (&["--time", "inf"], "--time"),
+        (&["--target-error", "0"], "--target-error"),
+        (&["--ao-radius", "-1"], "--ao-radius"),
+        (&["--exposure", "nan"], "--exposure"),
+        (&["--checkpoint-every", "-5"], "--checkpoint-every"),
+        (&["--bogus"], "--bogus"),
+        (&["--out", "picture.png"], "--out"),
+    ];
+    for (flags, needle) in cases {
+        let mut args = vec!["render", scene.as_str()];
+        args.extend_from_slice(flags);
+        assert_usage_error(&verity(&args), needle, &format!("{flags:?}"));
+    }
+    let out = verity(&["render", &scene, "--resume", "--checkpoint-every", "0"]);
+    assert_usage_error(&out, "--resume", "--resume without checkpoints");
+}
+
+#[test]
+fn cli_missing_or_bad_scene_exits_2_naming_the_file() {
+    let dir = test_dir("scene");
+    let out_exr = dir.join("out.exr").display().to_string();
+
+    let missing = dir.join("no-such-scene.toml").display().to_string();
+    let out = verity(&["render", &missing, "--out", &out_exr]);
+    assert_usage_error(&out, "no-such-scene.toml", "missing scene");
+
+    let unknown = dir.join("scene.txt");
+    std::fs::write(&unknown, "camera = 1").unwrap();
+    let out = verity(&["render", &unknown.display().to_string(), "--out", &out_exr]);
+    assert_usage_error(&out, "scene.txt", "unknown scene type");
+
+    let malformed = dir.join("broken.toml");
+    std::fs::write(&malformed, "[camera\nfov = ").unwrap();
+    let out = verity(&["render", &malformed.display().to_string(), "--out", &out_exr]);
+    assert_usage_error(&out, "broken.toml", "malformed TOML");
+
+    assert!(
+        !dir.join("out.exr").exists(),
+        "no output may be written for bad input"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

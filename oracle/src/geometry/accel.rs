@@ -1,0 +1,404 @@
+//! The acceleration structure: one compressed wide BVH over every primitive of the scene.
+//!
+//! Triangles of all meshes and the analytic shapes are primitives of a single CWBVH
+//! (Ylitie, Karras & Laine 2017, "Efficient Incoherent Ray Traversal on GPUs Through
+//! Compressed Wide BVHs", HPG) built from their bounding boxes by PLOC (Meister & Bittner 2018,
+//! "Parallel Locally-Ordered Clustering for Bounding Volume Hierarchy Construction", TVCG)
+//! with parallel reinsertion (Meister & Bittner 2022), all from the `obvhs` crate. Primitives
+//! are stored in BVH leaf order, so a leaf's triangles are adjacent in memory.
+//!
+//! Two details of `obvhs` 0.4 traversal are handled here:
+//! - its node test clamps the entry distance to t ≥ 10⁻⁴ (`cwbvh::node::EPSILON`), which would
+//!   drop hits closer than 0.1 mm (rays leaving a crease). Node tests therefore use the ray
+//!   moved back by `NODE_T_SHIFT` > 10⁻⁴, while primitives are tested against the true ray;
+//! - its traversal stack holds 32 entries and silently overwrites beyond: traversal is our
+//!   own loop (`traverse.rs`) with a growable stack;
+//! - a direction component of −0.0 gets a negative reciprocal but the positive octant, and the
+//!   node test then misses every box; node rays carry +0.0 instead.
+//!
+//! Primitive bounding boxes are padded by a few ULPs (`AABB_PAD`) so the box tests stay
+//! conservative against the rounding of the shifted ray and of flat (axis-aligned) shapes.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::Vec3;
+use obvhs::aabb::Aabb;
+use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
+use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
+use obvhs::cwbvh::CwBvh;
+use obvhs::ploc::PlocBuilder;
+use obvhs::ray::Ray as BvhRay;
+use obvhs::BvhBuildParams;
+use scenes::{Geometry, Mesh, Scene, Shape};
+
+use super::disk::Disk;
+use super::normal_map::{shading, NormalMapTex};
+use super::rectangle::Rectangle;
+use super::sphere::Sphere;
+use super::traverse::{traverse, Visit};
+use super::triangle::{Triangle, WatertightRay};
+use super::{Analytic, Ray, SurfaceHit};
+
+/// Node tests see the ray moved back by this distance (> obvhs' 10⁻⁴ entry clamp).
+const NODE_T_SHIFT: f32 = 2e-4;
+/// Relative padding of primitive bounding boxes (2⁻²⁰ ≈ 8 ULPs of the largest coordinate).
+const AABB_PAD: f32 = 1.0 / 1_048_576.0;
+/// Coordinates beyond this magnitude (m) are refused: cross products of edges would overflow.
+pub(crate) const MAX_COORD: f32 = 1e15;
+
+/// BVH build preset (obvhs' `BvhBuildParams`); all use PLOC + reinsertion and CWBVH leaves of
+/// up to 3 primitives. Spatial pre-splits of the slow presets apply to triangle-only builds
+/// and are not used here.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum BuildQuality {
+    /// `BvhBuildParams::fast_build()`: PLOC search radius 6.
+    Fast,
+    /// `BvhBuildParams::medium_build()`: PLOC search radius 14, more reinsertion.
+    #[default]
+    Medium,
+    /// `BvhBuildParams::slow_build()`: PLOC search radius 24, 128-bit Morton codes.
+    Slow,
+}
+
+impl BuildQuality {
+    fn params(self) -> BvhBuildParams {
+        match self {
+            BuildQuality::Fast => BvhBuildParams::fast_build(),
+            BuildQuality::Medium => BvhBuildParams::medium_build(),
+            BuildQuality::Slow => BvhBuildParams::slow_build(),
+        }
+    }
+}
+
+/// A BVH primitive, in leaf order.
+#[derive(Clone, Copy, Debug)]
+enum Prim {
+    /// A mesh triangle's vertices.
+    Triangle(Triangle),
+    /// Index into `Accel::analytic`.
+    Analytic(u32),
+}
+
+/// Which scene shape (and which of its triangles) a primitive is.
+#[derive(Clone, Copy, Debug)]
+struct PrimId {
+    shape: u32,
+    prim: u32,
+}
+
+/// Per-shape data needed to complete a hit.
+#[derive(Clone, Debug)]
+struct ShapeData {
+    mesh: Option<Arc<Mesh>>,
+    normal_map: Option<NormalMapTex>,
+}
+
+/// Primitives gathered from the scene before the BVH orders them.
+#[derive(Default)]
+struct Gathered {
+    prims: Vec<Prim>,
+    ids: Vec<PrimId>,
+    aabbs: Vec<Aabb>,
+    analytic: Vec<Analytic>,
+    triangles: usize,
+    dropped: usize,
+}
+
+/// The scene's ray-tracing acceleration structure.
+pub struct Accel {
+    bvh: CwBvh,
+    prims: Vec<Prim>,
+    ids: Vec<PrimId>,
+    analytic: Vec<Analytic>,
+    shapes: Vec<ShapeData>,
+    triangles: usize,
+    dropped: usize,
+    build_seconds: f64,
+}
+
+impl std::fmt::Debug for Accel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Accel")
+            .field("primitives", &self.prims.len())
+            .field("triangles", &self.triangles)
+            .field("dropped_degenerate", &self.dropped)
+            .field("bvh_nodes", &self.bvh.nodes.len())
+            .field("build_seconds", &self.build_seconds)
+            .finish()
+    }
+}
+
+impl Accel {
+    /// Builds over all scene shapes with the default [`BuildQuality`]: triangles of every
+    /// mesh plus analytic spheres, rectangles and disks as their own primitives. Degenerate
+    /// (zero-area) triangles are dropped and counted; NaN/Inf or absurd (> 10¹⁵ m)
+    /// coordinates, out-of-range indices and malformed analytic shapes are errors naming the
+    /// shape and the field.
+    pub fn build(scene: &Scene) -> Result<Accel, String> {
+        Accel::build_with(scene, BuildQuality::default())
+    }
+
+    /// [`Accel::build`] with an explicit BVH build preset.
+    pub fn build_with(scene: &Scene, quality: BuildQuality) -> Result<Accel, String> {
+        let start = Instant::now();
+        let mut g = Gathered::default();
+        let mut shapes = Vec::with_capacity(scene.shapes.len());
+        for (index, shape) in scene.shapes.iter().enumerate() {
+            let named = |e: String| format!("shape {index} `{}`: {e}", shape.name);
+            shapes.push(gather_shape(scene, shape, index, &mut g).map_err(named)?);
+        }
+        if g.prims.len() >= u32::MAX as usize {
+            return Err(format!("{} primitives exceed the BVH's u32 indices", g.prims.len()));
+        }
+        let bvh = build_bvh(&g.aabbs, quality.params());
+        // Primitives in leaf order.
+        let prims = bvh.primitive_indices.iter().map(|&i| g.prims[i as usize]).collect();
+        let ids = bvh.primitive_indices.iter().map(|&i| g.ids[i as usize]).collect();
+        Ok(Accel {
+            bvh,
+            prims,
+            ids,
+            analytic: g.analytic,
+            shapes,
+            triangles: g.triangles,
+            dropped: g.dropped,
+            build_seconds: start.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// Closest hit with t ∈ (0, tmax). Rays with a non-finite origin or direction miss.
+    pub fn intersect(&self, ray: &Ray, tmax: f32) -> Option<SurfaceHit> {
+        let node_ray = self.node_ray(ray, tmax)?;
+        let wr = WatertightRay::new(ray);
+        let (mut best_t, mut best_slot, mut best_b) = (tmax, usize::MAX, Vec3::ZERO);
+        traverse(&self.bvh, node_ray, |slot| {
+            let t = match &self.prims[slot] {
+                Prim::Triangle(tri) => tri.intersect(&wr, best_t).map(|(t, b)| {
+                    best_b = b;
+                    t
+                }),
+                Prim::Analytic(i) => self.analytic[*i as usize].intersect(ray, best_t),
+            };
+            match t {
+                Some(t) => {
+                    best_t = t;
+                    best_slot = slot;
+                    Visit::Shrink(node_t(t))
+                }
+                None => Visit::Continue,
+            }
+        });
+        (best_slot != usize::MAX).then(|| self.hit(ray, best_t, best_slot, best_b))
+    }
+
+    /// Whether anything is hit with t ∈ (0, tmax); stops at the first hit found.
+    pub fn occluded(&self, ray: &Ray, tmax: f32) -> bool {
+        let Some(node_ray) = self.node_ray(ray, tmax) else {
+            return false;
+        };
+        let wr = WatertightRay::new(ray);
+        let mut found = false;
+        traverse(&self.bvh, node_ray, |slot| {
+            found = match &self.prims[slot] {
+                Prim::Triangle(tri) => tri.intersect(&wr, tmax).is_some(),
+                Prim::Analytic(i) => self.analytic[*i as usize].intersect(ray, tmax).is_some(),
+            };
+            if found {
+                Visit::Stop
+            } else {
+                Visit::Continue
+            }
+        });
+        found
+    }
+
+    /// Number of triangles in the BVH (degenerate ones excluded).
+    pub fn triangle_count(&self) -> usize {
+        self.triangles
+    }
+
+    /// Number of zero-area triangles dropped at build time.
+    pub fn dropped_degenerate(&self) -> usize {
+        self.dropped
+    }
+
+    /// Wall time of [`Accel::build`], seconds (gathering, BVH build and reordering).
+    pub fn build_seconds(&self) -> f64 {
+        self.build_seconds
+    }
+
+    /// The ray the BVH nodes are tested with: moved back by `NODE_T_SHIFT`, its tmax
+    /// extended to match. None when nothing can be hit.
+    fn node_ray(&self, ray: &Ray, tmax: f32) -> Option<BvhRay> {
+        let valid = ray.origin.is_finite() && ray.dir.is_finite() && ray.dir != Vec3::ZERO;
+        if !(valid && tmax > 0.0) || self.bvh.nodes.is_empty() {
+            return None;
+        }
+        let origin = ray.origin - ray.dir * NODE_T_SHIFT;
+        // −0.0 → +0.0 (see the module header).
+        let dir = Vec3::select(ray.dir.cmpeq(Vec3::ZERO), Vec3::ZERO, ray.dir);
+        Some(BvhRay::new(
+            origin.to_array().into(),
+            dir.to_array().into(),
+            0.0,
+            node_t(tmax),
+        ))
+    }
+
+    /// The full hit record of primitive `slot` hit at `t` with barycentrics `b` (triangles).
+    fn hit(&self, ray: &Ray, t: f32, slot: usize, b: Vec3) -> SurfaceHit {
+        let id = self.ids[slot];
+        let shape = &self.shapes[id.shape as usize];
+        let (surface, prim) = match &self.prims[slot] {
+            Prim::Triangle(tri) => {
+                let attrs = shape.mesh.as_deref().map(|m| (m, id.prim as usize));
+                (tri.surface(attrs, b), id.prim)
+            }
+            Prim::Analytic(i) => (self.analytic[*i as usize].surface(ray, t), 0),
+        };
+        let (ns, dpdu) = shading(&surface, shape.normal_map.as_ref());
+        SurfaceHit {
+            t,
+            p: surface.p,
+            ng: surface.ng,
+            ns,
+            dpdu,
+            uv: surface.uv,
+            shape: id.shape,
+            prim,
+        }
+    }
+}
+
+/// Node-ray parameter of a true-ray distance, rounded up so culling stays conservative.
+#[inline]
+fn node_t(t: f32) -> f32 {
+    (t + NODE_T_SHIFT) * (1.0 + 4.0 * f32::EPSILON)
+}
+
+/// Bounding box padded by `AABB_PAD` of its largest coordinate.
+fn padded_aabb(lo: Vec3, hi: Vec3) -> Aabb {
+    let scale = lo.abs().max(hi.abs()).max_element();
+    let pad = Vec3::splat(scale * AABB_PAD + f32::MIN_POSITIVE);
+    Aabb::new((lo - pad).to_array().into(), (hi + pad).to_array().into())
+}
+
+/// Adds one scene shape's primitives to `g`; returns its per-shape data.
+fn gather_shape(scene: &Scene, shape: &Shape, index: usize, g: &mut Gathered) -> Result<ShapeData, String> {
+    let normal_map = match &shape.normal_map {
+        None => None,
+        Some(nm) => {
+            let texture = scene.textures.get(nm.texture).ok_or_else(|| {
+                format!(
+                    "`normal_map.texture` {} is out of range ({} textures)",
+                    nm.texture,
+                    scene.textures.len()
+                )
+            })?;
+            if !nm.scale.is_finite() {
+                return Err(format!("`normal_map.scale` is not finite: {}", nm.scale));
+            }
+            Some(NormalMapTex::new(texture.clone(), nm.scale))
+        }
+    };
+    let analytic = match &shape.geometry {
+        Geometry::Mesh(mesh) => {
+            gather_mesh(mesh, index as u32, g)?;
+            return Ok(ShapeData {
+                mesh: Some(mesh.clone()),
+                normal_map,
+            });
+        }
+        Geometry::Sphere { center, radius } => Analytic::Sphere(Sphere::new(*center, *radius)?),
+        Geometry::Rectangle {
+            center,
+            half_u,
+            half_v,
+        } => Analytic::Rectangle(Rectangle::new(*center, *half_u, *half_v)?),
+        Geometry::Disk {
+            center,
+            half_u,
+            half_v,
+        } => Analytic::Disk(Disk::new(*center, *half_u, *half_v)?),
+    };
+    let (lo, hi) = shape.geometry.bounds();
+    if lo.abs().max(hi.abs()).max_element() > MAX_COORD {
+        return Err(format!("extends beyond ±{MAX_COORD:e} m (bounds {lo} .. {hi})"));
+    }
+    g.prims.push(Prim::Analytic(g.analytic.len() as u32));
+    g.ids.push(PrimId {
+        shape: index as u32,
+        prim: 0,
+    });
+    g.aabbs.push(padded_aabb(lo, hi));
+    g.analytic.push(analytic);
+    Ok(ShapeData {
+        mesh: None,
+        normal_map,
+    })
+}
+
+/// Checks a mesh and adds its non-degenerate triangles to `g`.
+fn gather_mesh(mesh: &Mesh, shape: u32, g: &mut Gathered) -> Result<(), String> {
+    let n = mesh.positions.len();
+    for (field, len) in [
+        ("normals", mesh.normals.len()),
+        ("uvs", mesh.uvs.len()),
+        ("tangents", mesh.tangents.len()),
+    ] {
+        if len != 0 && len != n {
+            return Err(format!("mesh `{field}` has {len} entries for {n} positions"));
+        }
+    }
+    if let Some((i, p)) = mesh
+        .positions
+        .iter()
+        .enumerate()
+        .find(|(_, p)| !(p.is_finite() && p.abs().max_element() <= MAX_COORD))
+    {
+        return Err(format!(
+            "mesh vertex {i} position {p} is not finite or beyond ±{MAX_COORD:e} m"
+        ));
+    }
+    if mesh.indices.len() >= u32::MAX as usize {
+        return Err(format!("mesh has {} triangles, more than u32 indices", mesh.indices.len()));
+    }
+    g.prims.reserve(mesh.indices.len());
+    g.ids.reserve(mesh.indices.len());
+    g.aabbs.reserve(mesh.indices.len());
+    for (t, idx) in mesh.indices.iter().enumerate() {
+        if let Some(&i) = idx.iter().find(|&&i| i as usize >= n) {
+            return Err(format!("mesh triangle {t} index {i} is out of range ({n} positions)"));
+        }
+        let v = idx.map(|i| mesh.positions[i as usize]);
+        let area2 = (v[1] - v[0]).cross(v[2] - v[0]).length_squared();
+        if !(area2 > 0.0 && area2.is_finite()) {
+            g.dropped += 1;
+            continue;
+        }
+        g.prims.push(Prim::Triangle(Triangle { v }));
+        g.ids.push(PrimId { shape, prim: t as u32 });
+        g.aabbs.push(padded_aabb(v[0].min(v[1]).min(v[2]), v[0].max(v[1]).max(v[2])));
+        g.triangles += 1;
+    }
+    Ok(())
+}
+
+/// CWBVH over `aabbs`: PLOC, reinsertion, BVH2 → BVH8 collapse (obvhs' `build_cwbvh` without
+/// its debug-build validation, which is slow for large meshes).
+fn build_bvh(aabbs: &[Aabb], p: BvhBuildParams) -> CwBvh {
+    if aabbs.is_empty() {
+        return CwBvh::default();
+    }
+    let indices = (0..aabbs.len() as u32).collect();
+    let mut bvh2 = PlocBuilder::with_capacity(aabbs.len()).build(
+        p.ploc_search_distance,
+        aabbs,
+        indices,
+        p.sort_precision,
+        p.search_depth_threshold,
+    );
+    ReinsertionOptimizer::default().run(&mut bvh2, p.reinsertion_batch_ratio, None);
+    bvh2_to_cwbvh(&bvh2, p.max_prims_per_leaf.clamp(1, 3), true, false)
+}

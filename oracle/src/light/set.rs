@@ -1,0 +1,495 @@
+//! The scene's emitters and the power-proportional light selection of pbrt-v4 §12.6.2
+//! (PowerLightSampler): emitter i is picked with probability Φ_i / Σ Φ_j, lights of zero power
+//! never, and all uniformly when every power is zero.
+//!
+//! Order (the AOV order of [`scenes::Scene::light_names`]): emissive shapes in scene order, then
+//! [`scenes::Scene::lights`], then the environment (unnamed) last.
+
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3};
+use scenes::{Environment, Geometry, Light, Scene};
+
+use super::directional::DirectionalLight;
+use super::disk::DiskLight;
+use super::distribution::Distribution1D;
+use super::environment::EnvironmentLight;
+use super::mesh::MeshLight;
+use super::point::PointLight;
+use super::radiance::Radiance;
+use super::rectangle::RectangleLight;
+use super::sphere::SphereLight;
+use super::spot::SpotLight;
+use super::{Emitter, LightSample};
+
+/// All emitters of a scene with their selection distribution.
+#[derive(Clone, Debug)]
+pub struct LightSet {
+    emitters: Vec<Emitter>,
+    /// Selection ∝ power.
+    selection: Distribution1D,
+    /// Emitter index of each scene shape, if emissive.
+    shape_to_emitter: Vec<Option<usize>>,
+    /// Index of the environment emitter.
+    environment: Option<usize>,
+    /// Emitters an escaping ray can see: sun disks, then the environment.
+    distant: Vec<usize>,
+    /// Number of named lights (emissive shapes + scene lights).
+    named: usize,
+}
+
+impl LightSet {
+    /// Builds every emitter of `scene`. Errors name the shape or light and the field at fault
+    /// (zero-area light, negative or NaN radiance, bad texture index, …); callers prefix the
+    /// scene file.
+    pub fn new(scene: &Scene) -> Result<LightSet, String> {
+        let mut emitters = Vec::new();
+        let mut shape_to_emitter = vec![None; scene.shapes.len()];
+        for (i, shape) in scene.shapes.iter().enumerate() {
+            let Some(emission) = &shape.emission else {
+                continue;
+            };
+            let emitter = area_emitter(scene, &shape.geometry, emission)
+                .map_err(|e| format!("shape '{}' (shapes[{i}]): {e}", shape.name))?;
+            shape_to_emitter[i] = Some(emitters.len());
+            emitters.push(emitter);
+        }
+        let (_, scene_radius) = scene.bounding_sphere();
+        for (i, light) in scene.lights.iter().enumerate() {
+            let emitter = delta_emitter(light, scene_radius)
+                .map_err(|e| format!("light '{}' (lights[{i}]): {e}", light.name()))?;
+            emitters.push(emitter);
+        }
+        let named = emitters.len();
+        let mut environment = None;
+        if let Some(env) = &scene.environment {
+            let emitter =
+                environment_emitter(scene, env, scene_radius).map_err(|e| format!("environment: {e}"))?;
+            environment = Some(emitters.len());
+            emitters.push(Emitter::Environment(emitter));
+        }
+        let distant = (0..emitters.len())
+            .filter(|&i| match &emitters[i] {
+                Emitter::Directional(d) => !d.is_delta(),
+                Emitter::Environment(_) => true,
+                _ => false,
+            })
+            .collect();
+        let powers: Vec<f32> = emitters.iter().map(|e| e.power()).collect();
+        // Distribution1D::new makes an all-zero power list uniform, as PowerLightSampler does.
+        Ok(LightSet {
+            selection: Distribution1D::new(&powers),
+            emitters,
+            shape_to_emitter,
+            environment,
+            distant,
+            named,
+        })
+    }
+
+    /// The emitters, named lights first (see [`LightSet::named_count`]).
+    pub fn emitters(&self) -> &[Emitter] {
+        &self.emitters
+    }
+
+    /// Emitter index of `scene.shapes[shape]`, if that shape is emissive.
+    pub fn emitter_of_shape(&self, shape: usize) -> Option<usize> {
+        self.shape_to_emitter.get(shape).copied().flatten()
+    }
+
+    /// Index of the environment emitter, if the scene has one.
+    pub fn environment(&self) -> Option<usize> {
+        self.environment
+    }
+
+    /// Emitters a ray leaving the scene can hit: non-delta directional lights (sun disks) and
+    /// the environment. The radiance of an escaping ray with direction ω is the sum of their
+    /// [`Emitter::radiance_from_direction`]`(ω)`, each MIS-weighted with its own
+    /// [`Emitter::pdf_li`] × [`LightSet::selection_pmf`].
+    pub fn distant(&self) -> &[usize] {
+        &self.distant
+    }
+
+    /// Picks an emitter ∝ power with `u_select` and samples it with `u`: returns its index and
+    /// the sample with `pdf` multiplied by the selection probability.
+    pub fn sample(&self, p: Vec3, u_select: f32, u: Vec2) -> Option<(usize, LightSample)> {
+        if self.emitters.is_empty() {
+            return None;
+        }
+        let (i, pmf, _) = self.selection.sample_discrete(u_select);
+        if pmf <= 0.0 {
+            return None;
+        }
+        let mut s = self.emitters[i].sample_li(p, u)?;
+        s.pdf *= pmf;
+        Some((i, s))
+    }
+
+    /// Selection probability of emitter `i` (0 for an index out of range).
+    pub fn selection_pmf(&self, i: usize) -> f32 {
+        if i < self.emitters.len() {
+            self.selection.pmf(i)
+        } else {
+            0.0
+        }
+    }
+
+    /// Number of named lights, `scene.light_names().len()`: named light k is emitter k.
+    pub fn named_count(&self) -> usize {
+        self.named
+    }
+}
+
+/// The area emitter of an emissive shape.
+fn area_emitter(scene: &Scene, geometry: &Geometry, emission: &scenes::Emission) -> Result<Emitter, String> {
+    let radiance = Radiance::new(&emission.radiance, &scene.textures, "emission.radiance")?;
+    let two_sided = emission.two_sided;
+    Ok(match geometry {
+        Geometry::Sphere { center, radius } => {
+            Emitter::Sphere(SphereLight::new(*center, *radius, radiance, two_sided)?)
+        }
+        Geometry::Rectangle {
+            center,
+            half_u,
+            half_v,
+        } => Emitter::Rectangle(RectangleLight::new(
+            *center, *half_u, *half_v, radiance, two_sided,
+        )?),
+        Geometry::Disk {
+            center,
+            half_u,
+            half_v,
+        } => Emitter::Disk(DiskLight::new(*center, *half_u, *half_v, radiance, two_sided)?),
+        Geometry::Mesh(mesh) => Emitter::Mesh(MeshLight::new(Arc::clone(mesh), radiance, two_sided)?),
+    })
+}
+
+/// The emitter of a scene light.
+fn delta_emitter(light: &Light, scene_radius: f32) -> Result<Emitter, String> {
+    Ok(match light {
+        Light::Point {
+            position, intensity, ..
+        } => Emitter::Point(PointLight::new(*position, *intensity)?),
+        Light::Spot {
+            position,
+            direction,
+            intensity,
+            cutoff_deg,
+            beam_width_deg,
+            ..
+        } => Emitter::Spot(SpotLight::new(
+            *position,
+            *direction,
+            *intensity,
+            *cutoff_deg,
+            *beam_width_deg,
+        )?),
+        Light::Directional {
+            direction,
+            irradiance,
+            angular_diameter_deg,
+            ..
+        } => Emitter::Directional(DirectionalLight::new(
+            *direction,
+            *irradiance,
+            *angular_diameter_deg,
+            scene_radius,
+        )?),
+    })
+}
+
+/// The environment emitter.
+fn environment_emitter(
+    scene: &Scene,
+    env: &Environment,
+    scene_radius: f32,
+) -> Result<EnvironmentLight, String> {
+    match env {
+        Environment::Constant { radiance } => EnvironmentLight::constant(*radiance, scene_radius),
+        Environment::Map { texture, scale } => {
+            let t = scene.textures.get(*texture).ok_or_else(|| {
+                format!(
+                    "texture = {texture} is out of range (the scene has {} textures)",
+                    scene.textures.len()
+                )
+            })?;
+            EnvironmentLight::map(Arc::clone(t), *scale, scene_radius)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::PathBuf;
+
+    use glam::Vec4;
+    use scenes::texture::Texture;
+    use scenes::{Camera, Emission, Film, Material, Mesh, RenderSettings, Shape, TexRgb, WrapMode};
+
+    use super::*;
+
+    fn shape(name: &str, geometry: Geometry, radiance: Option<Vec3>) -> Shape {
+        Shape {
+            name: name.to_string(),
+            geometry,
+            material: 0,
+            emission: radiance.map(|r| Emission {
+                radiance: TexRgb::Constant(r),
+                two_sided: false,
+            }),
+            normal_map: None,
+        }
+    }
+
+    fn scene(shapes: Vec<Shape>, lights: Vec<Light>, environment: Option<Environment>) -> Scene {
+        Scene {
+            source: PathBuf::from("test.toml"),
+            camera: Camera::look_at(Vec3::new(0.0, 1.0, 5.0), Vec3::ZERO, Vec3::Y, 40.0),
+            film: Film { width: 4, height: 4 },
+            render: RenderSettings::default(),
+            textures: vec![Arc::new(Texture::from_texels(
+                2,
+                1,
+                vec![Vec4::ONE, Vec4::splat(3.0)],
+                [WrapMode::Repeat; 2],
+            ))],
+            materials: vec![Material::Diffuse {
+                albedo: TexRgb::Constant(Vec3::splat(0.5)),
+            }],
+            shapes,
+            lights,
+            environment,
+        }
+    }
+
+    fn rect() -> Geometry {
+        Geometry::Rectangle {
+            center: Vec3::new(0.0, 2.0, 0.0),
+            half_u: Vec3::X,
+            half_v: Vec3::Z,
+        }
+    }
+
+    fn full_scene() -> Scene {
+        let mesh = Mesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+            indices: vec![[0, 1, 2]],
+            ..Mesh::default()
+        };
+        scene(
+            vec![
+                shape(
+                    "floor",
+                    Geometry::Disk {
+                        center: Vec3::ZERO,
+                        half_u: Vec3::X,
+                        half_v: Vec3::Z,
+                    },
+                    None,
+                ),
+                shape("panel", rect(), Some(Vec3::splat(4.0))),
+                shape(
+                    "ball",
+                    Geometry::Sphere {
+                        center: Vec3::Y,
+                        radius: 0.5,
+                    },
+                    Some(Vec3::new(1.0, 0.0, 0.0)),
+                ),
+                shape("dark", Geometry::Mesh(Arc::new(mesh)), Some(Vec3::ZERO)),
+            ],
+            vec![
+                Light::Point {
+                    name: "bulb".into(),
+                    position: Vec3::new(1.0, 3.0, 0.0),
+                    intensity: Vec3::splat(10.0),
+                },
+                Light::Directional {
+                    name: "sun".into(),
+                    direction: -Vec3::Y,
+                    irradiance: Vec3::splat(2.0),
+                    angular_diameter_deg: 0.53,
+                },
+            ],
+            Some(Environment::Map {
+                texture: 0,
+                scale: 0.5,
+            }),
+        )
+    }
+
+    #[test]
+    fn light_set_orders_maps_and_selects_by_power() {
+        let s = full_scene();
+        let set = LightSet::new(&s).unwrap();
+        assert_eq!(set.named_count(), s.light_names().len());
+        assert_eq!(set.emitters().len(), 6);
+        assert_eq!(set.environment(), Some(5));
+        assert_eq!(set.distant(), [4, 5], "sun disk and environment");
+        let map: Vec<_> = (0..5).map(|i| set.emitter_of_shape(i)).collect();
+        assert_eq!(map, [None, Some(0), Some(1), Some(2), None]);
+        assert!(matches!(set.emitters()[0], Emitter::Rectangle(_)));
+        assert!(matches!(set.emitters()[3], Emitter::Point(_)));
+        assert!(matches!(set.emitters()[4], Emitter::Directional(_)));
+        let total: f32 = set.emitters().iter().map(|e| e.power()).sum();
+        let sum: f32 = (0..6).map(|i| set.selection_pmf(i)).sum();
+        assert!((sum - 1.0).abs() < 1e-6, "Σ pmf = {sum}");
+        for (i, e) in set.emitters().iter().enumerate() {
+            let want = e.power() / total;
+            assert!(
+                (set.selection_pmf(i) - want).abs() < 1e-6,
+                "pmf[{i}] = {}, expected {want}",
+                set.selection_pmf(i)
+            );
+        }
+        assert_eq!(
+            set.selection_pmf(2),
+            0.0,
+            "zero-power mesh must never be selected"
+        );
+        // Φ of the 4 m² panel with L = 4: π·4·4.
+        assert!((set.emitters()[0].power() - 16.0 * PI_F32).abs() < 1e-3);
+    }
+
+    const PI_F32: f32 = std::f32::consts::PI;
+
+    #[test]
+    fn light_set_sample_multiplies_by_selection_probability() {
+        let set = LightSet::new(&full_scene()).unwrap();
+        let p = Vec3::new(0.2, 0.5, 0.1);
+        for k in 0..200 {
+            let u_sel = (k as f32 + 0.5) / 200.0;
+            let u = Vec2::new(0.37, 0.61);
+            let Some((i, s)) = set.sample(p, u_sel, u) else {
+                continue;
+            };
+            let single = set.emitters()[i].sample_li(p, u).unwrap();
+            let want = single.pdf * set.selection_pmf(i);
+            assert!(
+                (s.pdf - want).abs() <= 1e-6 * want,
+                "emitter {i}: pdf {}, expected {want}",
+                s.pdf
+            );
+            assert_ne!(i, 2, "zero-power emitter selected");
+        }
+    }
+
+    #[test]
+    fn light_set_all_zero_power_is_uniform_and_empty_is_none() {
+        let dark = scene(
+            vec![shape("a", rect(), Some(Vec3::ZERO))],
+            vec![Light::Point {
+                name: "b".into(),
+                position: Vec3::Y,
+                intensity: Vec3::ZERO,
+            }],
+            None,
+        );
+        let set = LightSet::new(&dark).unwrap();
+        assert!((set.selection_pmf(0) - 0.5).abs() < 1e-7 && (set.selection_pmf(1) - 0.5).abs() < 1e-7);
+        let empty = LightSet::new(&scene(vec![], vec![], None)).unwrap();
+        assert!(empty.sample(Vec3::ZERO, 0.5, Vec2::splat(0.5)).is_none());
+        assert_eq!(
+            (empty.named_count(), empty.environment(), empty.selection_pmf(0)),
+            (0, None, 0.0)
+        );
+    }
+
+    #[test]
+    fn light_set_errors_name_the_shape_light_and_field() {
+        let zero_area = Geometry::Rectangle {
+            center: Vec3::ZERO,
+            half_u: Vec3::X,
+            half_v: Vec3::ZERO,
+        };
+        let cases: Vec<(Scene, &[&str])> = vec![
+            (
+                scene(vec![shape("lamp", zero_area, Some(Vec3::ONE))], vec![], None),
+                &["shape 'lamp' (shapes[0])", "half_u", "zero area"],
+            ),
+            (
+                scene(
+                    vec![shape("neg", rect(), Some(Vec3::new(1.0, -1.0, 0.0)))],
+                    vec![],
+                    None,
+                ),
+                &["shape 'neg'", "emission.radiance", "≥ 0"],
+            ),
+            (
+                scene(
+                    vec![shape(
+                        "nan",
+                        Geometry::Sphere {
+                            center: Vec3::ZERO,
+                            radius: f32::NAN,
+                        },
+                        Some(Vec3::ONE),
+                    )],
+                    vec![],
+                    None,
+                ),
+                &["shape 'nan'", "geometry.radius"],
+            ),
+            (
+                scene(
+                    vec![],
+                    vec![
+                        Light::Point {
+                            name: "ok".into(),
+                            position: Vec3::Y,
+                            intensity: Vec3::ONE,
+                        },
+                        Light::Point {
+                            name: "bad".into(),
+                            position: Vec3::Y,
+                            intensity: Vec3::new(f32::NAN, 0.0, 0.0),
+                        },
+                    ],
+                    None,
+                ),
+                &["light 'bad' (lights[1])", "intensity"],
+            ),
+            (
+                scene(
+                    vec![],
+                    vec![],
+                    Some(Environment::Map {
+                        texture: 3,
+                        scale: 1.0,
+                    }),
+                ),
+                &["environment", "texture = 3"],
+            ),
+            (
+                scene(
+                    vec![],
+                    vec![],
+                    Some(Environment::Constant {
+                        radiance: Vec3::splat(f32::INFINITY),
+                    }),
+                ),
+                &["environment", "radiance"],
+            ),
+        ];
+        for (s, needles) in cases {
+            let e = LightSet::new(&s).unwrap_err();
+            for n in needles {
+                assert!(e.contains(n), "error {e:?} should mention {n:?}");
+            }
+        }
+        // A textured emission whose texture index is out of range.
+        let mut s = scene(vec![shape("tex", rect(), Some(Vec3::ONE))], vec![], None);
+        s.shapes[0].emission = Some(Emission {
+            radiance: TexRgb::Image {
+                texture: 9,
+                factor: Vec3::ONE,
+            },
+            two_sided: true,
+        });
+        let e = LightSet::new(&s).unwrap_err();
+        assert!(
+            e.contains("shape 'tex'") && e.contains("emission.radiance.texture = 9"),
+            "{e}"
+        );
+    }
+}

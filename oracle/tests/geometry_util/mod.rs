@@ -1,0 +1,120 @@
+//! Shared helpers of the `geometry_*` integration tests: a small deterministic RNG, scene
+//! construction and a UV-sphere mesh generator.
+
+#![allow(dead_code)] // each test binary uses a different subset of the helpers
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3};
+use scenes::{Camera, Film, Geometry, Material, Mesh, RenderSettings, Scene, Shape, TexRgb};
+
+/// SplitMix64 (Steele, Lea & Flood 2014): a tiny, deterministic generator for tests.
+pub struct Rng(u64);
+
+impl Rng {
+    /// Generator from a seed.
+    pub fn new(seed: u64) -> Self {
+        Rng(seed)
+    }
+
+    /// Next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    pub fn f32(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    /// Uniform in [lo, hi).
+    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * self.f32()
+    }
+
+    /// Uniform point in the box [lo, hi).
+    pub fn in_box(&mut self, lo: Vec3, hi: Vec3) -> Vec3 {
+        Vec3::new(self.range(lo.x, hi.x), self.range(lo.y, hi.y), self.range(lo.z, hi.z))
+    }
+
+    /// Uniform unit direction.
+    pub fn dir(&mut self) -> Vec3 {
+        let z = self.range(-1.0, 1.0);
+        let phi = self.range(0.0, std::f32::consts::TAU);
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    }
+}
+
+/// A shape with a default material.
+pub fn shape(name: &str, geometry: Geometry) -> Shape {
+    Shape {
+        name: name.to_string(),
+        geometry,
+        material: 0,
+        emission: None,
+        normal_map: None,
+    }
+}
+
+/// A mesh shape.
+pub fn mesh_shape(name: &str, mesh: Mesh) -> Shape {
+    shape(name, Geometry::Mesh(Arc::new(mesh)))
+}
+
+/// A scene holding `shapes` and one diffuse material.
+pub fn scene(shapes: Vec<Shape>) -> Scene {
+    Scene {
+        source: PathBuf::from("geometry-test"),
+        camera: Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 45.0),
+        film: Film {
+            width: 4,
+            height: 4,
+        },
+        render: RenderSettings::default(),
+        textures: Vec::new(),
+        materials: vec![Material::Diffuse {
+            albedo: TexRgb::Constant(Vec3::splat(0.5)),
+        }],
+        shapes,
+        lights: Vec::new(),
+        environment: None,
+    }
+}
+
+/// UV sphere of `radius` around `center` with `n_phi` × `n_theta` quads (poles as fans),
+/// exact vertex normals and uvs in the analytic sphere's convention (u = φ/2π, v = θ/π with
+/// θ from +Z); the seam column duplicates its vertices with u = 1.
+pub fn uv_sphere(center: Vec3, radius: f32, n_phi: u32, n_theta: u32) -> Mesh {
+    let mut m = Mesh::default();
+    for j in 0..=n_theta {
+        let theta = std::f32::consts::PI * j as f32 / n_theta as f32;
+        for i in 0..=n_phi {
+            let phi = std::f32::consts::TAU * i as f32 / n_phi as f32;
+            let d = Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+            m.positions.push(center + d * radius);
+            m.normals.push(d);
+            m.uvs.push(Vec2::new(i as f32 / n_phi as f32, j as f32 / n_theta as f32));
+        }
+    }
+    let row = n_phi + 1;
+    for j in 0..n_theta {
+        for i in 0..n_phi {
+            let (a, b) = (j * row + i, j * row + i + 1);
+            let (c, d) = ((j + 1) * row + i, (j + 1) * row + i + 1);
+            // Outward (counter-clockwise seen from outside): θ grows downwards, φ to the left.
+            if j != 0 {
+                m.indices.push([a, c, b]);
+            }
+            if j != n_theta - 1 {
+                m.indices.push([b, c, d]);
+            }
+        }
+    }
+    m
+}

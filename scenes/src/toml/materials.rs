@@ -1,0 +1,122 @@
+//! `[[material]]` tables → [`Material`]s, indexed by name.
+
+use std::collections::HashMap;
+
+use glam::Vec3;
+
+use super::inputs::{rgb_const, rgb_input, scalar_input, Bound, Textures};
+use super::read::{Field, Table};
+use crate::model::{Masking, Material, TexRgb, TexScalar};
+use crate::SceneError;
+
+const TYPES: &[&str] = &["diffuse", "phong", "ggx", "metal_rough", "mirror", "dielectric"];
+
+/// Interior IOR default: BK7 glass at 589 nm, as Mitsuba 3's `dielectric` (`int_ior="bk7"`).
+const BK7_IOR: f32 = 1.5046;
+/// Exterior IOR default: air, as Mitsuba 3's `dielectric` (`ext_ior="air"`).
+const AIR_IOR: f32 = 1.000_277;
+
+/// Reads every `[[material]]`; names must be unique.
+pub(crate) fn read_all(
+    doc: &Table,
+    textures: &mut Textures,
+) -> Result<(Vec<Material>, HashMap<String, usize>), SceneError> {
+    let mut materials = Vec::new();
+    let mut names: HashMap<String, usize> = HashMap::new();
+    let mut lines: Vec<Option<usize>> = Vec::new();
+    let Some(list) = doc.get("material") else {
+        return Ok((materials, names));
+    };
+    for t in list.tables()? {
+        let name_field = t.req("name")?;
+        let name = name_field.str()?;
+        if name.is_empty() {
+            return Err(name_field.err("a material name cannot be empty"));
+        }
+        if let Some(&first) = names.get(name) {
+            let at = lines[first].map(|l| format!(" on line {l}")).unwrap_or_default();
+            return Err(name_field
+                .err(format!("duplicate material name \"{name}\" (first defined{at})"))
+                .hint("give every material its own name"));
+        }
+        let t = t.clone().renamed(format!("material \"{name}\""));
+        materials.push(read_one(&t, textures)?);
+        names.insert(name.to_string(), materials.len() - 1);
+        lines.push(t.line);
+    }
+    Ok((materials, names))
+}
+
+/// One material table.
+fn read_one(t: &Table, textures: &mut Textures) -> Result<Material, SceneError> {
+    let kind = t.req("type")?.keyword(TYPES)?;
+    let fields: &[&str] = match kind {
+        "diffuse" => &["name", "type", "albedo"],
+        "phong" => &["name", "type", "reflectance", "exponent"],
+        "ggx" => &["name", "type", "reflectance", "f0", "roughness", "masking"],
+        "metal_rough" => &["name", "type", "base_color", "metallic", "roughness"],
+        "mirror" => &["name", "type", "reflectance"],
+        _ => &["name", "type", "int_ior", "ext_ior"],
+    };
+    t.only(fields, &format!("a {kind} material"))?;
+    let mut rgb = |key: &str, default: f32| -> Result<TexRgb, SceneError> {
+        match t.get(key) {
+            Some(f) => rgb_input(&f, Bound::Unit, textures),
+            None => Ok(TexRgb::Constant(Vec3::splat(default))),
+        }
+    };
+    Ok(match kind {
+        // Mitsuba 3 `diffuse`: reflectance defaults to 0.5.
+        "diffuse" => Material::Diffuse {
+            albedo: rgb("albedo", 0.5)?,
+        },
+        "phong" => Material::Phong {
+            reflectance: rgb("reflectance", 1.0)?,
+            exponent: t.req("exponent")?.non_negative()?,
+        },
+        "ggx" => {
+            let reflectance = rgb("reflectance", 1.0)?;
+            Material::Ggx {
+                reflectance,
+                f0: rgb_const(t.get("f0"), Bound::Unit, Vec3::ONE)?,
+                roughness: scalar_input(&t.req("roughness")?, 1, textures)?,
+                masking: match t.get("masking") {
+                    Some(m) => match m.keyword(&["height_correlated", "separable"])? {
+                        "separable" => Masking::Separable,
+                        _ => Masking::HeightCorrelated,
+                    },
+                    None => Masking::HeightCorrelated,
+                },
+            }
+        }
+        // glTF 2.0 defaults: baseColorFactor 1, metallicFactor 1, roughnessFactor 1.
+        "metal_rough" => {
+            let base_color = rgb("base_color", 1.0)?;
+            Material::MetalRough {
+                base_color,
+                metallic: scalar(t, "metallic", 2, textures)?,
+                roughness: scalar(t, "roughness", 1, textures)?,
+            }
+        }
+        "mirror" => Material::Mirror {
+            reflectance: rgb_const(t.get("reflectance"), Bound::Unit, Vec3::ONE)?,
+        },
+        _ => Material::Dielectric {
+            int_ior: ior(t.get("int_ior"), BK7_IOR)?,
+            ext_ior: ior(t.get("ext_ior"), AIR_IOR)?,
+        },
+    })
+}
+
+/// An optional scalar input defaulting to 1.
+fn scalar(t: &Table, key: &str, channel: usize, textures: &mut Textures) -> Result<TexScalar, SceneError> {
+    match t.get(key) {
+        Some(f) => scalar_input(&f, channel, textures),
+        None => Ok(TexScalar::Constant(1.0)),
+    }
+}
+
+/// An index of refraction: finite and > 0.
+fn ior(field: Option<Field>, default: f32) -> Result<f32, SceneError> {
+    field.map_or(Ok(default), |f| f.positive())
+}

@@ -1,0 +1,680 @@
+//! Bad scene files: every class of mistake gives an error naming the file, the field and
+//! the line, and loading never panics.
+
+mod toml_support;
+
+use toml_support::{append, expect_error, load_text, replace_line, scratch, write, BASE};
+
+#[test]
+fn base_scene_is_valid() {
+    let dir = scratch("base");
+    let scene = load_text(&dir, BASE).unwrap_or_else(|e| panic!("the base scene must load: {e}"));
+    assert_eq!((scene.shapes.len(), scene.materials.len()), (1, 1));
+}
+
+#[test]
+fn syntax_errors_name_the_line() {
+    let dir = scratch("syntax");
+    expect_error(
+        load_text(&dir, &replace_line(4, "fov = = 40")),
+        &["bad.toml:4:", "TOML syntax"],
+    );
+    // A key given twice is a TOML error too.
+    expect_error(
+        load_text(&dir, &replace_line(15, "radius = 1\nradius = 2")),
+        &["bad.toml:16:", "TOML syntax"],
+    );
+}
+
+#[test]
+fn unknown_fields_and_sections() {
+    let dir = scratch("unknown");
+    expect_error(
+        load_text(&dir, &replace_line(15, "radus = 1")),
+        &[
+            "bad.toml:15:",
+            "field `shape \"s\".radus`",
+            "unknown field `radus` for a sphere",
+            "did you mean `radius`?",
+        ],
+    );
+    expect_error(
+        load_text(&dir, &append("[[shapes]]\nname = \"x\"\n")),
+        &[
+            "bad.toml:17:",
+            "field `shapes`",
+            "unknown field `shapes` for a scene file",
+            "did you mean `shape`?",
+        ],
+    );
+    // A field that belongs to another shape type is unknown for this one.
+    expect_error(
+        load_text(&dir, &replace_line(15, "radius = 1\nsize = [1, 1]")),
+        &[
+            "bad.toml:16:",
+            "`shape \"s\".size`",
+            "unknown field `size` for a sphere",
+        ],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(4, "fov = 40\nfocus = 2")),
+        &["bad.toml:5:", "`camera.focus`", "unknown field"],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(8, "type = \"diffuse\"\nroughness = 0.5")),
+        &[
+            "bad.toml:9:",
+            "`material \"m\".roughness`",
+            "unknown field `roughness` for a diffuse material",
+        ],
+    );
+}
+
+#[test]
+fn wrong_types() {
+    let dir = scratch("types");
+    expect_error(
+        load_text(&dir, &replace_line(15, "radius = \"one\"")),
+        &[
+            "bad.toml:15:",
+            "`shape \"s\".radius`",
+            "expected a number, found a string",
+        ],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(14, "center = [0, 0]")),
+        &[
+            "bad.toml:14:",
+            "`shape \"s\".center`",
+            "expected an array of 3 numbers, found 2",
+        ],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(14, "center = [0, \"a\", 0]")),
+        &["bad.toml:14:", "`shape \"s\".center[1]`", "expected a number"],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(14, "center = 1979-05-27")),
+        &["bad.toml:14:", "`shape \"s\".center`", "found a date-time"],
+    );
+    // A single [material] table where an array of tables is expected.
+    let text = BASE.replace("[[material]]", "[material]");
+    expect_error(
+        load_text(&dir, &text),
+        &["bad.toml:6:", "`material`", "[[material]]"],
+    );
+    expect_error(
+        load_text(&dir, &append("[render]\nspp = 64.5\n")),
+        &["bad.toml:18:", "`render.spp`", "expected an integer"],
+    );
+}
+
+#[test]
+fn non_finite_numbers() {
+    let dir = scratch("nan");
+    expect_error(
+        load_text(&dir, &replace_line(15, "radius = nan")),
+        &["bad.toml:15:", "`shape \"s\".radius`", "NaN"],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(14, "center = [0, inf, 0]")),
+        &["bad.toml:14:", "`shape \"s\".center[1]`", "not a finite"],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(4, "fov = -inf")),
+        &["bad.toml:4:", "`camera.fov`", "not a finite"],
+    );
+    // Finite in TOML (f64) but not in f32.
+    expect_error(
+        load_text(&dir, &replace_line(15, "radius = 1e300")),
+        &["bad.toml:15:", "not a finite 32-bit"],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &append(
+                "[[light]]\nname = \"p\"\ntype = \"point\"\nposition = [0, 2, 0]\nintensity = [1, nan, 1]\n",
+            ),
+        ),
+        &["bad.toml:21:", "`light \"p\".intensity[1]`", "NaN"],
+    );
+}
+
+#[test]
+fn negative_and_zero_sizes() {
+    let dir = scratch("sizes");
+    expect_error(
+        load_text(&dir, &replace_line(15, "radius = -1")),
+        &["bad.toml:15:", "`shape \"s\".radius`", "must be > 0, got -1"],
+    );
+    let rect = |extent: &str| {
+        append(&format!(
+            "[[shape]]\nname = \"r\"\ntype = \"rectangle\"\nmaterial = \"m\"\ncenter = [0, 2, 0]\n{extent}\n"
+        ))
+    };
+    expect_error(
+        load_text(&dir, &rect("size = [1, -2]\nnormal = [0, -1, 0]")),
+        &["bad.toml:22:", "`shape \"r\".size`", "must be > 0"],
+    );
+    expect_error(
+        load_text(&dir, &rect("half_u = [1, 0, 0]\nhalf_v = [2, 0, 0]")),
+        &["bad.toml:22:", "`shape \"r\".half_u`", "zero area"],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &append("[[shape]]\ntype = \"box\"\nmaterial = \"m\"\ncenter = [0, 0, 0]\nsize = [1, 0, 1]\n"),
+        ),
+        &["bad.toml:21:", "`shape[1].size`", "every side must be > 0"],
+    );
+}
+
+#[test]
+fn zero_area_lights() {
+    let dir = scratch("zero-area");
+    let emitting = |geometry: &str| {
+        append(&format!(
+            "[[shape]]\nname = \"lamp\"\nmaterial = \"m\"\n\
+             emission = {{ radiance = [1, 1, 1] }}\n{geometry}\n"
+        ))
+    };
+    expect_error(
+        load_text(
+            &dir,
+            &emitting("type = \"sphere\"\ncenter = [0, 2, 0]\nradius = 0"),
+        ),
+        &[
+            "bad.toml:23:",
+            "`shape \"lamp\".radius`",
+            "must be > 0",
+            "positive area",
+        ],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &emitting("type = \"rectangle\"\ncenter = [0, 2, 0]\nsize = [0, 1]\nnormal = [0, -1, 0]"),
+        ),
+        &["bad.toml:23:", "`shape \"lamp\".size`", "must be > 0"],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &emitting("type = \"disk\"\ncenter = [0, 2, 0]\nhalf_u = [0, 0, 0]\nhalf_v = [0, 0, 1]"),
+        ),
+        &[
+            "bad.toml:23:",
+            "`shape \"lamp\".half_u`",
+            "the disk has zero area",
+        ],
+    );
+    // A transform that squashes the light flat.
+    expect_error(
+        load_text(
+            &dir,
+            &emitting(
+                "type = \"disk\"\ncenter = [0, 2, 0]\nradius = 1\nnormal = [0, -1, 0]\n\
+                 transform = [{ scale = [1, 1, 0] }]",
+            ),
+        ),
+        &["bad.toml:25:", "`shape \"lamp\".transform`", "singular"],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &emitting("type = \"rectangle\"\ncenter = [0, 2, 0]\nsize = [1, 1]\nnormal = [0, -1, 0]")
+                .replace("[1, 1, 1] }", "[1, -1, 1] }"),
+        ),
+        &[
+            "bad.toml:20:",
+            "`shape \"lamp\".emission.radiance`",
+            "must be >= 0",
+        ],
+    );
+}
+
+#[test]
+fn camera_errors() {
+    let dir = scratch("camera");
+    for fov in ["0", "180", "-10", "200"] {
+        expect_error(
+            load_text(&dir, &replace_line(4, &format!("fov = {fov}"))),
+            &["bad.toml:4:", "field `camera.fov`", "must be in (0, 180) degrees"],
+        );
+    }
+    expect_error(
+        load_text(&dir, &replace_line(3, "target = [0, 1, 5]")),
+        &["bad.toml:3:", "`camera.target`", "equals the eye"],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(4, "fov = 40\nup = [0, -2, -10]")),
+        &["bad.toml:5:", "`camera.up`", "parallel to the view direction"],
+    );
+    // Looking straight down with the default up (+Y).
+    expect_error(
+        load_text(&dir, &replace_line(2, "eye = [0, 5, 0]")),
+        &["bad.toml:3:", "`camera.target`", "parallel to the view direction"],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(4, "up = [0, 0, 0]")),
+        &["`camera.up`", "non-zero direction"],
+    );
+    let no_camera: String = BASE.lines().skip(5).collect::<Vec<_>>().join("\n");
+    expect_error(
+        load_text(&dir, &no_camera),
+        &[
+            "bad.toml:1:",
+            "field `camera`",
+            "missing required field",
+            "add a [camera] section",
+        ],
+    );
+}
+
+#[test]
+fn names_and_references() {
+    let dir = scratch("names");
+    expect_error(
+        load_text(&dir, &replace_line(13, "material = \"mm\"")),
+        &[
+            "bad.toml:13:",
+            "`shape \"s\".material`",
+            "unknown material \"mm\"",
+            "did you mean `m`?",
+        ],
+    );
+    expect_error(
+        load_text(&dir, &append("[[material]]\nname = \"m\"\ntype = \"mirror\"\n")),
+        &[
+            "bad.toml:18:",
+            "`material[1].name`",
+            "duplicate material name \"m\" (first defined on line 6)",
+        ],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &append(
+                "[[shape]]\nname = \"s\"\ntype = \"sphere\"\nmaterial = \"m\"\n\
+                 center = [3, 0, 0]\nradius = 1\n",
+            ),
+        ),
+        &[
+            "bad.toml:18:",
+            "`shape \"s\".name`",
+            "duplicate name \"s\" (first used by shape on line 11)",
+        ],
+    );
+    // Shapes and lights share one namespace (both name visibility AOVs).
+    expect_error(
+        load_text(
+            &dir,
+            &append("[[light]]\nname = \"s\"\ntype = \"point\"\nposition = [0, 3, 0]\nintensity = 1\n"),
+        ),
+        &["bad.toml:18:", "`light \"s\".name`", "duplicate name"],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(11, "name = \"a.b\"")),
+        &["bad.toml:11:", "invalid shape name \"a.b\""],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &replace_line(15, "radius = 1\ntype = \"mesh\"").replace("type = \"sphere\"\n", ""),
+        ),
+        &[
+            "`shape \"s\".type`",
+            "triangle meshes cannot be written",
+            "[[include]]",
+        ],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(12, "type = \"spehre\"")),
+        &[
+            "bad.toml:12:",
+            "`shape \"s\".type`",
+            "unknown value \"spehre\"",
+            "did you mean `sphere`?",
+        ],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(15, "")),
+        &[
+            "bad.toml:10:",
+            "field `shape \"s\".radius`",
+            "missing required field",
+        ],
+    );
+}
+
+#[test]
+fn generated_names_are_unique() {
+    let dir = scratch("generated");
+    let text = append(
+        "[[shape]]\ntype = \"sphere\"\nmaterial = \"m\"\ncenter = [3, 0, 0]\nradius = 1\n\n\
+         [[shape]]\nname = \"sphere_1\"\ntype = \"sphere\"\nmaterial = \"m\"\n\
+         center = [6, 0, 0]\nradius = 1\n",
+    );
+    let scene = load_text(&dir, &text).unwrap_or_else(|e| panic!("{e}"));
+    let names: Vec<&str> = scene.shapes.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(names, vec!["s", "sphere_1_", "sphere_1"]);
+}
+
+#[test]
+fn render_and_film_ranges() {
+    let dir = scratch("render");
+    expect_error(
+        load_text(&dir, &append("[film]\nwidth = 100000\nheight = 100\n")),
+        &[
+            "bad.toml:18:",
+            "`film.width`",
+            "must be in 1..=16384 pixels, got 100000",
+        ],
+    );
+    expect_error(
+        load_text(&dir, &append("[film]\nheight = 0\n")),
+        &["bad.toml:18:", "`film.height`"],
+    );
+    expect_error(
+        load_text(&dir, &append("[render]\nmax_depth = 0\n")),
+        &["bad.toml:18:", "`render.max_depth`", "-1 (unbounded) or >= 1"],
+    );
+    expect_error(
+        load_text(&dir, &append("[render]\nintegrator = \"paht\"\n")),
+        &["bad.toml:18:", "`render.integrator`", "did you mean `path`?"],
+    );
+    expect_error(
+        load_text(&dir, &append("[render]\nspp = 0\n")),
+        &["bad.toml:18:", "`render.spp`"],
+    );
+    expect_error(
+        load_text(&dir, &append("[render]\nseed = -1\n")),
+        &["bad.toml:18:", "`render.seed`"],
+    );
+    expect_error(
+        load_text(&dir, &append("[render]\nao_radius = 0\n")),
+        &["bad.toml:18:", "`render.ao_radius`"],
+    );
+}
+
+#[test]
+fn light_errors() {
+    let dir = scratch("lights");
+    let spot = |extra: &str| {
+        append(&format!(
+            "[[light]]\nname = \"spot\"\ntype = \"spot\"\nposition = [0, 3, 0]\nintensity = 10\n{extra}\n"
+        ))
+    };
+    expect_error(
+        load_text(&dir, &spot("target = [0, 0, 0]\ncutoff_angle = 95")),
+        &["bad.toml:23:", "`light \"spot\".cutoff_angle`", "(0, 90]"],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &spot("target = [0, 0, 0]\ncutoff_angle = 20\nbeam_width = 30"),
+        ),
+        &["bad.toml:24:", "`light \"spot\".beam_width`"],
+    );
+    expect_error(
+        load_text(&dir, &spot("target = [0, 0, 0]\ndirection = [0, -1, 0]")),
+        &[
+            "bad.toml:22:",
+            "`light \"spot\".target`",
+            "`direction` and `target` cannot be given together",
+        ],
+    );
+    expect_error(
+        load_text(&dir, &spot("direction = [0, 0, 0]")),
+        &["bad.toml:22:", "non-zero direction"],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &append("[[light]]\ntype = \"point\"\nposition = [0, 3, 0]\nintensity = 1\n"),
+        ),
+        &["bad.toml:17:", "`light[0].name`", "missing required field"],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &append(
+                "[[light]]\nname = \"sun\"\ntype = \"directional\"\ndirection = [0, -1, 0]\n\
+                 irradiance = 1\nangular_diameter = 180\n",
+            ),
+        ),
+        &["bad.toml:22:", "`light \"sun\".angular_diameter`", "[0, 180)"],
+    );
+}
+
+#[test]
+fn transform_errors() {
+    let dir = scratch("transform");
+    expect_error(
+        load_text(
+            &dir,
+            &replace_line(15, "radius = 1\ntransform = [{ scale = [1, 2, 1] }]"),
+        ),
+        &["bad.toml:16:", "`shape \"s\".transform`", "must keep it a sphere"],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(15, "radius = 1\ntransform = [{ shear = 1 }]")),
+        &[
+            "bad.toml:16:",
+            "`shape \"s\".transform[0].shear`",
+            "unknown field `shear` for a transform step",
+        ],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &replace_line(
+                15,
+                "radius = 1\ntransform = [{ translate = [1, 0, 0], scale = 2 }]",
+            ),
+        ),
+        &["bad.toml:16:", "cannot be given together"],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(15, "radius = 1\ntransform = [\n  {},\n]")),
+        &[
+            "bad.toml:17:",
+            "`shape \"s\".transform[0]`",
+            "empty transform step",
+        ],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &replace_line(
+                15,
+                "radius = 1\n\
+                 transform = [{ matrix = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 1, 1]] }]",
+            ),
+        ),
+        &[
+            "bad.toml:16:",
+            "`shape \"s\".transform[0].matrix[3]`",
+            "[0, 0, 0, 1]",
+        ],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &replace_line(
+                15,
+                "radius = 1\ntransform = [{ rotate = { axis = [0, 0, 0], angle = 10 } }]",
+            ),
+        ),
+        &["`shape \"s\".transform[0].rotate.axis`", "non-zero direction"],
+    );
+}
+
+#[test]
+fn missing_files() {
+    let dir = scratch("missing");
+    expect_error(
+        load_text(
+            &dir,
+            &replace_line(8, "type = \"diffuse\"\nalbedo = { texture = \"tex/wood.png\" }"),
+        ),
+        &[
+            "bad.toml:9:",
+            "`material \"m\".albedo.texture`",
+            "file not found",
+            "wood.png",
+            "relative to the scene file",
+        ],
+    );
+    expect_error(
+        load_text(&dir, &append("[environment]\nfile = \"sky.exr\"\n")),
+        &["bad.toml:18:", "`environment.file`", "file not found", "sky.exr"],
+    );
+    expect_error(
+        load_text(&dir, &append("[[include]]\nfile = \"model.glb\"\n")),
+        &["bad.toml:18:", "`include[0].file`", "file not found", "model.glb"],
+    );
+    let missing = dir.join("nowhere.toml");
+    let err = expect_error(
+        scenes::load(&missing),
+        &["nowhere.toml", "cannot read the scene file"],
+    );
+    assert_eq!(err.file, missing);
+}
+
+#[test]
+fn malformed_files() {
+    let dir = scratch("malformed");
+    write(&dir, "junk.png", "this is not an image");
+    expect_error(
+        load_text(
+            &dir,
+            &replace_line(8, "type = \"diffuse\"\nalbedo = { texture = \"junk.png\" }"),
+        ),
+        &[
+            "bad.toml:9:",
+            "`material \"m\".albedo.texture`",
+            "cannot load the texture",
+            "junk.png",
+        ],
+    );
+    // A PNG cut off after its header.
+    let mut png = Vec::new();
+    image::RgbImage::from_pixel(8, 8, image::Rgb([200, 100, 50]))
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .unwrap();
+    std::fs::write(dir.join("cut.png"), &png[..40]).unwrap();
+    expect_error(
+        load_text(
+            &dir,
+            &replace_line(8, "type = \"diffuse\"\nalbedo = { texture = \"cut.png\" }"),
+        ),
+        &["bad.toml:9:", "cannot load the texture", "cut.png"],
+    );
+    // An EXR whose header is cut.
+    std::fs::write(dir.join("cut.exr"), [0x76, 0x2f, 0x31, 0x01, 2, 0, 0]).unwrap();
+    expect_error(
+        load_text(&dir, &append("[environment]\nfile = \"cut.exr\"\n")),
+        &[
+            "bad.toml:18:",
+            "`environment.file`",
+            "cannot load the texture",
+            "cut.exr",
+            "OpenEXR",
+        ],
+    );
+    // Not UTF-8.
+    let path = dir.join("latin1.toml");
+    std::fs::write(&path, b"[camera]\nname = \"caf\xe9\"\n").unwrap();
+    expect_error(scenes::load(&path), &["latin1.toml", "not UTF-8"]);
+}
+
+#[test]
+fn environment_errors() {
+    let dir = scratch("environment");
+    expect_error(
+        load_text(
+            &dir,
+            &append("[environment]\nradiance = [1, 1, 1]\nfile = \"x.exr\"\n"),
+        ),
+        &["bad.toml:19:", "cannot be given together"],
+    );
+    expect_error(
+        load_text(&dir, &append("[environment]\nscale = 2\n")),
+        &["bad.toml:17:", "needs `radiance` or `file`"],
+    );
+    expect_error(
+        load_text(&dir, &append("[environment]\nradiance = [1, -1, 1]\n")),
+        &["bad.toml:18:", "`environment.radiance`", "must be >= 0"],
+    );
+    // An environment map with a negative texel (lossy EXR ringing) is refused.
+    let pixels = [(0.5f32, 0.5f32, 0.5f32), (-0.25, 0.5, 0.5)];
+    exr::prelude::write_rgb_file(dir.join("neg.exr"), 2, 1, |x, _| pixels[x]).unwrap();
+    expect_error(
+        load_text(&dir, &append("[environment]\nfile = \"neg.exr\"\n")),
+        &[
+            "bad.toml:18:",
+            "`environment.file`",
+            "negative radiance",
+            "texel (1, 0)",
+        ],
+    );
+}
+
+#[test]
+fn material_ranges() {
+    let dir = scratch("materials");
+    expect_error(
+        load_text(
+            &dir,
+            &replace_line(8, "type = \"diffuse\"\nalbedo = [1.2, 0.5, 0.5]"),
+        ),
+        &[
+            "bad.toml:9:",
+            "`material \"m\".albedo`",
+            "must lie in [0, 1]",
+            "creates energy",
+        ],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(8, "type = \"ggx\"\nroughness = 1.5")),
+        &["bad.toml:9:", "`material \"m\".roughness`", "must lie in [0, 1]"],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(8, "type = \"ggx\"")),
+        &[
+            "bad.toml:6:",
+            "`material \"m\".roughness`",
+            "missing required field",
+        ],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &replace_line(8, "type = \"ggx\"\nroughness = 0.2\nmasking = \"smith\""),
+        ),
+        &["bad.toml:10:", "`material \"m\".masking`", "height_correlated"],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(8, "type = \"dielectric\"\nint_ior = 0")),
+        &["bad.toml:9:", "`material \"m\".int_ior`", "must be > 0"],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(8, "type = \"phong\"\nexponent = -1")),
+        &["bad.toml:9:", "`material \"m\".exponent`", "must be >= 0"],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &replace_line(
+                8,
+                "type = \"diffuse\"\nalbedo = { texture = \"t.png\", wrap = \"tile\" }",
+            ),
+        ),
+        &[
+            "bad.toml:9:",
+            "`material \"m\".albedo.wrap`",
+            "unknown value \"tile\"",
+        ],
+    );
+}

@@ -1,0 +1,272 @@
+//! Camera, film, render settings, lights, environment, includes and TOML syntax variants.
+
+mod toml_support;
+
+use glam::Vec3;
+use scenes::{Environment, Geometry, IntegratorKind, Light, Masking, Material, RenderSettings, TexRgb};
+use toml_support::{append, load_text, replace_line, scratch, BASE};
+
+fn assert_vec(what: &str, actual: Vec3, expected: Vec3) {
+    assert!(
+        (actual - expected).abs().max_element() < 1e-5,
+        "{what}: expected {expected}, got {actual}"
+    );
+}
+
+#[test]
+fn camera_film_and_render_defaults() {
+    let dir = scratch("defaults");
+    let s = load_text(&dir, BASE).unwrap();
+    assert_eq!((s.film.width, s.film.height), (256, 256));
+    assert_eq!(s.render, RenderSettings::default());
+    assert_vec("eye", s.camera.position(), Vec3::new(0.0, 1.0, 5.0));
+    assert_vec(
+        "forward",
+        s.camera.forward(),
+        Vec3::new(0.0, -1.0, -5.0).normalize(),
+    );
+    assert_eq!(s.camera.fov_y_deg, 40.0);
+    // The centre ray goes to the target; the top of the image is towards +Y.
+    assert_vec(
+        "centre ray",
+        s.camera.ray_direction(128.0, 128.0, 256, 256),
+        s.camera.forward(),
+    );
+    assert!(s.camera.ray_direction(128.0, 0.0, 256, 256).y > s.camera.forward().y);
+    assert_eq!(s.source, dir.join("bad.toml"));
+}
+
+#[test]
+fn render_settings_are_read() {
+    let dir = scratch("render-ok");
+    let text = append(
+        "[film]\nwidth = 640\nheight = 360\n\n[render]\nspp = 1024\nintegrator = \"ao\"\nmax_depth = -1\n\
+         rr_depth = 3\nseed = 42\nao_radius = 0.25\n",
+    );
+    let s = load_text(&dir, &text).unwrap();
+    assert_eq!((s.film.width, s.film.height), (640, 360));
+    let want = RenderSettings {
+        spp: 1024,
+        integrator: IntegratorKind::Ao,
+        max_depth: -1,
+        rr_depth: 3,
+        ao_radius: 0.25,
+        seed: 42,
+    };
+    assert_eq!(s.render, want);
+}
+
+#[test]
+fn lights_are_read_with_defaults() {
+    let dir = scratch("lights-ok");
+    let text = append(
+        r#"[[light]]
+name = "bulb"
+type = "point"
+position = [0, 3, 0]
+intensity = [10, 10, 5]
+
+[[light]]
+name = "spot"
+type = "spot"
+position = [0, 4, 0]
+target = [0, 0, 3]
+intensity = 100
+
+[[light]]
+name = "sun"
+type = "directional"
+direction = [1, -1, 0]
+irradiance = [3, 3, 3]
+angular_diameter = 0.53
+"#,
+    );
+    let s = load_text(&dir, &text).unwrap();
+    assert_eq!(s.light_names(), vec!["bulb", "spot", "sun"]);
+    assert_eq!(
+        s.lights[0],
+        Light::Point {
+            name: "bulb".into(),
+            position: Vec3::new(0.0, 3.0, 0.0),
+            intensity: Vec3::new(10.0, 10.0, 5.0)
+        }
+    );
+    let Light::Spot {
+        direction,
+        intensity,
+        cutoff_deg,
+        beam_width_deg,
+        ..
+    } = &s.lights[1]
+    else {
+        panic!("{:?}", s.lights[1])
+    };
+    assert_vec(
+        "spot direction from target",
+        *direction,
+        Vec3::new(0.0, -4.0, 3.0) / 5.0,
+    );
+    assert_eq!(
+        (*intensity, *cutoff_deg, *beam_width_deg),
+        (Vec3::splat(100.0), 20.0, 15.0)
+    );
+    let Light::Directional {
+        direction,
+        angular_diameter_deg,
+        ..
+    } = &s.lights[2]
+    else {
+        panic!("{:?}", s.lights[2])
+    };
+    assert_vec(
+        "sun direction (normalised)",
+        *direction,
+        Vec3::new(1.0, -1.0, 0.0).normalize(),
+    );
+    assert_eq!(*angular_diameter_deg, 0.53);
+}
+
+#[test]
+fn materials_are_read_with_defaults() {
+    let dir = scratch("materials-ok");
+    let text = append(
+        r#"[[material]]
+name = "gold"
+type = "ggx"
+f0 = [1.0, 0.78, 0.34]
+roughness = 0.2
+masking = "separable"
+
+[[material]]
+name = "plastic"
+type = "metal_rough"
+metallic = 0
+
+[[material]]
+name = "glass"
+type = "dielectric"
+int_ior = 1.5
+
+[[material]]
+name = "shiny"
+type = "phong"
+reflectance = 0.5
+exponent = 100
+"#,
+    );
+    let s = load_text(&dir, &text).unwrap();
+    assert_eq!(
+        s.materials[0],
+        Material::Diffuse {
+            albedo: TexRgb::Constant(Vec3::splat(0.5))
+        }
+    );
+    assert_eq!(
+        s.materials[1],
+        Material::Ggx {
+            reflectance: TexRgb::Constant(Vec3::ONE),
+            f0: Vec3::new(1.0, 0.78, 0.34),
+            roughness: scenes::TexScalar::Constant(0.2),
+            masking: Masking::Separable,
+        }
+    );
+    assert_eq!(
+        s.materials[2],
+        Material::MetalRough {
+            base_color: TexRgb::Constant(Vec3::ONE),
+            metallic: scenes::TexScalar::Constant(0.0),
+            roughness: scenes::TexScalar::Constant(1.0),
+        }
+    );
+    assert_eq!(
+        s.materials[3],
+        Material::Dielectric {
+            int_ior: 1.5,
+            ext_ior: 1.000_277
+        }
+    );
+    assert_eq!(
+        s.materials[4],
+        Material::Phong {
+            reflectance: TexRgb::Constant(Vec3::splat(0.5)),
+            exponent: 100.0
+        }
+    );
+}
+
+#[test]
+fn constant_environment() {
+    let dir = scratch("env-const");
+    let s = load_text(&dir, &append("[environment]\nradiance = 0.25\n")).unwrap();
+    assert_eq!(
+        s.environment,
+        Some(Environment::Constant {
+            radiance: Vec3::splat(0.25)
+        })
+    );
+}
+
+#[test]
+fn dotted_keys_and_inline_tables_are_equivalent() {
+    let dir = scratch("dotted");
+    let inline =
+        "[[shape]]\nname = \"lamp\"\ntype = \"disk\"\nmaterial = \"m\"\ncenter = [0, 3, 0]\nradius = 0.5\n\
+                  normal = [0, -1, 0]\nemission = { radiance = [5, 5, 5], two_sided = true }\n";
+    let dotted = inline.replace(
+        "emission = { radiance = [5, 5, 5], two_sided = true }",
+        "emission.radiance = [5, 5, 5]\nemission.two_sided = true",
+    );
+    let a = load_text(&dir, &append(inline)).unwrap();
+    let b = load_text(&dir, &append(&dotted)).unwrap();
+    assert_eq!(a.shapes, b.shapes);
+    assert!(b.shapes[1].emission.as_ref().unwrap().two_sided);
+    // Errors inside an implicit (dotted) table still know their line.
+    let bad = dotted.replace("emission.two_sided = true", "emission.two_sided = 1");
+    toml_support::expect_error(
+        load_text(&dir, &append(&bad)),
+        &[
+            "bad.toml:25:",
+            "`shape \"lamp\".emission.two_sided`",
+            "expected true or false",
+        ],
+    );
+    // Whole-table syntax for the camera works the same as a [camera] section.
+    let inline_camera = replace_line(
+        1,
+        "camera = { eye = [0, 1, 5], target = [0, 0, 0], fov = 40 }\n[unused]",
+    )
+    .replace("[unused]\neye = [0, 1, 5]\ntarget = [0, 0, 0]\nfov = 40\n", "");
+    let c = load_text(&dir, &inline_camera).unwrap_or_else(|e| panic!("{e}\n{inline_camera}"));
+    assert_eq!(c.camera, a.camera);
+}
+
+#[test]
+fn included_gltf_is_merged() {
+    let assets = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets");
+    let glb = assets.join("suzanne.glb");
+    let alone = scenes::gltf::load(&glb).unwrap_or_else(|e| panic!("the glTF asset must load: {e}"));
+    let dir = scratch("include");
+    let text = append(&format!("[[include]]\nfile = {:?}\n", glb.display().to_string()));
+    let s = load_text(&dir, &text).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.shapes.len(), 1 + alone.shapes.len());
+    assert_eq!(s.materials.len(), 1 + alone.materials.len());
+    assert!(
+        s.shapes[1..].iter().all(|sh| sh.material >= 1),
+        "included shapes use included materials"
+    );
+    assert!(matches!(s.shapes[1].geometry, Geometry::Mesh(_)) || alone.shapes.is_empty());
+    // The scene file's camera wins.
+    assert_vec(
+        "camera from the TOML",
+        s.camera.position(),
+        Vec3::new(0.0, 1.0, 5.0),
+    );
+    // A name clash between the scene file and the asset is an error on the include.
+    if let Some(first) = alone.shapes.first() {
+        let clash = text.replace("name = \"s\"", &format!("name = {:?}", first.name));
+        toml_support::expect_error(
+            load_text(&dir, &clash),
+            &["bad.toml:18:", "`include[0].file`", "same name"],
+        );
+    }
+}
