@@ -44,7 +44,10 @@ pub fn fingerprint(job: &RenderJob) -> u64 {
         env!("CARGO_PKG_VERSION"),
         s.camera,
         s.film,
-        scenes::RenderSettings { spp: 0, ..job.settings },
+        scenes::RenderSettings {
+            spp: 0,
+            ..job.settings
+        },
         s.materials,
         s.shapes,
         s.lights,
@@ -55,7 +58,10 @@ pub fn fingerprint(job: &RenderJob) -> u64 {
 }
 
 fn err(path: &Path, message: impl Into<String>) -> RenderError {
-    RenderError::Checkpoint { path: path.to_path_buf(), message: message.into() }
+    RenderError::Checkpoint {
+        path: path.to_path_buf(),
+        message: message.into(),
+    }
 }
 
 /// Writes `film` atomically.
@@ -85,17 +91,36 @@ pub fn load(path: &Path, fingerprint: u64, like: &Film) -> Result<State, RenderE
     let u64_at = |o: usize| u64::from_le_bytes(bytes[o..o + 8].try_into().expect("8 bytes"));
     let u32_at = |o: usize| u32::from_le_bytes(bytes[o..o + 4].try_into().expect("4 bytes"));
     if u64_at(8) != fingerprint {
-        return Err(err(path, "written for a different scene, settings or oracle version; delete it or drop --resume"));
+        return Err(err(
+            path,
+            "written for a different scene, settings or oracle version; delete it or drop --resume",
+        ));
     }
     let (width, height, lights, spp) = (u32_at(16), u32_at(20), u32_at(24) as usize, u32_at(28));
     if width != like.width || height != like.height || lights != like.light_count {
-        return Err(err(path, format!("film {width}x{height} with {lights} lights does not match the job")));
+        return Err(err(
+            path,
+            format!("film {width}x{height} with {lights} lights does not match the job"),
+        ));
     }
     let body = &bytes[HEADER..];
     if body.len() != like.data.len() * 8 {
         return Err(err(path, "truncated accumulator data"));
     }
-    let data = body.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes"))).collect();
-    let film = Film { spp, paths: u64_at(32), rays: u64_at(40), nonfinite: u64_at(48), data, ..like.clone() };
-    Ok(State { film, seconds: f64::from_le_bytes(bytes[56..64].try_into().expect("8 bytes")) })
+    let data = body
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+        .collect();
+    let film = Film {
+        spp,
+        paths: u64_at(32),
+        rays: u64_at(40),
+        nonfinite: u64_at(48),
+        data,
+        ..like.clone()
+    };
+    Ok(State {
+        film,
+        seconds: f64::from_le_bytes(bytes[56..64].try_into().expect("8 bytes")),
+    })
 }

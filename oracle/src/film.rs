@@ -90,7 +90,16 @@ impl Film {
     /// Empty buffers.
     pub fn new(width: u32, height: u32, light_count: usize) -> Self {
         let len = width as usize * height as usize * PixelStats::stride(light_count);
-        Film { width, height, light_count, spp: 0, paths: 0, rays: 0, nonfinite: 0, data: vec![0.0; len] }
+        Film {
+            width,
+            height,
+            light_count,
+            spp: 0,
+            paths: 0,
+            rays: 0,
+            nonfinite: 0,
+            data: vec![0.0; len],
+        }
     }
 
     /// The buffers split into image rows.
@@ -137,8 +146,13 @@ impl Film {
     /// Background contributes zeros to the AOV averages.
     pub fn to_layered(&self, light_names: &[String], object_ids: &[f32]) -> LayeredImage {
         let np = self.width as usize * self.height as usize;
-        let mut img = LayeredImage { width: self.width, height: self.height, ..Default::default() };
-        let channel = |f: &dyn Fn(&[f64]) -> f64| -> Vec<f32> { self.pixels().map(|px| f(px) as f32).collect() };
+        let mut img = LayeredImage {
+            width: self.width,
+            height: self.height,
+            ..Default::default()
+        };
+        let channel =
+            |f: &dyn Fn(&[f64]) -> f64| -> Vec<f32> { self.pixels().map(|px| f(px) as f32).collect() };
         let avg = |off: usize| move |px: &[f64]| px[off] / px[PixelStats::COUNT].max(1.0);
         let var = |c: usize| {
             move |px: &[f64]| {
@@ -172,7 +186,10 @@ impl Film {
         }
         push("object_id.Y".into(), object_ids[..np].to_vec());
         for (k, name) in light_names.iter().enumerate().take(self.light_count) {
-            push(format!("visibility.{name}.Y"), channel(&avg(PixelStats::VISIBILITY + k)));
+            push(
+                format!("visibility.{name}.Y"),
+                channel(&avg(PixelStats::VISIBILITY + k)),
+            );
         }
         img
     }

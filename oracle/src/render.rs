@@ -114,18 +114,31 @@ const PASS_TARGET_SECONDS: f64 = 1.0;
 
 /// Renders `job`, calling `progress` after every pass; when it returns false the render stops
 /// with [`RenderError::Interrupted`], saving a checkpoint first if one is configured.
-pub fn render(job: &RenderJob, progress: &mut dyn FnMut(&Progress) -> bool) -> Result<RenderResult, RenderError> {
+pub fn render(
+    job: &RenderJob,
+    progress: &mut dyn FnMut(&Progress) -> bool,
+) -> Result<RenderResult, RenderError> {
     let scene = job.scene;
     let (width, height) = (scene.film.width, scene.film.height);
     if width == 0 || height == 0 {
-        return Err(RenderError::Scene(format!("{}: film size {width}x{height} is empty", scene.source.display())));
+        return Err(RenderError::Scene(format!(
+            "{}: film size {width}x{height} is empty",
+            scene.source.display()
+        )));
     }
     if job.stop.spp == 0 {
         return Err(RenderError::Scene("spp must be at least 1".into()));
     }
-    let accel = Accel::build(scene).map_err(|e| RenderError::Scene(format!("{}: {e}", scene.source.display())))?;
-    let lights = LightSet::new(scene).map_err(|e| RenderError::Scene(format!("{}: {e}", scene.source.display())))?;
-    let ctx = Context { scene, accel: &accel, lights: &lights, settings: job.settings };
+    let accel =
+        Accel::build(scene).map_err(|e| RenderError::Scene(format!("{}: {e}", scene.source.display())))?;
+    let lights =
+        LightSet::new(scene).map_err(|e| RenderError::Scene(format!("{}: {e}", scene.source.display())))?;
+    let ctx = Context {
+        scene,
+        accel: &accel,
+        lights: &lights,
+        settings: job.settings,
+    };
     let names = scene.light_names();
     let fingerprint = crate::checkpoint::fingerprint(job);
 
@@ -157,7 +170,10 @@ pub fn render(job: &RenderJob, progress: &mut dyn FnMut(&Progress) -> bool) -> R
             if let Some(cp) = &job.checkpoint {
                 crate::checkpoint::save(&cp.path, fingerprint, &film, elapsed)?;
             }
-            return Err(RenderError::Interrupted { spp: done, checkpointed });
+            return Err(RenderError::Interrupted {
+                spp: done,
+                checkpointed,
+            });
         }
         if stop_now(&job.stop, done, elapsed, rel_err) {
             break;
@@ -184,7 +200,10 @@ pub fn render(job: &RenderJob, progress: &mut dyn FnMut(&Progress) -> bool) -> R
     let attrs = [
         ("scene", scene.source.display().to_string()),
         ("renderer", format!("verity oracle {}", env!("CARGO_PKG_VERSION"))),
-        ("integrator", format!("{:?}", job.settings.integrator).to_lowercase()),
+        (
+            "integrator",
+            format!("{:?}", job.settings.integrator).to_lowercase(),
+        ),
         ("spp", film.spp.to_string()),
         ("seconds", format!("{seconds:.3}")),
         ("seed", job.settings.seed.to_string()),
@@ -193,10 +212,21 @@ pub fn render(job: &RenderJob, progress: &mut dyn FnMut(&Progress) -> bool) -> R
         ("paths", film.paths.to_string()),
         ("rays", film.rays.to_string()),
         ("nonfinite_samples", film.nonfinite.to_string()),
-        ("variance", "variance of the pixel mean (sample variance / spp)".to_string()),
+        (
+            "variance",
+            "variance of the pixel mean (sample variance / spp)".to_string(),
+        ),
     ];
-    image.attributes.extend(attrs.into_iter().map(|(k, v)| (k.to_string(), v)));
-    Ok(RenderResult { image, spp: film.spp, seconds, paths: film.paths, rays: film.rays })
+    image
+        .attributes
+        .extend(attrs.into_iter().map(|(k, v)| (k.to_string(), v)));
+    Ok(RenderResult {
+        image,
+        spp: film.spp,
+        seconds,
+        paths: film.paths,
+        rays: film.rays,
+    })
 }
 
 fn stop_now(stop: &StopRule, done: u32, elapsed: f64, rel_err: f32) -> bool {
@@ -222,7 +252,7 @@ fn run_pass(ctx: &Context, film: &mut Film, first: u32, end: u32) {
     let width = film.width;
     let camera = ctx.scene.camera;
     let origin = camera.position();
-    let seed = ctx.settings.seed;
+    let (seed, kind) = (ctx.settings.seed, ctx.settings.sampler);
     let (w, h) = (film.width, film.height);
     let nl = film.light_count;
     let (paths, rays, nonfinite) = film
@@ -234,10 +264,14 @@ fn run_pass(ctx: &Context, film: &mut Film, first: u32, end: u32) {
         .map(|(y, row)| {
             let mut counts = (0u64, 0u64, 0u64);
             let mut vis = vec![0.0f32; nl];
-            for (x, px) in row.chunks_mut(PixelStats::stride(nl)).enumerate().take(width as usize) {
+            for (x, px) in row
+                .chunks_mut(PixelStats::stride(nl))
+                .enumerate()
+                .take(width as usize)
+            {
                 let x = x as u32;
                 for s in first..end {
-                    let mut sampler = PixelSampler::new(x, y, s, seed);
+                    let mut sampler = PixelSampler::of_kind(kind, x, y, s, seed);
                     let jitter = sampler.next_2d();
                     let dir = camera.ray_direction(x as f32 + jitter.x, y as f32 + jitter.y, w, h);
                     let cs = integrator::trace(ctx, Ray { origin, dir }, &mut sampler);
@@ -246,7 +280,7 @@ fn run_pass(ctx: &Context, film: &mut Film, first: u32, end: u32) {
                     if let Some(fh) = &cs.first_hit {
                         // A sampler stream of its own, so visibility never shifts the
                         // integrator's dimensions.
-                        let mut vs = PixelSampler::new(x, y, s, seed ^ 0x5649_5349_4249_4c45);
+                        let mut vs = PixelSampler::of_kind(kind, x, y, s, seed ^ 0x5649_5349_4249_4c45);
                         rays += u64::from(integrator::light_visibility(ctx, &fh.hit, &mut vs, &mut vis));
                     }
                     if !PixelStats::add(px, nl, &cs, &vis, &camera) {
@@ -275,7 +309,9 @@ fn object_id_pass(ctx: &Context, width: u32, height: u32) -> Vec<f32> {
         .map(|i| {
             let (x, y) = (i % width, i / width);
             let dir = camera.ray_direction(x as f32 + 0.5, y as f32 + 0.5, width, height);
-            ctx.accel.intersect(&Ray { origin, dir }, f32::INFINITY).map_or(0.0, |h| (h.shape + 1) as f32)
+            ctx.accel
+                .intersect(&Ray { origin, dir }, f32::INFINITY)
+                .map_or(0.0, |h| (h.shape + 1) as f32)
         })
         .collect()
 }

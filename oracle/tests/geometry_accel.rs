@@ -3,8 +3,8 @@
 
 mod geometry_util;
 
-use glam::{DVec3, Vec3};
 use geometry_util::{mesh_shape, scene, shape, uv_sphere, Rng};
+use glam::{DVec3, Vec3};
 use oracle::geometry::{Accel, Ray};
 use scenes::{Geometry, Mesh, Shape};
 
@@ -98,7 +98,11 @@ fn ref_hits(shapes: &[Shape], ray: &Ray) -> Vec<RefHit> {
     let mut hits: Vec<RefHit> = shapes
         .iter()
         .enumerate()
-        .flat_map(|(si, s)| ref_shape(o, dir, s).into_iter().map(move |(t, p, m)| (t, si as u32, p, m)))
+        .flat_map(|(si, s)| {
+            ref_shape(o, dir, s)
+                .into_iter()
+                .map(move |(t, p, m)| (t, si as u32, p, m))
+        })
         .collect();
     hits.sort_by(|a, b| a.0.total_cmp(&b.0));
     hits
@@ -164,7 +168,9 @@ fn geometry_bvh_matches_brute_force_on_random_soup() {
                 hits += 1;
                 if (s, p) != (h.shape, h.prim) {
                     // A tie: the oracle's primitive must also be hit at that distance.
-                    let tie = reference.iter().any(|r| (r.1, r.2) == (h.shape, h.prim) && (r.0 - t).abs() < 1e-4);
+                    let tie = reference
+                        .iter()
+                        .any(|r| (r.1, r.2) == (h.shape, h.prim) && (r.0 - t).abs() < 1e-4);
                     assert!(tie, "{ray:?}: expected shape {s} prim {p}, got {h:?}");
                 }
                 let p_expect = ray.at(h.t);
@@ -183,7 +189,10 @@ fn geometry_bvh_matches_brute_force_on_random_soup() {
             }
         }
     }
-    assert!(hits > 1500 && edge_cases < 5, "hits {hits}, edge cases {edge_cases}");
+    assert!(
+        hits > 1500 && edge_cases < 5,
+        "hits {hits}, edge cases {edge_cases}"
+    );
 }
 
 #[test]
@@ -195,10 +204,22 @@ fn geometry_occluded_agrees_with_intersect() {
     for _ in 0..5000 {
         let ray = Ray::new(rng.in_box(Vec3::splat(-7.0), Vec3::splat(7.0)), rng.dir());
         let hit = accel.intersect(&ray, f32::INFINITY);
-        assert_eq!(accel.occluded(&ray, f32::INFINITY), hit.is_some(), "{ray:?} {hit:?}");
+        assert_eq!(
+            accel.occluded(&ray, f32::INFINITY),
+            hit.is_some(),
+            "{ray:?} {hit:?}"
+        );
         if let Some(h) = hit {
-            assert!(accel.occluded(&ray, h.t * 1.0001 + 1e-5), "{ray:?}: not occluded past t = {}", h.t);
-            assert!(!accel.occluded(&ray, h.t * 0.9999), "{ray:?}: occluded before t = {}", h.t);
+            assert!(
+                accel.occluded(&ray, h.t * 1.0001 + 1e-5),
+                "{ray:?}: not occluded past t = {}",
+                h.t
+            );
+            assert!(
+                !accel.occluded(&ray, h.t * 0.9999),
+                "{ray:?}: occluded before t = {}",
+                h.t
+            );
             assert_eq!(accel.intersect(&ray, h.t * 0.9999), None);
             checked += 1;
         }
@@ -212,7 +233,11 @@ fn geometry_tessellated_sphere_agrees_with_analytic() {
     let (n_phi, n_theta) = (512, 256);
     let mesh = uv_sphere(center, 1.0, n_phi, n_theta);
     let tessellated = Accel::build(&scene(vec![mesh_shape("mesh", mesh)])).unwrap();
-    let analytic = Accel::build(&scene(vec![shape("sphere", Geometry::Sphere { center, radius: 1.0 })])).unwrap();
+    let analytic = Accel::build(&scene(vec![shape(
+        "sphere",
+        Geometry::Sphere { center, radius: 1.0 },
+    )]))
+    .unwrap();
     assert_eq!(tessellated.dropped_degenerate(), 0);
     // Chord sagitta of the coarser step Δ = π/256: 1 − cos(Δ/2) ≈ Δ²/8; ray incidence ≤ 45°.
     let step = std::f32::consts::PI / n_theta as f32;
@@ -228,23 +253,54 @@ fn geometry_tessellated_sphere_agrees_with_analytic() {
         ) else {
             panic!("{ray:?} must hit both spheres");
         };
-        assert!((m.t - a.t).abs() <= t_tol, "t: analytic {}, mesh {} (tol {t_tol})", a.t, m.t);
-        assert!(m.ns.dot(a.ng) > (2.0 * step).cos(), "ns: analytic {}, mesh {}", a.ng, m.ns);
-        assert!(m.ng.dot(a.ng) > (2.0 * step).cos(), "ng: analytic {}, mesh {}", a.ng, m.ng);
+        assert!(
+            (m.t - a.t).abs() <= t_tol,
+            "t: analytic {}, mesh {} (tol {t_tol})",
+            a.t,
+            m.t
+        );
+        assert!(
+            m.ns.dot(a.ng) > (2.0 * step).cos(),
+            "ns: analytic {}, mesh {}",
+            a.ng,
+            m.ns
+        );
+        assert!(
+            m.ng.dot(a.ng) > (2.0 * step).cos(),
+            "ng: analytic {}, mesh {}",
+            a.ng,
+            m.ng
+        );
         // uv away from the seam (u wraps) and the poles (u undefined).
         let du = (m.uv.x - a.uv.x).abs();
         if a.uv.y > 0.02 && a.uv.y < 0.98 {
-            assert!(du.min(1.0 - du) < 2.0 / n_phi as f32, "u: analytic {}, mesh {}", a.uv, m.uv);
+            assert!(
+                du.min(1.0 - du) < 2.0 / n_phi as f32,
+                "u: analytic {}, mesh {}",
+                a.uv,
+                m.uv
+            );
         }
-        assert!((m.uv.y - a.uv.y).abs() < 2.0 / n_theta as f32, "v: analytic {}, mesh {}", a.uv, m.uv);
+        assert!(
+            (m.uv.y - a.uv.y).abs() < 2.0 / n_theta as f32,
+            "v: analytic {}, mesh {}",
+            a.uv,
+            m.uv
+        );
     }
     // Lines farther than 1.01 from the centre miss both.
     for _ in 0..2000 {
         let dir = rng.dir();
         let side = dir.any_orthogonal_vector().normalize();
         let ray = Ray::new(center + side * rng.range(1.01, 2.0) - dir * 3.0, dir);
-        assert!(tessellated.intersect(&ray, f32::INFINITY).is_none(), "mesh hit by {ray:?}");
-        assert!(analytic.intersect(&ray, f32::INFINITY).is_none(), "sphere hit by {ray:?}");
+        assert!(
+            tessellated.intersect(&ray, f32::INFINITY).is_none(),
+            "mesh hit by {ray:?}"
+        );
+        assert!(
+            analytic.intersect(&ray, f32::INFINITY).is_none(),
+            "sphere hit by {ray:?}"
+        );
     }
 }
 
@@ -286,7 +342,11 @@ fn geometry_watertight_on_shared_edges_and_vertices() {
                 let ray = Ray::new(target - dir * (3.0 / -dir.z), dir);
                 let h = accel.intersect(&ray, f32::INFINITY);
                 let h = h.unwrap_or_else(|| panic!("leak through {target} along {dir}"));
-                assert!((h.p - target).length() < 1e-5, "p: expected {target}, actual {}", h.p);
+                assert!(
+                    (h.p - target).length() < 1e-5,
+                    "p: expected {target}, actual {}",
+                    h.p
+                );
                 rays += 1;
             }
         }
@@ -342,7 +402,11 @@ fn geometry_negative_zero_direction_components() {
         },
     )]))
     .unwrap();
-    for dir in [Vec3::new(-1.0, -0.0, -0.0), Vec3::new(-0.0, -1.0, 0.0), Vec3::new(0.0, -0.0, -1.0)] {
+    for dir in [
+        Vec3::new(-1.0, -0.0, -0.0),
+        Vec3::new(-0.0, -1.0, 0.0),
+        Vec3::new(0.0, -0.0, -1.0),
+    ] {
         let ray = Ray::new(-dir * 3.0, dir);
         let h = accel.intersect(&ray, f32::INFINITY).expect("hit");
         assert!((h.t - 2.0).abs() < 1e-6, "t: expected 2, actual {}", h.t);
@@ -365,7 +429,11 @@ fn geometry_degenerate_triangles_are_dropped_and_counted() {
     let accel = Accel::build(&scene(vec![mesh_shape("m", mesh)])).unwrap();
     assert_eq!((accel.triangle_count(), accel.dropped_degenerate()), (1, 3));
     let h = accel.intersect(&Ray::new(Vec3::new(0.2, 0.2, 1.0), Vec3::NEG_Z), f32::INFINITY);
-    assert_eq!(h.map(|h| h.prim), Some(0), "the surviving triangle keeps its index");
+    assert_eq!(
+        h.map(|h| h.prim),
+        Some(0),
+        "the surviving triangle keeps its index"
+    );
     assert!(accel.build_seconds() >= 0.0);
 }
 
@@ -378,7 +446,10 @@ fn geometry_bad_input_is_an_error_naming_shape_and_field() {
     };
     let cases: Vec<(Shape, &[&str])> = vec![
         (
-            mesh_shape("nan mesh", tri([Vec3::ZERO, Vec3::X, Vec3::new(0.0, f32::NAN, 0.0)])),
+            mesh_shape(
+                "nan mesh",
+                tri([Vec3::ZERO, Vec3::X, Vec3::new(0.0, f32::NAN, 0.0)]),
+            ),
             &["nan mesh", "vertex 2"],
         ),
         (
@@ -410,11 +481,23 @@ fn geometry_bad_input_is_an_error_naming_shape_and_field() {
             &["short normals", "normals"],
         ),
         (
-            shape("zero ball", Geometry::Sphere { center: Vec3::ZERO, radius: 0.0 }),
+            shape(
+                "zero ball",
+                Geometry::Sphere {
+                    center: Vec3::ZERO,
+                    radius: 0.0,
+                },
+            ),
             &["zero ball", "radius"],
         ),
         (
-            shape("nan ball", Geometry::Sphere { center: Vec3::NAN, radius: 1.0 }),
+            shape(
+                "nan ball",
+                Geometry::Sphere {
+                    center: Vec3::NAN,
+                    radius: 1.0,
+                },
+            ),
             &["nan ball", "center"],
         ),
         (
@@ -441,18 +524,39 @@ fn geometry_bad_input_is_an_error_naming_shape_and_field() {
         ),
     ];
     for (s, words) in cases {
-        let good = shape("good", Geometry::Sphere { center: Vec3::ZERO, radius: 1.0 });
+        let good = shape(
+            "good",
+            Geometry::Sphere {
+                center: Vec3::ZERO,
+                radius: 1.0,
+            },
+        );
         let err = Accel::build(&scene(vec![good, s])).expect_err("bad input must be refused");
         for w in words {
             assert!(err.contains(w), "error {err:?} should mention {w:?}");
         }
-        assert!(err.contains("shape 1"), "error {err:?} should give the shape index");
+        assert!(
+            err.contains("shape 1"),
+            "error {err:?} should give the shape index"
+        );
     }
     // A normal map naming a missing texture.
-    let mut s = shape("mapped", Geometry::Sphere { center: Vec3::ZERO, radius: 1.0 });
-    s.normal_map = Some(scenes::NormalMap { texture: 3, scale: 1.0 });
+    let mut s = shape(
+        "mapped",
+        Geometry::Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        },
+    );
+    s.normal_map = Some(scenes::NormalMap {
+        texture: 3,
+        scale: 1.0,
+    });
     let err = Accel::build(&scene(vec![s])).expect_err("missing texture");
-    assert!(err.contains("mapped") && err.contains("normal_map.texture"), "{err}");
+    assert!(
+        err.contains("mapped") && err.contains("normal_map.texture"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -461,8 +565,14 @@ fn geometry_empty_scene_single_primitive_and_bad_rays() {
     let ray = Ray::new(Vec3::ZERO, Vec3::X);
     assert_eq!(empty.intersect(&ray, f32::INFINITY), None);
     assert!(!empty.occluded(&ray, f32::INFINITY));
-    let one = Accel::build(&scene(vec![shape("s", Geometry::Sphere { center: Vec3::X * 3.0, radius: 1.0 })]))
-        .unwrap();
+    let one = Accel::build(&scene(vec![shape(
+        "s",
+        Geometry::Sphere {
+            center: Vec3::X * 3.0,
+            radius: 1.0,
+        },
+    )]))
+    .unwrap();
     assert!(one.intersect(&ray, f32::INFINITY).is_some());
     for (bad, tmax) in [
         (Ray::new(Vec3::NAN, Vec3::X), f32::INFINITY),
@@ -485,7 +595,8 @@ fn geometry_deep_bvh_over_coincident_boxes() {
     let mut rng = Rng::new(5);
     let mut mesh = Mesh::default();
     for k in 0..3000u32 {
-        mesh.positions.extend([Vec3::ZERO, Vec3::ONE, rng.in_box(Vec3::ZERO, Vec3::ONE)]);
+        mesh.positions
+            .extend([Vec3::ZERO, Vec3::ONE, rng.in_box(Vec3::ZERO, Vec3::ONE)]);
         mesh.indices.push([3 * k, 3 * k + 1, 3 * k + 2]);
     }
     // Plus exact duplicates of one triangle.
@@ -496,7 +607,11 @@ fn geometry_deep_bvh_over_coincident_boxes() {
     let accel = Accel::build(&scene(shapes.clone())).unwrap();
     assert_eq!(accel.triangle_count() + accel.dropped_degenerate(), 5000);
     for _ in 0..300 {
-        let target = if rng.f32() < 0.3 { on_dup } else { rng.in_box(Vec3::ZERO, Vec3::ONE) };
+        let target = if rng.f32() < 0.3 {
+            on_dup
+        } else {
+            rng.in_box(Vec3::ZERO, Vec3::ONE)
+        };
         let origin = target + rng.dir() * 3.0;
         let ray = Ray::new(origin, (target - origin).normalize());
         let reference = ref_hits(&shapes, &ray);
@@ -509,7 +624,10 @@ fn geometry_deep_bvh_over_coincident_boxes() {
                 h.t
             ),
             (None, None) => {}
-            (r, h) => assert!(r.is_none_or(|r| r.3 < 1e-4), "{ray:?}: expected {r:?}, actual {h:?}"),
+            (r, h) => assert!(
+                r.is_none_or(|r| r.3 < 1e-4),
+                "{ray:?}: expected {r:?}, actual {h:?}"
+            ),
         }
     }
 }

@@ -6,8 +6,8 @@ mod geometry_util;
 use std::f32::consts::FRAC_1_SQRT_2;
 use std::sync::Arc;
 
-use glam::{Vec2, Vec3, Vec4};
 use geometry_util::{mesh_shape, scene, shape};
+use glam::{Vec2, Vec3, Vec4};
 use oracle::geometry::{Accel, Ray, SurfaceHit};
 use scenes::texture::Texture;
 use scenes::{Geometry, Mesh, NormalMap, Scene, WrapMode};
@@ -181,7 +181,12 @@ fn geometry_disk_hits() {
     close3("p", Vec3::new(1.0, 0.0, -0.5), h.p, 1e-6);
     close3("ng", Vec3::Y, h.ng, 1e-6);
     close2("uv", Vec2::new(FRAC_1_SQRT_2, 0.125), h.uv, 1e-6);
-    close3("dpdu (radial)", Vec3::new(2.0, 0.0, -1.0).normalize(), h.dpdu, 1e-6);
+    close3(
+        "dpdu (radial)",
+        Vec3::new(2.0, 0.0, -1.0).normalize(),
+        h.dpdu,
+        1e-6,
+    );
     // Local (0, −0.5): φ = 3π/2.
     let h = hit(&accel, Vec3::new(0.0, -5.0, 0.5), Vec3::Y);
     close2("uv", Vec2::new(0.5, 0.75), h.uv, 1e-6);
@@ -193,7 +198,12 @@ fn geometry_disk_hits() {
 
 /// A 1×1 texture holding `c` (linear).
 fn flat_texture(c: Vec3) -> Arc<Texture> {
-    Arc::new(Texture::from_texels(1, 1, vec![c.extend(1.0)], [WrapMode::Repeat; 2]))
+    Arc::new(Texture::from_texels(
+        1,
+        1,
+        vec![c.extend(1.0)],
+        [WrapMode::Repeat; 2],
+    ))
 }
 
 /// A scene whose only shape carries a normal map of constant tangent-space normal `n_ts`.
@@ -216,13 +226,23 @@ fn geometry_normal_map_on_rectangle_follows_tangent_and_bitangent() {
     );
     let a = 0.4f32;
     // +X of tangent space is ∂p/∂u = +x.
-    let accel = Accel::build(&normal_mapped(rect.clone(), Vec3::new(a.sin(), 0.0, a.cos()), 1.0)).unwrap();
+    let accel = Accel::build(&normal_mapped(
+        rect.clone(),
+        Vec3::new(a.sin(), 0.0, a.cos()),
+        1.0,
+    ))
+    .unwrap();
     let h = hit(&accel, Vec3::new(0.2, 0.1, 1.0), -Vec3::Z);
     close3("ns (x)", Vec3::new(a.sin(), 0.0, a.cos()), h.ns, 1e-5);
     close3("ng unchanged", Vec3::Z, h.ng, 1e-6);
     assert!(h.dpdu.dot(h.ns).abs() < 1e-5, "dpdu ⟂ ns: {} · {}", h.dpdu, h.ns);
     // +Y of tangent space points to the image's top row, v = 0, i.e. −half_v.
-    let accel = Accel::build(&normal_mapped(rect.clone(), Vec3::new(0.0, a.sin(), a.cos()), 1.0)).unwrap();
+    let accel = Accel::build(&normal_mapped(
+        rect.clone(),
+        Vec3::new(0.0, a.sin(), a.cos()),
+        1.0,
+    ))
+    .unwrap();
     let h = hit(&accel, Vec3::new(0.2, 0.1, 1.0), -Vec3::Z);
     close3("ns (y)", Vec3::new(0.0, -a.sin(), a.cos()), h.ns, 1e-5);
     // scale multiplies xy before renormalising: (0.3·2, 0, 0.8) → normalize.

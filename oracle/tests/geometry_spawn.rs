@@ -3,8 +3,8 @@
 
 mod geometry_util;
 
-use glam::Vec3;
 use geometry_util::{mesh_shape, scene, shape, Rng};
+use glam::Vec3;
 use oracle::geometry::{spawn_ray, spawn_ray_to, Accel, Ray, SurfaceHit, SHADOW_EPSILON};
 use scenes::{Geometry, Mesh};
 
@@ -54,7 +54,10 @@ fn sphere_case(center: Vec3, radius: f32) {
         // Leaving: a convex surface is never hit again, even at grazing angles.
         let out = spawn_ray(h.p, h.ng, hemisphere(&mut rng, h.ng, 1e-3));
         if let Some(again) = accel.intersect(&out, f32::INFINITY) {
-            panic!("self-hit leaving {center} r={radius}: {out:?} hit again at t = {}", again.t);
+            panic!(
+                "self-hit leaving {center} r={radius}: {out:?} hit again at t = {}",
+                again.t
+            );
         }
         assert!(!accel.occluded(&out, f32::INFINITY), "{out:?} occluded");
         leaving += 1;
@@ -135,7 +138,10 @@ fn rooms(c: Vec3, size: f32, gap: f32, blocker: bool) -> Accel {
             ..Mesh::default()
         }
     };
-    let mut shapes = vec![mesh_shape("floor", quad(0.0, true)), mesh_shape("ceiling", quad(gap, false))];
+    let mut shapes = vec![
+        mesh_shape("floor", quad(0.0, true)),
+        mesh_shape("ceiling", quad(gap, false)),
+    ];
     if blocker {
         shapes.push(shape(
             "blocker",
@@ -162,14 +168,29 @@ fn geometry_spawn_ray_to_connects_surfaces_without_self_hits() {
         for _ in 0..20000 {
             let (p, q) = (at(&mut rng, 0.0), at(&mut rng, gap));
             let down = Vec3::NEG_Z;
-            let hp = open.intersect(&Ray::new(p - down * gap * 0.25, down), f32::INFINITY).expect("floor");
-            let hq = open.intersect(&Ray::new(q + down * gap * 0.25, -down), f32::INFINITY).expect("ceiling");
+            let hp = open
+                .intersect(&Ray::new(p - down * gap * 0.25, down), f32::INFINITY)
+                .expect("floor");
+            let hq = open
+                .intersect(&Ray::new(q + down * gap * 0.25, -down), f32::INFINITY)
+                .expect("ceiling");
             let (ray, tmax) = spawn_ray_to(hp.p, hp.ng, hq.p, Some(hq.ng));
-            assert!(!open.occluded(&ray, tmax), "self-hit between {} and {}", hp.p, hq.p);
-            assert!(blocked.occluded(&ray, tmax), "blocker missed between {} and {}", hp.p, hq.p);
+            assert!(
+                !open.occluded(&ray, tmax),
+                "self-hit between {} and {}",
+                hp.p,
+                hq.p
+            );
+            assert!(
+                blocked.occluded(&ray, tmax),
+                "blocker missed between {} and {}",
+                hp.p,
+                hq.p
+            );
             // The segment ends within the two offsets (256 ULPs each) and the shortening.
             let end = ray.at(tmax);
-            let tol = 600.0 * ulp(c.abs().max_element() + size + gap) + 2.0 * SHADOW_EPSILON * (hq.p - hp.p).length();
+            let tol = 600.0 * ulp(c.abs().max_element() + size + gap)
+                + 2.0 * SHADOW_EPSILON * (hq.p - hp.p).length();
             assert!(
                 (end - hq.p).length() < tol,
                 "segment ends at {end}, target {} (tol {tol})",
@@ -178,7 +199,11 @@ fn geometry_spawn_ray_to_connects_surfaces_without_self_hits() {
             // A point light just below the ceiling (no surface at q).
             let light = hq.p + Vec3::NEG_Z * (0.01 * gap);
             let (ray, tmax) = spawn_ray_to(hp.p, hp.ng, light, None);
-            assert!(!open.occluded(&ray, tmax), "point-light ray blocked from {}", hp.p);
+            assert!(
+                !open.occluded(&ray, tmax),
+                "point-light ray blocked from {}",
+                hp.p
+            );
         }
     }
     // Degenerate segment: nothing can occlude it.

@@ -106,6 +106,17 @@ pub enum IntegratorKind {
     Ao,
 }
 
+/// How the oracle draws its random numbers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SamplerKind {
+    /// Owen-scrambled Sobol points (Burley 2020): stratified, converges at least as 1/spp.
+    #[default]
+    Sobol,
+    /// Independent uniform samples: the plain Monte Carlo estimator, error exactly ∝ 1/spp
+    /// and per-pixel sample variances that estimate the estimator's variance without bias.
+    Independent,
+}
+
 /// Render defaults a scene file may carry; every one can be overridden on the command line.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderSettings {
@@ -121,6 +132,8 @@ pub struct RenderSettings {
     pub ao_radius: f32,
     /// Seed of the sampler's scrambling.
     pub seed: u64,
+    /// Random-number generator.
+    pub sampler: SamplerKind,
 }
 
 impl Default for RenderSettings {
@@ -132,6 +145,7 @@ impl Default for RenderSettings {
             rr_depth: 5,
             ao_radius: 1.0,
             seed: 0,
+            sampler: SamplerKind::Sobol,
         }
     }
 }
@@ -434,7 +448,11 @@ pub fn environment_lookup(texture: &Texture, d: Vec3) -> glam::Vec4 {
 
 /// The direction of environment texel (i, j) under [`environment_lookup`]'s placement.
 pub fn environment_texel_direction(i: u32, j: u32, width: u32, height: u32) -> Vec3 {
-    let v = if height > 1 { j as f32 / (height - 1) as f32 } else { 0.5 };
+    let v = if height > 1 {
+        j as f32 / (height - 1) as f32
+    } else {
+        0.5
+    };
     equirect_direction(Vec2::new((i as f32 + 0.5) / width as f32, v))
 }
 

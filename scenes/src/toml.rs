@@ -187,6 +187,15 @@ fn include(t: &Table, scene: &mut Scene, names: &mut Names) -> Result<(), SceneE
     t.only(&["file"], "an include")?;
     let file = t.req("file")?;
     let path = file.ctx.resolve(file.str()?);
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if !matches!(ext.as_deref(), Some("gltf" | "glb")) {
+        return Err(file
+            .err(format!("cannot include {}", path.display()))
+            .hint("includes are glTF 2.0 assets (.gltf or .glb)"));
+    }
     if !path.is_file() {
         return Err(file
             .err(format!("file not found: {}", path.display()))

@@ -8,7 +8,9 @@ use scenes::{environment_lookup, equirect_direction, equirect_uv, WrapMode};
 
 fn probe_image() -> Texture {
     let (w, h) = (8u32, 4u32);
-    let texels = (0..h).flat_map(|j| (0..w).map(move |i| Vec4::new(i as f32, j as f32, 1.0, 1.0))).collect();
+    let texels = (0..h)
+        .flat_map(|j| (0..w).map(move |i| Vec4::new(i as f32, j as f32, 1.0, 1.0)))
+        .collect();
     Texture::from_texels(w, h, texels, [WrapMode::Repeat, WrapMode::Clamp])
 }
 
@@ -37,11 +39,19 @@ fn lookup_matches_mitsuba_envmap() {
 
 #[test]
 fn equirect_orientation_is_mitsubas() {
-    let cases = [(Vec3::NEG_Z, 0.0), (Vec3::X, 0.25), (Vec3::Z, 0.5), (Vec3::NEG_X, 0.75)];
+    let cases = [
+        (Vec3::NEG_Z, 0.0),
+        (Vec3::X, 0.25),
+        (Vec3::Z, 0.5),
+        (Vec3::NEG_X, 0.75),
+    ];
     for (d, u) in cases {
         let uv = equirect_uv(d);
         let du = (uv.x - u).abs().min(1.0 - (uv.x - u).abs());
-        assert!(du < 1e-6 && (uv.y - 0.5).abs() < 1e-6, "{d}: uv {uv}, expected ({u}, 0.5)");
+        assert!(
+            du < 1e-6 && (uv.y - 0.5).abs() < 1e-6,
+            "{d}: uv {uv}, expected ({u}, 0.5)"
+        );
     }
     assert!(equirect_uv(Vec3::Y).y < 1e-6, "+Y must be row 0");
     for uv in [Vec2::new(0.1, 0.2), Vec2::new(0.7, 0.9), Vec2::new(0.45, 0.5)] {

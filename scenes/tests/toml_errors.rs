@@ -534,6 +534,15 @@ fn missing_files() {
         load_text(&dir, &append("[[include]]\nfile = \"model.glb\"\n")),
         &["bad.toml:18:", "`include[0].file`", "file not found", "model.glb"],
     );
+    expect_error(
+        load_text(&dir, &append("[[include]]\nfile = \"other.toml\"\n")),
+        &[
+            "bad.toml:18:",
+            "`include[0].file`",
+            "cannot include",
+            "glTF 2.0 assets",
+        ],
+    );
     let missing = dir.join("nowhere.toml");
     let err = expect_error(
         scenes::load(&missing),

@@ -3,7 +3,9 @@
 mod toml_support;
 
 use glam::Vec3;
-use scenes::{Environment, Geometry, IntegratorKind, Light, Masking, Material, RenderSettings, TexRgb};
+use scenes::{
+    Environment, Geometry, IntegratorKind, Light, Masking, Material, RenderSettings, SamplerKind, TexRgb,
+};
 use toml_support::{append, load_text, replace_line, scratch, BASE};
 
 fn assert_vec(what: &str, actual: Vec3, expected: Vec3) {
@@ -41,7 +43,7 @@ fn render_settings_are_read() {
     let dir = scratch("render-ok");
     let text = append(
         "[film]\nwidth = 640\nheight = 360\n\n[render]\nspp = 1024\nintegrator = \"ao\"\nmax_depth = -1\n\
-         rr_depth = 3\nseed = 42\nao_radius = 0.25\n",
+         rr_depth = 3\nseed = 42\nao_radius = 0.25\nsampler = \"independent\"\n",
     );
     let s = load_text(&dir, &text).unwrap();
     assert_eq!((s.film.width, s.film.height), (640, 360));
@@ -52,6 +54,7 @@ fn render_settings_are_read() {
         rr_depth: 3,
         ao_radius: 0.25,
         seed: 42,
+        sampler: SamplerKind::Independent,
     };
     assert_eq!(s.render, want);
 }

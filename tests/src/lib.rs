@@ -43,7 +43,9 @@ pub fn add_shape(scene: &mut Scene, name: &str, geometry: Geometry, material: Ma
 
 /// A Lambertian material of constant albedo.
 pub fn diffuse(albedo: Vec3) -> Material {
-    Material::Diffuse { albedo: TexRgb::Constant(albedo) }
+    Material::Diffuse {
+        albedo: TexRgb::Constant(albedo),
+    }
 }
 
 /// Axis-aligned square of side `size` centred at `center` with front normal `normal`
@@ -52,7 +54,11 @@ pub fn square(center: Vec3, size: f32, normal: Vec3) -> Geometry {
     let helper = if normal.y.abs() > 0.5 { Vec3::Z } else { Vec3::Y };
     let u = helper.cross(normal).normalize() * (size * 0.5);
     let v = normal.cross(u).normalize() * (size * 0.5);
-    Geometry::Rectangle { center, half_u: u, half_v: v }
+    Geometry::Rectangle {
+        center,
+        half_u: u,
+        half_v: v,
+    }
 }
 
 /// An equirectangular environment texture whose texel at direction d holds `f(d)`
@@ -70,12 +76,20 @@ pub fn analytic_environment(width: u32, height: u32, f: impl Fn(Vec3) -> Vec3) -
 /// Sets an environment map from a texture.
 pub fn set_environment_map(scene: &mut Scene, texture: Texture) {
     scene.textures.push(Arc::new(texture));
-    scene.environment = Some(Environment::Map { texture: scene.textures.len() - 1, scale: 1.0 });
+    scene.environment = Some(Environment::Map {
+        texture: scene.textures.len() - 1,
+        scale: 1.0,
+    });
 }
 
 /// Render settings for `integrator` with unbounded depth unless given.
 pub fn settings(integrator: IntegratorKind, max_depth: i32, seed: u64) -> RenderSettings {
-    RenderSettings { integrator, max_depth, seed, ..RenderSettings::default() }
+    RenderSettings {
+        integrator,
+        max_depth,
+        seed,
+        ..RenderSettings::default()
+    }
 }
 
 /// Renders `scene` at exactly `spp` samples per pixel.
@@ -83,7 +97,11 @@ pub fn render(scene: &Scene, settings: RenderSettings, spp: u32) -> RenderResult
     let job = RenderJob {
         scene,
         settings,
-        stop: StopRule { spp, time: None, target_rel_err: None },
+        stop: StopRule {
+            spp,
+            time: None,
+            target_rel_err: None,
+        },
         checkpoint: None,
     };
     oracle::render(&job, &mut |_| true).unwrap_or_else(|e| panic!("render failed: {e}"))

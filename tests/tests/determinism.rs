@@ -11,11 +11,19 @@ use verity_tests::*;
 fn small_scene() -> Scene {
     let camera = Camera::look_at(Vec3::new(0.0, 1.0, 4.0), Vec3::ZERO, Vec3::Y, 40.0);
     let mut scene = empty_scene(camera, 20, 16);
-    add_shape(&mut scene, "floor", square(Vec3::new(0.0, -1.0, 0.0), 10.0, Vec3::Y), diffuse(Vec3::splat(0.6)));
+    add_shape(
+        &mut scene,
+        "floor",
+        square(Vec3::new(0.0, -1.0, 0.0), 10.0, Vec3::Y),
+        diffuse(Vec3::splat(0.6)),
+    );
     add_shape(
         &mut scene,
         "ball",
-        Geometry::Sphere { center: Vec3::ZERO, radius: 0.8 },
+        Geometry::Sphere {
+            center: Vec3::ZERO,
+            radius: 0.8,
+        },
         Material::Ggx {
             reflectance: TexRgb::Constant(Vec3::ONE),
             f0: Vec3::new(0.9, 0.6, 0.3),
@@ -23,16 +31,30 @@ fn small_scene() -> Scene {
             masking: Masking::HeightCorrelated,
         },
     );
-    let light = add_shape(&mut scene, "lamp", square(Vec3::new(0.0, 2.5, 0.0), 1.0, Vec3::NEG_Y), diffuse(Vec3::ZERO));
-    scene.shapes[light].emission = Some(Emission { radiance: TexRgb::Constant(Vec3::splat(5.0)), two_sided: false });
-    scene.environment = Some(Environment::Constant { radiance: Vec3::new(0.1, 0.2, 0.3) });
+    let light = add_shape(
+        &mut scene,
+        "lamp",
+        square(Vec3::new(0.0, 2.5, 0.0), 1.0, Vec3::NEG_Y),
+        diffuse(Vec3::ZERO),
+    );
+    scene.shapes[light].emission = Some(Emission {
+        radiance: TexRgb::Constant(Vec3::splat(5.0)),
+        two_sided: false,
+    });
+    scene.environment = Some(Environment::Constant {
+        radiance: Vec3::new(0.1, 0.2, 0.3),
+    });
     scene
 }
 
 fn assert_same_bits(a: &scenes::layered::LayeredImage, b: &scenes::layered::LayeredImage) {
     assert_eq!(names(a), names(b));
     for ((name, x), (_, y)) in a.channels.iter().zip(&b.channels) {
-        let diff = x.iter().zip(y).filter(|(p, q)| p.to_bits() != q.to_bits()).count();
+        let diff = x
+            .iter()
+            .zip(y)
+            .filter(|(p, q)| p.to_bits() != q.to_bits())
+            .count();
         assert_eq!(diff, 0, "channel {name}: {diff} pixels differ");
     }
 }
@@ -41,11 +63,19 @@ fn assert_same_bits(a: &scenes::layered::LayeredImage, b: &scenes::layered::Laye
 fn identical_bits_for_one_and_two_threads() {
     let scene = small_scene();
     let s = settings(IntegratorKind::Path, 6, 9);
-    let pool = |n| rayon::ThreadPoolBuilder::new().num_threads(n).build().expect("thread pool");
+    let pool = |n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .expect("thread pool")
+    };
     let one = pool(1).install(|| render(&scene, s, 12));
     let two = pool(2).install(|| render(&scene, s, 12));
     assert_same_bits(&one.image, &two.image);
-    assert!(channel(&one.image, "R").iter().any(|&v| v > 0.0), "image is black");
+    assert!(
+        channel(&one.image, "R").iter().any(|&v| v > 0.0),
+        "image is black"
+    );
 }
 
 #[test]
@@ -58,13 +88,24 @@ fn interrupted_render_resumes_to_identical_bits() {
     let job = RenderJob {
         scene: &scene,
         settings: s,
-        stop: StopRule { spp: 10, time: None, target_rel_err: None },
-        checkpoint: Some(CheckpointConfig { path: path.clone(), interval: Duration::ZERO, resume: true }),
+        stop: StopRule {
+            spp: 10,
+            time: None,
+            target_rel_err: None,
+        },
+        checkpoint: Some(CheckpointConfig {
+            path: path.clone(),
+            interval: Duration::ZERO,
+            resume: true,
+        }),
     };
     // Interrupt after a few samples: the checkpoint must be written.
     let err = oracle::render(&job, &mut |p| p.spp_done < 3).expect_err("render should have been interrupted");
     let at = match err {
-        RenderError::Interrupted { spp, checkpointed: true } => spp,
+        RenderError::Interrupted {
+            spp,
+            checkpointed: true,
+        } => spp,
         other => panic!("unexpected error: {other}"),
     };
     assert!((3..10).contains(&at), "interrupted at {at} spp");
@@ -82,8 +123,16 @@ fn checkpoint_of_another_scene_is_refused() {
     let mk = |scene| RenderJob {
         scene,
         settings: settings(IntegratorKind::Path, 6, 4),
-        stop: StopRule { spp: 4, time: None, target_rel_err: None },
-        checkpoint: Some(CheckpointConfig { path: path.clone(), interval: Duration::ZERO, resume: true }),
+        stop: StopRule {
+            spp: 4,
+            time: None,
+            target_rel_err: None,
+        },
+        checkpoint: Some(CheckpointConfig {
+            path: path.clone(),
+            interval: Duration::ZERO,
+            resume: true,
+        }),
     };
     let _ = oracle::render(&mk(&scene), &mut |p| p.spp_done < 1);
     let mut other = small_scene();
@@ -101,13 +150,24 @@ fn time_budget_and_target_error_stop_early() {
     let job = RenderJob {
         scene: &scene,
         settings: s,
-        stop: StopRule { spp: 1 << 20, time: Some(Duration::from_millis(300)), target_rel_err: None },
+        stop: StopRule {
+            spp: 1 << 20,
+            time: Some(Duration::from_millis(300)),
+            target_rel_err: None,
+        },
         checkpoint: None,
     };
     let r = oracle::render(&job, &mut |_| true).expect("render");
     assert!(r.spp >= 1 && r.spp < 1 << 20, "spp {}", r.spp);
     assert!(r.seconds < 5.0, "time budget overrun: {} s", r.seconds);
-    let job = RenderJob { stop: StopRule { spp: 1 << 20, time: None, target_rel_err: Some(0.2) }, ..job };
+    let job = RenderJob {
+        stop: StopRule {
+            spp: 1 << 20,
+            time: None,
+            target_rel_err: Some(0.2),
+        },
+        ..job
+    };
     let r = oracle::render(&job, &mut |_| true).expect("render");
     assert!(r.spp >= 16 && r.spp < 1 << 20, "spp {}", r.spp);
 }

@@ -11,7 +11,7 @@ use std::time::Duration;
 
 use clap::{Args, ValueEnum};
 use oracle::{CheckpointConfig, Progress, RenderJob, RenderResult, StopRule};
-use scenes::{Film, IntegratorKind, RenderSettings, Scene};
+use scenes::{Film, IntegratorKind, RenderSettings, SamplerKind, Scene};
 
 use super::CliError;
 use crate::progress::{format_duration, format_sig3, rate, ProgressMode, ProgressReporter};
@@ -57,6 +57,11 @@ pub struct RenderArgs {
     /// Seed of the sampler's scrambling [default: the scene's].
     #[arg(long, value_name = "K", allow_negative_numbers = true)]
     pub seed: Option<u64>,
+
+    /// Random numbers: Owen-scrambled Sobol points, or independent samples (plain Monte Carlo)
+    /// [default: the scene's].
+    #[arg(long, value_enum)]
+    pub sampler: Option<SamplerArg>,
 
     /// Image size, e.g. 640x480, each side in 1..=16384 [default: the scene's].
     #[arg(long, value_name = "WxH", value_parser = parse_resolution)]
@@ -107,6 +112,24 @@ impl From<IntegratorArg> for IntegratorKind {
             IntegratorArg::Path => IntegratorKind::Path,
             IntegratorArg::Direct => IntegratorKind::Direct,
             IntegratorArg::Ao => IntegratorKind::Ao,
+        }
+    }
+}
+
+/// `--sampler` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SamplerArg {
+    /// Owen-scrambled Sobol points (Burley 2020).
+    Sobol,
+    /// Independent uniform samples.
+    Independent,
+}
+
+impl From<SamplerArg> for SamplerKind {
+    fn from(a: SamplerArg) -> Self {
+        match a {
+            SamplerArg::Sobol => SamplerKind::Sobol,
+            SamplerArg::Independent => SamplerKind::Independent,
         }
     }
 }
@@ -252,6 +275,9 @@ fn apply_overrides(args: &RenderArgs, scene: &mut Scene) -> (StopRule, bool) {
     }
     if let Some(seed) = args.seed {
         s.seed = seed;
+    }
+    if let Some(k) = args.sampler {
+        s.sampler = k.into();
     }
     if let Some(r) = args.ao_radius {
         s.ao_radius = r;

@@ -55,9 +55,15 @@ pub fn standard_checks(name: &str, bsdf: &Bsdf, expect: &Expect, seed: u64) {
         } else {
             integrate_sphere(&|w| bsdf.pdf(wo, w) as f64)
         };
-        assert!(pdf_integral <= 1.0 + 1e-4, "{case}: ∫pdf = {pdf_integral}, expected ≤ 1");
+        assert!(
+            pdf_integral <= 1.0 + 1e-4,
+            "{case}: ∫pdf = {pdf_integral}, expected ≤ 1"
+        );
         if expect.lossless {
-            assert!((pdf_integral - 1.0).abs() < 1e-4, "{case}: ∫pdf = {pdf_integral}, expected 1");
+            assert!(
+                (pdf_integral - 1.0).abs() < 1e-4,
+                "{case}: ∫pdf = {pdf_integral}, expected 1"
+            );
         }
         check_energy(&case, bsdf, wo, expect, &mut rng);
     }
@@ -96,7 +102,10 @@ fn check_energy(case: &str, bsdf: &Bsdf, wo: Vec3, expect: &Expect, rng: &mut Pc
     }
     if let Some(albedo) = expect.albedo {
         let a = albedo.element_sum() as f64;
-        assert!((exact - a).abs() < 1e-4 * a, "{case}: quadrature Σ ∫f cos = {exact}, expected {a}");
+        assert!(
+            (exact - a).abs() < 1e-4 * a,
+            "{case}: quadrature Σ ∫f cos = {exact}, expected {a}"
+        );
     }
 }
 
@@ -107,7 +116,11 @@ pub fn check_sample_consistency(case: &str, bsdf: &Bsdf, wo: Vec3, rng: &mut Pcg
         let Some(s) = bsdf.sample(wo, u_lobe, u) else {
             continue;
         };
-        assert!((s.wi.length() - 1.0).abs() < 1e-4, "{case}: |ωi| = {}", s.wi.length());
+        assert!(
+            (s.wi.length() - 1.0).abs() < 1e-4,
+            "{case}: |ωi| = {}",
+            s.wi.length()
+        );
         assert!(!s.delta && s.eta == 1.0, "{case}: sample {s:?}");
         assert!(s.pdf > 0.0 && s.pdf.is_finite(), "{case}: pdf {}", s.pdf);
         let pdf = bsdf.pdf(wo, s.wi);
@@ -132,8 +145,10 @@ pub fn check_sample_consistency(case: &str, bsdf: &Bsdf, wo: Vec3, rng: &mut Pcg
 pub fn check_reciprocity(name: &str, bsdf: &Bsdf, rng: &mut Pcg32) {
     let mut checked = 0;
     while checked < 20_000 {
-        let wo = super::chi2::sphere_direction(2.0 * rng.next_f32() as f64 - 1.0, 6.3 * rng.next_f32() as f64);
-        let wi = super::chi2::sphere_direction(2.0 * rng.next_f32() as f64 - 1.0, 6.3 * rng.next_f32() as f64);
+        let wo =
+            super::chi2::sphere_direction(2.0 * rng.next_f32() as f64 - 1.0, 6.3 * rng.next_f32() as f64);
+        let wi =
+            super::chi2::sphere_direction(2.0 * rng.next_f32() as f64 - 1.0, 6.3 * rng.next_f32() as f64);
         if wo.z.abs() < 1e-2 || wi.z.abs() < 1e-2 {
             continue;
         }
@@ -146,7 +161,11 @@ pub fn check_reciprocity(name: &str, bsdf: &Bsdf, rng: &mut Pcg32) {
             "{name}: f(ωo, ωi) = {a} ≠ f(ωi, ωo) = {b} for ωo = {wo}, ωi = {wi}"
         );
         if wo.z * wi.z < 0.0 {
-            assert_eq!(a, Rgb::ZERO, "{name}: reflection across the surface, ωo = {wo}, ωi = {wi}");
+            assert_eq!(
+                a,
+                Rgb::ZERO,
+                "{name}: reflection across the surface, ωo = {wo}, ωi = {wi}"
+            );
         }
     }
 }

@@ -239,26 +239,43 @@ pub struct Chi2Outcome {
 /// χ² goodness-of-fit of `bsdf.sample(wo, ·)` against `bsdf.pdf(wo, ·)` with `samples`
 /// draws binned on the [`GRID`]; `Err` describes the failure (worst cells).
 pub fn chi2_test(bsdf: &Bsdf, wo: Vec3, samples: u32, seed: u64) -> Result<Chi2Outcome, String> {
+    let mut sample = |rng: &mut Pcg32| {
+        let u_lobe = rng.next_f32();
+        bsdf.sample(wo, u_lobe, rng.next_vec2())
+            .filter(|s| s.pdf > 0.0)
+            .map(|s| s.wi)
+    };
+    chi2_test_with(&mut sample, &|w| bsdf.pdf(wo, w) as f64, samples, seed)
+}
+
+/// [`chi2_test`] for any sampler (`None` = lost sample) and density.
+fn chi2_test_with(
+    sample: &mut dyn FnMut(&mut Pcg32) -> Option<Vec3>,
+    pdf: &dyn Fn(Vec3) -> f64,
+    samples: u32,
+    seed: u64,
+) -> Result<Chi2Outcome, String> {
     let (nz, nphi) = GRID;
     // Histogram of sampled directions; the last cell counts lost samples.
     let mut observed = vec![0.0f64; nz * nphi + 1];
     let mut rng = Pcg32::new(seed, 0x5eed);
     for _ in 0..samples {
-        let u_lobe = rng.next_f32();
-        match bsdf.sample(wo, u_lobe, rng.next_vec2()) {
-            Some(s) if s.pdf > 0.0 => observed[cell_of(s.wi, nz, nphi)] += 1.0,
-            _ => observed[nz * nphi] += 1.0,
+        match sample(&mut rng) {
+            Some(wi) => observed[cell_of(wi, nz, nphi)] += 1.0,
+            None => observed[nz * nphi] += 1.0,
         }
     }
-    // Expected counts: N ∫cell pdf dω (dω = dcos θ dφ).
-    let pdf = |w: Vec3| bsdf.pdf(wo, w) as f64;
-    let expected: Vec<f64> = integrate_cells(&pdf, nz, nphi)
+    // Expected counts: N ∫cell pdf dω.
+    let expected: Vec<f64> = integrate_cells(pdf, nz, nphi)
         .into_iter()
         .map(|p| p * samples as f64)
         .collect();
     let pdf_integral = expected.iter().sum::<f64>() / samples as f64;
     // Lost samples: N(1 − ∫pdf), up to Poisson noise and the pdf's own f32 precision.
-    let (lost, lost_expected) = (observed[nz * nphi], samples as f64 * (1.0 - pdf_integral).max(0.0));
+    let (lost, lost_expected) = (
+        observed[nz * nphi],
+        samples as f64 * (1.0 - pdf_integral).max(0.0),
+    );
     let lost_tolerance = 4.0 * (lost_expected + 1.0).sqrt() + samples as f64 * PDF_PRECISION;
     if (lost - lost_expected).abs() > lost_tolerance {
         return Err(format!(
@@ -266,7 +283,11 @@ pub fn chi2_test(bsdf: &Bsdf, wo: Vec3, samples: u32, seed: u64) -> Result<Chi2O
         ));
     }
     let (chi2, dof) = pooled_chi2(&observed[..nz * nphi], &expected)?;
-    let p_value = if dof == 0 { 1.0 } else { gamma_q(0.5 * dof as f64, 0.5 * chi2) };
+    let p_value = if dof == 0 {
+        1.0
+    } else {
+        gamma_q(0.5 * dof as f64, 0.5 * chi2)
+    };
     let level = sidak(SIGNIFICANCE, CHI2_TEST_COUNT);
     if p_value < level {
         return Err(format!(
@@ -443,7 +464,10 @@ mod tests {
             let got = integrate_sphere(&|w| (w.z.max(0.0) as f64).powf(n));
             let expected = TAU / (n + 1.0);
             let tol = if n > 100.0 { 5e-5 } else { 1e-6 };
-            assert!((got - expected).abs() < tol * expected, "∫cosⁿ = {got}, expected {expected}");
+            assert!(
+                (got - expected).abs() < tol * expected,
+                "∫cosⁿ = {got}, expected {expected}"
+            );
         }
     }
 
@@ -456,6 +480,45 @@ mod tests {
             got,
             [0xa15c02b7, 0x7b47f409, 0xba1d3330, 0x83d2f293, 0xbfa4784b, 0xcbed606e],
             "PCG32 reference stream"
+        );
+    }
+
+    /// The test rejects what it should: a sampler for Phong n = 20 against the pdf for
+    /// n = 22, a GGX sampler for roughness 0.3 against the pdf for 0.31, and a sampler that
+    /// loses 1% of its samples more than its pdf says.
+    #[test]
+    fn bsdf_chi2_rejects_mismatched_densities() {
+        use crate::bsdf::{ggx::Ggx, phong::Phong};
+        use scenes::{Masking, Rgb};
+        let wo = Vec3::new(0.6, 0.0, 0.8);
+        let pairs = [
+            (
+                Bsdf::Phong(Phong::new(Rgb::ONE, 20.0)),
+                Bsdf::Phong(Phong::new(Rgb::ONE, 22.0)),
+            ),
+            (
+                Bsdf::Ggx(Ggx::new(Rgb::ONE, Rgb::ONE, 0.3, Masking::HeightCorrelated)),
+                Bsdf::Ggx(Ggx::new(Rgb::ONE, Rgb::ONE, 0.31, Masking::HeightCorrelated)),
+            ),
+        ];
+        for (sampler, density) in pairs {
+            let mut sample = |rng: &mut Pcg32| {
+                let u_lobe = rng.next_f32();
+                sampler.sample(wo, u_lobe, rng.next_vec2()).map(|s| s.wi)
+            };
+            let result = chi2_test_with(&mut sample, &|w| density.pdf(wo, w) as f64, 1_000_000, 3);
+            assert!(result.is_err(), "{sampler:?} vs {density:?} accepted: {result:?}");
+        }
+        let phong = Bsdf::Phong(Phong::new(Rgb::ONE, 20.0));
+        let mut lossy = |rng: &mut Pcg32| {
+            let (u_lobe, u) = (rng.next_f32(), rng.next_vec2());
+            let drop = rng.next_f32() < 0.01;
+            phong.sample(wo, u_lobe, u).filter(|_| !drop).map(|s| s.wi)
+        };
+        let result = chi2_test_with(&mut lossy, &|w| phong.pdf(wo, w) as f64, 1_000_000, 4);
+        assert!(
+            result.as_ref().is_err_and(|e| e.contains("lost")),
+            "lossy sampler: {result:?}"
         );
     }
 }

@@ -103,7 +103,10 @@ mod tests {
         // = −sin(22.6198°) = −0.384615, F = 0.0739645.
         let theta_b = 1.5f32.atan();
         let f = dielectric(theta_b.cos(), 1.5).reflectance;
-        assert!((f - 0.073_964_5).abs() < 1e-5, "F(Brewster) = {f}, expected 0.0739645");
+        assert!(
+            (f - 0.073_964_5).abs() < 1e-5,
+            "F(Brewster) = {f}, expected 0.0739645"
+        );
         // Total internal reflection from inside beyond the critical angle asin(1/1.5) = 41.81°.
         let f = dielectric(-(45f32.to_radians().cos()), 1.5);
         assert_eq!((f.reflectance, f.cos_t), (1.0, 0.0), "TIR expected, got {f:?}");
@@ -126,7 +129,10 @@ mod tests {
             let (eta_i, eta_t) = if outside { (1.0, eta) } else { (eta, 1.0) };
             let sin_t = (t.x * t.x + t.y * t.y).sqrt();
             assert!((t.length() - 1.0).abs() < 1e-5, "|t| = {}", t.length());
-            assert!(t.z * w.z < 0.0, "refracted ray must cross the interface: {t} from {w}");
+            assert!(
+                t.z * w.z < 0.0,
+                "refracted ray must cross the interface: {t} from {w}"
+            );
             assert!(
                 (eta_i * s - eta_t * sin_t).abs() < 1e-5,
                 "Snell: η_i sin θi = {}, η_t sin θt = {}",

@@ -134,7 +134,12 @@ mod tests {
         for masking in [Masking::HeightCorrelated, Masking::Separable] {
             for roughness in [0.05f64, 0.3, 0.8] {
                 let alpha = (roughness * roughness).max(1e-3);
-                let bsdf = Bsdf::Ggx(Ggx::new(Rgb::splat(k as f32), Rgb::splat(f0 as f32), roughness as f32, masking));
+                let bsdf = Bsdf::Ggx(Ggx::new(
+                    Rgb::splat(k as f32),
+                    Rgb::splat(f0 as f32),
+                    roughness as f32,
+                    masking,
+                ));
                 for theta_o in [0.0f64, 30.0, 70.0] {
                     let wo = direction(theta_o as f32, 0.0);
                     for theta_i in [0.0f64, 15.0, 30.0, 50.0, 85.0] {
@@ -155,7 +160,8 @@ mod tests {
                             let f = f0 + (1.0 - f0) * (1.0 - td.cos()).powi(5);
                             let expected_eval = k * f * d * g2 / (4.0 * to.cos());
                             let expected_pdf = d / ((1.0 + lo) * 4.0 * to.cos());
-                            let wi = direction(theta_i as f32, if opposite { std::f32::consts::PI } else { 0.0 });
+                            let wi =
+                                direction(theta_i as f32, if opposite { std::f32::consts::PI } else { 0.0 });
                             let (e, p) = (bsdf.eval(wo, wi).x as f64, bsdf.pdf(wo, wi) as f64);
                             assert!(
                                 (e - expected_eval).abs() <= 1e-3 * expected_eval + 1e-6
@@ -174,8 +180,14 @@ mod tests {
         // 0.5821455 (separable), pdf = D/((1 + Λ) 4 cos 45°) = 13.865749.
         let white = Bsdf::Ggx(Ggx::new(Rgb::ONE, Rgb::ONE, 0.3, Masking::HeightCorrelated));
         let (e, p) = (white.eval(Vec3::Z, Vec3::Z).x, white.pdf(Vec3::Z, Vec3::Z));
-        assert!((e - 9.824_379).abs() < 1e-4 && (p - 9.824_379).abs() < 1e-4, "eval {e}, pdf {p}");
-        for (masking, expected) in [(Masking::HeightCorrelated, 0.582_147_9), (Masking::Separable, 0.582_145_5)] {
+        assert!(
+            (e - 9.824_379).abs() < 1e-4 && (p - 9.824_379).abs() < 1e-4,
+            "eval {e}, pdf {p}"
+        );
+        for (masking, expected) in [
+            (Masking::HeightCorrelated, 0.582_147_9),
+            (Masking::Separable, 0.582_145_5),
+        ] {
             let b = Bsdf::Ggx(Ggx::new(Rgb::ONE, Rgb::splat(0.04), 0.3, masking));
             let (wo, wi) = (direction(45.0, 0.0), direction(45.0, std::f32::consts::PI));
             let (e, p) = (b.eval(wo, wi).x, b.pdf(wo, wi));
@@ -212,7 +224,12 @@ mod tests {
             roughness,
             Masking::HeightCorrelated,
         ));
-        standard_checks(&format!("GGX r = {roughness}, coloured"), &bsdf, &expect, seed + 100);
+        standard_checks(
+            &format!("GGX r = {roughness}, coloured"),
+            &bsdf,
+            &expect,
+            seed + 100,
+        );
     }
 
     #[test]

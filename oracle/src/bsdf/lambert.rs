@@ -106,7 +106,10 @@ mod tests {
                         e[c]
                     );
                 }
-                assert!((p - expected_pdf).abs() < 1e-6, "pdf = {p}, expected {expected_pdf}");
+                assert!(
+                    (p - expected_pdf).abs() < 1e-6,
+                    "pdf = {p}, expected {expected_pdf}"
+                );
                 // Across the surface: nothing.
                 let across = Vec3::new(wi.x, wi.y, -wi.z);
                 assert_eq!((bsdf.eval(wo, across), bsdf.pdf(wo, across)), (Rgb::ZERO, 0.0));
@@ -128,13 +131,20 @@ mod tests {
             albedo: Some(rho),
             chi2: true,
         };
-        standard_checks("Lambert ρ = (0.8, 0.5, 0.2)", &Bsdf::Lambert(Lambert::new(rho)), &expect, 1);
+        standard_checks(
+            "Lambert ρ = (0.8, 0.5, 0.2)",
+            &Bsdf::Lambert(Lambert::new(rho)),
+            &expect,
+            1,
+        );
     }
 
     #[test]
     fn bsdf_lambert_sanitises_parameters() {
         let b = Lambert::new(Rgb::new(f32::NAN, -1.0, 0.5));
         assert_eq!(b.albedo(), Rgb::new(0.0, 0.0, 0.5));
-        assert!(Bsdf::Lambert(b).sample(Vec3::X, 0.5, glam::Vec2::splat(0.5)).is_none());
+        assert!(Bsdf::Lambert(b)
+            .sample(Vec3::X, 0.5, glam::Vec2::splat(0.5))
+            .is_none());
     }
 }

@@ -167,3 +167,159 @@ impl MetalRough {
 fn luminance(c: Rgb) -> f32 {
     0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
 }
+
+#[cfg(test)]
+mod tests {
+    use std::f64::consts::PI;
+
+    use super::*;
+    use crate::bsdf::check::{direction, standard_checks, Expect};
+    use crate::bsdf::Bsdf;
+
+    /// Λ(θ) = (−1 + √(1 + α² tan²θ))/2 from the angle.
+    fn lambda(alpha: f64, theta: f64) -> f64 {
+        0.5 * ((1.0 + alpha * alpha * theta.tan().powi(2)).sqrt() - 1.0)
+    }
+
+    /// Hand-derived in-plane values (θh, θd as in the GGX sweep), straight from glTF
+    /// Appendix B: f·cos = [(1−m)(1−Fd)c/π + ((1−m)Fd + m(c + (1−c)w))·D·G2/(4 cos θo cos θi)]·cos θi,
+    /// w = (1 − cos θd)⁵, Fd = 0.04 + 0.96w; pdf = p·G1(θo)D/(4 cos θo) + (1−p)cos θi/π.
+    #[test]
+    fn bsdf_metal_rough_closed_form_sweep() {
+        let c = [0.8f64, 0.5, 0.2];
+        let y = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+        for m in [0.0f64, 0.5, 1.0] {
+            for roughness in [0.05f64, 0.3, 0.8] {
+                let alpha = (roughness * roughness).max(1e-3);
+                let base = Rgb::new(c[0] as f32, c[1] as f32, c[2] as f32);
+                let bsdf = Bsdf::MetalRough(MetalRough::new(base, m as f32, roughness as f32));
+                for theta_o in [0.0f64, 30.0, 70.0] {
+                    let to = theta_o.to_radians();
+                    // Lobe-selection probability from the documented albedo estimate.
+                    let fo = 0.04 + 0.96 * (1.0 - to.cos()).powi(5);
+                    let y_metal: f64 = (0..3)
+                        .map(|k| {
+                            [0.2126, 0.7152, 0.0722][k] * (c[k] + (1.0 - c[k]) * (1.0 - to.cos()).powi(5))
+                        })
+                        .sum();
+                    let diffuse = (1.0 - m) * (1.0 - fo) * y;
+                    let spec = m * y_metal + (1.0 - m) * fo;
+                    let p = if diffuse > 0.0 {
+                        (spec / (spec + diffuse)).clamp(0.1, 0.9)
+                    } else {
+                        1.0
+                    };
+                    let wo = direction(theta_o as f32, 0.0);
+                    for theta_i in [0.0f64, 15.0, 30.0, 50.0, 85.0] {
+                        let ti = theta_i.to_radians();
+                        for opposite in [true, false] {
+                            let (th, td) = if opposite {
+                                ((ti - to).abs() / 2.0, (to + ti) / 2.0)
+                            } else {
+                                ((to + ti) / 2.0, (to - ti).abs() / 2.0)
+                            };
+                            let d = alpha * alpha
+                                / (PI * th.cos().powi(4) * (alpha * alpha + th.tan().powi(2)).powi(2));
+                            let (lo, li) = (lambda(alpha, to), lambda(alpha, ti));
+                            let s = d / ((1.0 + lo + li) * 4.0 * to.cos() * ti.cos());
+                            let w = (1.0 - td.cos()).powi(5);
+                            let fd = 0.04 + 0.96 * w;
+                            let expected_pdf =
+                                p * d / ((1.0 + lo) * 4.0 * to.cos()) + (1.0 - p) * ti.cos() / PI;
+                            let wi =
+                                direction(theta_i as f32, if opposite { std::f32::consts::PI } else { 0.0 });
+                            let (e, pdf) = (bsdf.eval(wo, wi), bsdf.pdf(wo, wi) as f64);
+                            for k in 0..3 {
+                                let f = (1.0 - m) * (1.0 - fd) * c[k] / PI
+                                    + ((1.0 - m) * fd + m * (c[k] + (1.0 - c[k]) * w)) * s;
+                                let expected = f * ti.cos();
+                                assert!(
+                                    (e[k] as f64 - expected).abs() <= 1e-3 * expected + 1e-6,
+                                    "m {m}, r {roughness}, θo {theta_o}°, θi {theta_i}°, opposite {opposite}: \
+                                     eval[{k}] {} vs {expected}",
+                                    e[k]
+                                );
+                            }
+                            assert!(
+                                (pdf - expected_pdf).abs() <= 1e-3 * expected_pdf + 1e-6,
+                                "m {m}, r {roughness}, θo {theta_o}°, θi {theta_i}°: pdf {pdf} vs {expected_pdf}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        // Hand values: c = (0.8, 0.5, 0.2), m = 0.5, roughness 0.3, ωo = ωi = z (h = z, w = 0):
+        // f·cos = 0.5·0.96·c/π + (0.02 + 0.5c)/(4πα²) = (4.248470, 2.728977, 1.209483);
+        // p = 0.527974, pdf = p/(4πα²) + (1 − p)/π = 5.337263.
+        let bsdf = Bsdf::MetalRough(MetalRough::new(Rgb::new(0.8, 0.5, 0.2), 0.5, 0.3));
+        let (e, p) = (bsdf.eval(Vec3::Z, Vec3::Z), bsdf.pdf(Vec3::Z, Vec3::Z));
+        let expected = Rgb::new(4.248_470, 2.728_977, 1.209_483);
+        assert!(
+            (e - expected).abs().max_element() < 1e-4,
+            "eval {e} vs {expected}"
+        );
+        assert!((p - 5.337_263).abs() < 1e-4, "pdf {p} vs 5.337263");
+    }
+
+    /// The energy bound holds for the pure metal (GGX alone) at every angle, and with a
+    /// diffuse part only near normal incidence (θo ≤ 30°; see the module header and
+    /// [`bsdf_metal_rough_exceeds_unit_albedo_at_grazing_angles`]).
+    fn properties(metallic: f32, seed: u64) {
+        for (k, roughness) in [0.05f32, 0.3, 0.8].into_iter().enumerate() {
+            let expect = Expect {
+                white: true,
+                lossless: false,
+                energy_max_theta_deg: if metallic < 1.0 { 30.0 } else { 90.0 },
+                albedo: None,
+                chi2: true,
+            };
+            let bsdf = Bsdf::MetalRough(MetalRough::new(Rgb::ONE, metallic, roughness));
+            let name = format!("metal-rough m = {metallic}, r = {roughness}");
+            standard_checks(&name, &bsdf, &expect, seed + k as u64);
+        }
+    }
+
+    #[test]
+    fn bsdf_metal_rough_properties_m0() {
+        properties(0.0, 31);
+    }
+
+    #[test]
+    fn bsdf_metal_rough_properties_m05() {
+        properties(0.5, 34);
+    }
+
+    #[test]
+    fn bsdf_metal_rough_properties_m1() {
+        properties(1.0, 37);
+    }
+
+    /// Known limitation of the glTF model (not of this implementation): with a white base
+    /// colour and m < 1 the albedo exceeds 1 at grazing ωo, because the specular lobe
+    /// reflects ≈ F(cos θo) (0.65 at 80°) while the diffuse term keeps 1 − F(ωo·h) ≈ 0.96 for
+    /// most ωi. Measured by quadrature: m = 0, roughness 0.05: 1.0004 at 45°, 1.354 at 80°,
+    /// 1.80 at 89°; m = 0.5: 1.177 at 80°. A lower bound, so an accidental "fix" that
+    /// departs from the specification fails.
+    #[test]
+    fn bsdf_metal_rough_exceeds_unit_albedo_at_grazing_angles() {
+        use crate::bsdf::chi2::integrate_sphere;
+        for (metallic, roughness, theta, lower) in [
+            (0.0f32, 0.05f32, 80.0f32, 1.3),
+            (0.0, 0.3, 80.0, 1.2),
+            (0.5, 0.05, 80.0, 1.15),
+        ] {
+            let bsdf = MetalRough::new(Rgb::ONE, metallic, roughness);
+            let wo = direction(theta, 0.0);
+            let albedo = integrate_sphere(&|w| bsdf.eval(wo, w).x as f64);
+            assert!(
+                albedo > lower,
+                "m {metallic}, r {roughness}, θo {theta}°: albedo {albedo}, expected > {lower}"
+            );
+        }
+        // Near normal incidence it stays ≤ 1 (also checked by the property tests).
+        let bsdf = MetalRough::new(Rgb::ONE, 0.0, 0.05);
+        let albedo = integrate_sphere(&|w| bsdf.eval(direction(10.0, 0.0), w).x as f64);
+        assert!(albedo <= 1.0, "θo 10°: albedo {albedo}, expected ≤ 1");
+    }
+}

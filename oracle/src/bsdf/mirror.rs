@@ -86,11 +86,17 @@ mod tests {
             // Angle of reflection equals angle of incidence and ωo + ωi is along the normal.
             let h = wo + s.wi;
             assert!(h.x == 0.0 && h.y == 0.0, "ωo + ωi = {h} not along z");
-            assert_eq!((s.weight, s.pdf, s.delta, s.eta), (Rgb::new(0.9, 0.5, 0.1), 1.0, true, 1.0));
+            assert_eq!(
+                (s.weight, s.pdf, s.delta, s.eta),
+                (Rgb::new(0.9, 0.5, 0.1), 1.0, true, 1.0)
+            );
             assert_eq!(bsdf.eval(wo, s.wi), Rgb::ZERO);
             assert_eq!(bsdf.pdf(wo, s.wi), 0.0);
         }
-        assert!(bsdf.sample(Vec3::X, 0.5, Vec2::splat(0.5)).is_none(), "grazing ωo");
+        assert!(
+            bsdf.sample(Vec3::X, 0.5, Vec2::splat(0.5)).is_none(),
+            "grazing ωo"
+        );
         assert_eq!(bsdf.albedo(), Rgb::new(0.9, 0.5, 0.1));
     }
 }

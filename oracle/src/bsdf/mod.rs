@@ -189,7 +189,11 @@ pub(crate) fn flip_z(w: Vec3) -> Vec3 {
 /// A reflectance with NaN and negative channels set to 0.
 #[inline]
 pub(crate) fn sanitize_rgb(c: Rgb) -> Rgb {
-    Rgb::new(sanitize_non_negative(c.x), sanitize_non_negative(c.y), sanitize_non_negative(c.z))
+    Rgb::new(
+        sanitize_non_negative(c.x),
+        sanitize_non_negative(c.y),
+        sanitize_non_negative(c.z),
+    )
 }
 
 /// A non-negative scalar: NaN and negative values become 0.

@@ -175,7 +175,12 @@ mod tests {
             albedo: None,
             chi2: true,
         };
-        standard_checks(&format!("Phong n = {n}"), &Bsdf::Phong(Phong::new(Rgb::ONE, n)), &expect, seed);
+        standard_checks(
+            &format!("Phong n = {n}"),
+            &Bsdf::Phong(Phong::new(Rgb::ONE, n)),
+            &expect,
+            seed,
+        );
     }
 
     #[test]
@@ -202,7 +207,10 @@ mod tests {
             let bsdf = Bsdf::Phong(Phong::new(Rgb::splat(0.6), n));
             let albedo = integrate_sphere(&|w| bsdf.eval(Vec3::Z, w).x as f64);
             let pdf = integrate_sphere(&|w| bsdf.pdf(Vec3::Z, w) as f64);
-            assert!((albedo - 0.6).abs() < 1e-5, "n {n}: ∫f cos = {albedo}, expected 0.6");
+            assert!(
+                (albedo - 0.6).abs() < 1e-5,
+                "n {n}: ∫f cos = {albedo}, expected 0.6"
+            );
             assert!((pdf - 1.0).abs() < 1e-5, "n {n}: ∫pdf = {pdf}, expected 1");
         }
     }

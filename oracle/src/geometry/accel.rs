@@ -149,11 +149,18 @@ impl Accel {
             shapes.push(gather_shape(scene, shape, index, &mut g).map_err(named)?);
         }
         if g.prims.len() >= u32::MAX as usize {
-            return Err(format!("{} primitives exceed the BVH's u32 indices", g.prims.len()));
+            return Err(format!(
+                "{} primitives exceed the BVH's u32 indices",
+                g.prims.len()
+            ));
         }
         let bvh = build_bvh(&g.aabbs, quality.params());
         // Primitives in leaf order.
-        let prims = bvh.primitive_indices.iter().map(|&i| g.prims[i as usize]).collect();
+        let prims = bvh
+            .primitive_indices
+            .iter()
+            .map(|&i| g.prims[i as usize])
+            .collect();
         let ids = bvh.primitive_indices.iter().map(|&i| g.ids[i as usize]).collect();
         Ok(Accel {
             bvh,
@@ -362,14 +369,19 @@ fn gather_mesh(mesh: &Mesh, shape: u32, g: &mut Gathered) -> Result<(), String> 
         ));
     }
     if mesh.indices.len() >= u32::MAX as usize {
-        return Err(format!("mesh has {} triangles, more than u32 indices", mesh.indices.len()));
+        return Err(format!(
+            "mesh has {} triangles, more than u32 indices",
+            mesh.indices.len()
+        ));
     }
     g.prims.reserve(mesh.indices.len());
     g.ids.reserve(mesh.indices.len());
     g.aabbs.reserve(mesh.indices.len());
     for (t, idx) in mesh.indices.iter().enumerate() {
         if let Some(&i) = idx.iter().find(|&&i| i as usize >= n) {
-            return Err(format!("mesh triangle {t} index {i} is out of range ({n} positions)"));
+            return Err(format!(
+                "mesh triangle {t} index {i} is out of range ({n} positions)"
+            ));
         }
         let v = idx.map(|i| mesh.positions[i as usize]);
         let area2 = (v[1] - v[0]).cross(v[2] - v[0]).length_squared();
@@ -378,8 +390,12 @@ fn gather_mesh(mesh: &Mesh, shape: u32, g: &mut Gathered) -> Result<(), String> 
             continue;
         }
         g.prims.push(Prim::Triangle(Triangle { v }));
-        g.ids.push(PrimId { shape, prim: t as u32 });
-        g.aabbs.push(padded_aabb(v[0].min(v[1]).min(v[2]), v[0].max(v[1]).max(v[2])));
+        g.ids.push(PrimId {
+            shape,
+            prim: t as u32,
+        });
+        g.aabbs
+            .push(padded_aabb(v[0].min(v[1]).min(v[2]), v[0].max(v[1]).max(v[2])));
         g.triangles += 1;
     }
     Ok(())

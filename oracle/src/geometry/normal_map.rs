@@ -48,7 +48,9 @@ impl NormalMapTex {
         let Some(n_ts) = n_ts.try_normalize() else {
             return n;
         };
-        (t * n_ts.x + b * n_ts.y + n * n_ts.z).try_normalize().unwrap_or(n)
+        (t * n_ts.x + b * n_ts.y + n * n_ts.z)
+            .try_normalize()
+            .unwrap_or(n)
     }
 }
 
@@ -66,7 +68,11 @@ pub(crate) fn shading(s: &Surface, map: Option<&NormalMapTex>) -> (Vec3, Vec3) {
     let (t, sign) = match s.tangent {
         Some((t, w)) => (t, w),
         None => {
-            let w = if n.cross(s.dpdu).dot(s.dpdv) > 0.0 { -1.0 } else { 1.0 };
+            let w = if n.cross(s.dpdu).dot(s.dpdv) > 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
             (s.dpdu, w)
         }
     };

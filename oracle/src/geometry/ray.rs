@@ -104,11 +104,5 @@ pub fn spawn_ray_to(p: Vec3, ng: Vec3, q: Vec3, ng_q: Option<Vec3>) -> (Ray, f32
     if !(len > 0.0 && len.is_finite()) {
         return (Ray { origin, dir: ng }, 0.0);
     }
-    (
-        Ray {
-            origin,
-            dir: d / len,
-        },
-        len * (1.0 - SHADOW_EPSILON),
-    )
+    (Ray { origin, dir: d / len }, len * (1.0 - SHADOW_EPSILON))
 }

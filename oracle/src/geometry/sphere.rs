@@ -41,7 +41,9 @@ impl Sphere {
             return Err(format!("sphere `center` is not finite: {center}"));
         }
         if !(radius > 0.0 && radius.is_finite()) {
-            return Err(format!("sphere `radius` must be positive and finite, got {radius}"));
+            return Err(format!(
+                "sphere `radius` must be positive and finite, got {radius}"
+            ));
         }
         Ok(Sphere { center, radius })
     }

@@ -109,7 +109,10 @@ pub(crate) fn traverse(bvh: &CwBvh, mut ray: BvhRay, mut visit: impl FnMut(usize
             let relative = (hits_imask & !(u32::MAX << slot)).count_ones();
             let node = &bvh.nodes[(nodes[0] + relative) as usize];
             let hitmask = node.intersect_ray(&ray, oct_inv4);
-            nodes = [node.child_base_idx, (hitmask & 0xff00_0000) | u32::from(node.imask)];
+            nodes = [
+                node.child_base_idx,
+                (hitmask & 0xff00_0000) | u32::from(node.imask),
+            ];
             prims = [node.primitive_base_idx, hitmask & 0x00ff_ffff];
         } else {
             nodes = [0, 0];

@@ -98,7 +98,10 @@ impl Triangle {
         if u == 0.0 || v == 0.0 || w == 0.0 {
             // Exact products in f64 decide the sign on the edge (§3 of the paper).
             let edge = |p: (f32, f32), q: (f32, f32)| -> f32 {
-                let (p, q) = (DVec2::new(p.0 as f64, p.1 as f64), DVec2::new(q.0 as f64, q.1 as f64));
+                let (p, q) = (
+                    DVec2::new(p.0 as f64, p.1 as f64),
+                    DVec2::new(q.0 as f64, q.1 as f64),
+                );
                 (p.x * q.y - p.y * q.x) as f32
             };
             u = edge((cx, cy), (bx, by));

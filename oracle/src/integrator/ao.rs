@@ -16,18 +16,35 @@ use crate::sampling::square_to_cosine_hemisphere;
 /// Ambient occlusion at the surface seen along `ray`.
 pub fn trace(ctx: &Context, ray: Ray, sampler: &mut PixelSampler) -> CameraSample {
     let Some(h) = ctx.accel.intersect(&ray, f32::INFINITY) else {
-        return CameraSample { radiance: Rgb::ZERO, first_hit: None, rays: 1 };
+        return CameraSample {
+            radiance: Rgb::ZERO,
+            first_hit: None,
+            rays: 1,
+        };
     };
     let (frame, bsdf) = shade(ctx, &h);
-    let first_hit = Some(FirstHit { hit: h, albedo: bsdf.albedo() });
+    let first_hit = Some(FirstHit {
+        hit: h,
+        albedo: bsdf.albedo(),
+    });
     let facing = if frame.n.dot(ray.dir) > 0.0 { -1.0 } else { 1.0 };
     let mut local = square_to_cosine_hemisphere(sampler.next_2d());
     local.z *= facing;
     let dir = frame.to_world(local);
     let below = dir.dot(h.ng) * ray.dir.dot(h.ng) > 0.0;
     if below {
-        return CameraSample { radiance: Rgb::ZERO, first_hit, rays: 1 };
+        return CameraSample {
+            radiance: Rgb::ZERO,
+            first_hit,
+            rays: 1,
+        };
     }
-    let open = !ctx.accel.occluded(&spawn_ray(h.p, h.ng, dir), ctx.settings.ao_radius);
-    CameraSample { radiance: Rgb::splat(if open { 1.0 } else { 0.0 }), first_hit, rays: 2 }
+    let open = !ctx
+        .accel
+        .occluded(&spawn_ray(h.p, h.ng, dir), ctx.settings.ao_radius);
+    CameraSample {
+        radiance: Rgb::splat(if open { 1.0 } else { 0.0 }),
+        first_hit,
+        rays: 2,
+    }
 }

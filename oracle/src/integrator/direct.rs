@@ -16,7 +16,11 @@ const MAX_SPECULAR_CHAIN: u32 = 64;
 
 /// Radiance along `ray`: directly visible and direct light, through specular chains.
 pub fn trace(ctx: &Context, mut ray: Ray, sampler: &mut PixelSampler) -> CameraSample {
-    let max_surfaces = if ctx.settings.max_depth < 0 { MAX_SPECULAR_CHAIN } else { ctx.settings.max_depth as u32 };
+    let max_surfaces = if ctx.settings.max_depth < 0 {
+        MAX_SPECULAR_CHAIN
+    } else {
+        ctx.settings.max_depth as u32
+    };
     let mut radiance = Rgb::ZERO;
     let mut throughput = Rgb::ONE;
     let mut first_hit = None;
@@ -29,7 +33,10 @@ pub fn trace(ctx: &Context, mut ray: Ray, sampler: &mut PixelSampler) -> CameraS
         radiance += throughput * emission_at(ctx, &ray, &h, Origin::Unsampleable);
         let (frame, bsdf) = shade(ctx, &h);
         if depth == 0 {
-            first_hit = Some(FirstHit { hit: h, albedo: bsdf.albedo() });
+            first_hit = Some(FirstHit {
+                hit: h,
+                albedo: bsdf.albedo(),
+            });
         }
         if depth + 1 >= max_surfaces {
             break;
@@ -61,5 +68,9 @@ pub fn trace(ctx: &Context, mut ray: Ray, sampler: &mut PixelSampler) -> CameraS
         }
         break;
     }
-    CameraSample { radiance, first_hit, rays }
+    CameraSample {
+        radiance,
+        first_hit,
+        rays,
+    }
 }

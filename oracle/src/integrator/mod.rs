@@ -114,7 +114,8 @@ pub(crate) fn emission_at(ctx: &Context, ray: &Ray, hit: &SurfaceHit, origin: Or
 /// MIS-weighted.
 pub(crate) fn escaped(ctx: &Context, ray: &Ray, origin: Origin) -> Rgb {
     let mut total = Rgb::ZERO;
-    for (i, emitter) in ctx.lights.emitters().iter().enumerate() {
+    for &i in ctx.lights.distant() {
+        let emitter = &ctx.lights.emitters()[i];
         let l = emitter.radiance_from_direction(ray.dir);
         if l == Rgb::ZERO {
             continue;
@@ -159,7 +160,11 @@ pub(crate) fn sample_light(
     if ctx.accel.occluded(&shadow, tmax) {
         return (Rgb::ZERO, 1);
     }
-    let weight = if ls.delta { 1.0 } else { power_heuristic(ls.pdf, bsdf.pdf(wo, wi)) };
+    let weight = if ls.delta {
+        1.0
+    } else {
+        power_heuristic(ls.pdf, bsdf.pdf(wo, wi))
+    };
     (f * ls.li * (weight / ls.pdf), 1)
 }
 
@@ -172,9 +177,12 @@ pub(crate) fn shadow_ray(hit: &SurfaceHit, dir: Vec3, dist: f32) -> (Ray, f32) {
     }
 }
 
-/// Fraction of each named light visible from `p` (one stratified sample per light per call:
-/// averaged over a pixel's samples this is the visible fraction of the light's solid angle,
-/// since rectangles, spheres and sun disks are sampled uniformly in solid angle).
+/// Fraction of each named light visible from the hit, one light sample and shadow ray per
+/// light per call. Averaged over a pixel's samples this is the visible fraction of the light
+/// as its sampling measures it: of its solid angle for rectangles, spheres seen from outside
+/// and sun disks (sampled uniformly in solid angle); of its area, weighted by the
+/// area-to-solid-angle factor, for disks, meshes and sheared parallelograms; 0 or 1 for delta
+/// lights.
 pub fn light_visibility(ctx: &Context, hit: &SurfaceHit, sampler: &mut PixelSampler, out: &mut [f32]) -> u32 {
     let mut rays = 0;
     for (k, v) in out.iter_mut().enumerate() {

@@ -12,7 +12,11 @@ use crate::sampler::PixelSampler;
 
 /// Radiance along `ray`, path traced.
 pub fn trace(ctx: &Context, mut ray: Ray, sampler: &mut PixelSampler) -> CameraSample {
-    let max_depth = if ctx.settings.max_depth < 0 { u32::MAX } else { ctx.settings.max_depth as u32 };
+    let max_depth = if ctx.settings.max_depth < 0 {
+        u32::MAX
+    } else {
+        ctx.settings.max_depth as u32
+    };
     let mut radiance = Rgb::ZERO;
     let mut throughput = Rgb::ONE;
     let mut eta = 1.0f32;
@@ -29,7 +33,10 @@ pub fn trace(ctx: &Context, mut ray: Ray, sampler: &mut PixelSampler) -> CameraS
         radiance += throughput * emission_at(ctx, &ray, &h, origin);
         let (frame, bsdf) = shade(ctx, &h);
         if depth == 0 {
-            first_hit = Some(FirstHit { hit: h, albedo: bsdf.albedo() });
+            first_hit = Some(FirstHit {
+                hit: h,
+                albedo: bsdf.albedo(),
+            });
         }
         if depth + 1 >= max_depth {
             break;
@@ -48,7 +55,11 @@ pub fn trace(ctx: &Context, mut ray: Ray, sampler: &mut PixelSampler) -> CameraS
         throughput *= s.weight;
         eta *= s.eta;
         let wi = frame.to_world(s.wi);
-        origin = if s.delta { Origin::Unsampleable } else { Origin::Bsdf { p: h.p, pdf: s.pdf } };
+        origin = if s.delta {
+            Origin::Unsampleable
+        } else {
+            Origin::Bsdf { p: h.p, pdf: s.pdf }
+        };
         ray = spawn_ray(h.p, h.ng, wi);
         hit = ctx.accel.intersect(&ray, f32::INFINITY);
         rays += 1;
@@ -66,5 +77,9 @@ pub fn trace(ctx: &Context, mut ray: Ray, sampler: &mut PixelSampler) -> CameraS
             break;
         }
     }
-    CameraSample { radiance, first_hit, rays }
+    CameraSample {
+        radiance,
+        first_hit,
+        rays,
+    }
 }

@@ -2,7 +2,9 @@
 //!
 //! Orientation is Mitsuba 3's `envmap` (DESIGN.md "Environment map"): a direction ω maps to
 //! (u, v) = [`equirect_uv`]`(ω)` with u = 0 → −Z, u = 0.25 → +X, row 0 (v = 0) → +Y, and the
-//! radiance is L(ω) = scale × texture(u, v) (bilinear, [`Texture::sample`]).
+//! radiance is L(ω) = scale × [`environment_lookup`]`(texture, ω)`: bilinear with Mitsuba's
+//! texel placement (columns at texel centres, rows at v = j/(H − 1)), measured against
+//! Mitsuba 3.9.1.
 //!
 //! Constant: directions uniform on the sphere, pdf = 1/(4π).
 //!
@@ -11,7 +13,8 @@
 //! φ = 2πu, dω = sinθ dθ dφ = 2π² sinθ du dv, so the solid-angle pdf is p(ω) = p(u, v)/(2π² sinθ)
 //! (pbrt-v3 §14.2.4, "Infinite Area Lights"). The weight of cell (i, j) is
 //! sinθ_j × max luminance over the 3×3 texels the bilinear lookup can reach inside the cell,
-//! which bounds the radiance there, so p(ω) > 0 wherever L(ω) > 0.
+//! which bounds the radiance there (a cell's lookups touch only the texel columns i−1..i+1 and
+//! rows j−1..j+1 under that placement), so p(ω) > 0 wherever L(ω) > 0.
 //!
 //! Power Φ = π·R²·∫ L dω with R the scene's bounding-sphere radius (pbrt-v4 §12.5
 //! UniformInfiniteLight/ImageInfiniteLight::Phi).
@@ -28,7 +31,7 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 use scenes::texture::Texture;
-use scenes::{equirect_direction, equirect_uv, Rgb};
+use scenes::{environment_lookup, equirect_direction, equirect_uv, Rgb};
 
 use super::distribution::Distribution2D;
 use super::radiance::{average, check_rgb, check_texels, is_black, luminance};
@@ -130,7 +133,7 @@ impl EnvironmentLight {
     pub fn radiance_from_direction(&self, dir: Vec3) -> Rgb {
         match &self.kind {
             Kind::Constant(c) => *c,
-            Kind::Map { texture, scale, .. } => texture.sample(equirect_uv(dir)).truncate() * *scale,
+            Kind::Map { texture, scale, .. } => environment_lookup(texture, dir).truncate() * *scale,
         }
     }
 

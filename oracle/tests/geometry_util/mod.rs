@@ -39,7 +39,11 @@ impl Rng {
 
     /// Uniform point in the box [lo, hi).
     pub fn in_box(&mut self, lo: Vec3, hi: Vec3) -> Vec3 {
-        Vec3::new(self.range(lo.x, hi.x), self.range(lo.y, hi.y), self.range(lo.z, hi.z))
+        Vec3::new(
+            self.range(lo.x, hi.x),
+            self.range(lo.y, hi.y),
+            self.range(lo.z, hi.z),
+        )
     }
 
     /// Uniform unit direction.
@@ -72,10 +76,7 @@ pub fn scene(shapes: Vec<Shape>) -> Scene {
     Scene {
         source: PathBuf::from("geometry-test"),
         camera: Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y, 45.0),
-        film: Film {
-            width: 4,
-            height: 4,
-        },
+        film: Film { width: 4, height: 4 },
         render: RenderSettings::default(),
         textures: Vec::new(),
         materials: vec![Material::Diffuse {
@@ -99,7 +100,8 @@ pub fn uv_sphere(center: Vec3, radius: f32, n_phi: u32, n_theta: u32) -> Mesh {
             let d = Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
             m.positions.push(center + d * radius);
             m.normals.push(d);
-            m.uvs.push(Vec2::new(i as f32 / n_phi as f32, j as f32 / n_theta as f32));
+            m.uvs
+                .push(Vec2::new(i as f32 / n_phi as f32, j as f32 / n_theta as f32));
         }
     }
     let row = n_phi + 1;

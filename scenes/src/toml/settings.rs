@@ -4,7 +4,7 @@ use glam::Vec3;
 
 use super::inputs::{rgb_const, Bound, Textures};
 use super::read::Table;
-use crate::model::{Camera, Environment, Film, IntegratorKind, RenderSettings, WrapMode};
+use crate::model::{Camera, Environment, Film, IntegratorKind, RenderSettings, SamplerKind, WrapMode};
 use crate::texture::ColorSpace;
 use crate::SceneError;
 
@@ -79,7 +79,7 @@ pub(crate) fn film(t: Option<Table>) -> Result<Film, SceneError> {
     Ok(Film { width, height })
 }
 
-/// `[render]`: spp, integrator, max_depth, rr_depth, seed, ao_radius (defaults as
+/// `[render]`: spp, integrator, max_depth, rr_depth, seed, ao_radius, sampler (defaults as
 /// [`RenderSettings::default`]).
 pub(crate) fn render(t: Option<Table>) -> Result<RenderSettings, SceneError> {
     let mut r = RenderSettings::default();
@@ -87,7 +87,15 @@ pub(crate) fn render(t: Option<Table>) -> Result<RenderSettings, SceneError> {
         return Ok(r);
     };
     t.only(
-        &["spp", "integrator", "max_depth", "rr_depth", "seed", "ao_radius"],
+        &[
+            "spp",
+            "integrator",
+            "max_depth",
+            "rr_depth",
+            "seed",
+            "ao_radius",
+            "sampler",
+        ],
         "the render settings",
     )?;
     if let Some(f) = t.get("spp") {
@@ -117,6 +125,12 @@ pub(crate) fn render(t: Option<Table>) -> Result<RenderSettings, SceneError> {
     }
     if let Some(f) = t.get("ao_radius") {
         r.ao_radius = f.positive()?;
+    }
+    if let Some(f) = t.get("sampler") {
+        r.sampler = match f.keyword(&["sobol", "independent"])? {
+            "independent" => SamplerKind::Independent,
+            _ => SamplerKind::Sobol,
+        };
     }
     Ok(r)
 }

@@ -6,12 +6,28 @@ use std::path::{Path, PathBuf};
 
 use scenes::{Scene, SceneError};
 
-/// A fresh, empty scratch directory for one test (removed first if a previous run left it).
-pub fn scratch(test: &str) -> PathBuf {
+/// A scratch directory, removed when dropped.
+pub struct Scratch(PathBuf);
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// A fresh, empty scratch directory for one test.
+pub fn scratch(test: &str) -> Scratch {
     let dir = std::env::temp_dir().join(format!("verity-toml-{test}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("create the scratch directory");
-    dir
+    Scratch(dir)
 }
 
 /// Writes `text` to `dir/name` and returns the path.
