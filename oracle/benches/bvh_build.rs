@@ -4,7 +4,7 @@
 //! The mesh is a UV sphere of 1024 × 512 quads (1 046 528 triangles) with radial noise.
 //! Rays: random origins in [−1.5, 1.5]³ (inside and outside the sphere) with uniform random
 //! directions for closest hits; shadow rays join two random points of that box (about half
-//! are blocked). Each is timed on one thread and on rayon's global pool.
+//! are blocked). Each is timed on one thread and on rayon's global pool, best of `REPEATS`.
 
 #[path = "../tests/geometry_util/mod.rs"]
 mod geometry_util;
@@ -17,7 +17,9 @@ use oracle::geometry::{Accel, BuildQuality, Ray};
 use rayon::prelude::*;
 
 /// Rays per measurement.
-const RAYS: usize = 1 << 21;
+const RAYS: usize = 1 << 20;
+/// Each throughput is the best of this many runs (the machine may be shared).
+const REPEATS: usize = 3;
 
 fn bumpy_sphere_scene(rng: &mut Rng) -> scenes::Scene {
     let mut mesh = uv_sphere(Vec3::ZERO, 1.0, 1024, 512);
@@ -28,15 +30,21 @@ fn bumpy_sphere_scene(rng: &mut Rng) -> scenes::Scene {
     scene(vec![mesh_shape("bumpy sphere", mesh)])
 }
 
-/// Millions of rays per second of `f` over `rays`, on one thread or rayon's pool.
+/// Millions of rays per second of `f` over `rays` (best of `REPEATS`), on one thread or
+/// rayon's pool, and how many returned true.
 fn throughput(rays: &[(Ray, f32)], parallel: bool, f: impl Fn(&Ray, f32) -> bool + Sync) -> (f64, usize) {
-    let start = Instant::now();
-    let hits = if parallel {
-        rays.par_iter().filter(|(r, t)| f(r, *t)).count()
-    } else {
-        rays.iter().filter(|(r, t)| f(r, *t)).count()
-    };
-    (rays.len() as f64 / start.elapsed().as_secs_f64() / 1e6, hits)
+    let mut best = (0.0f64, 0);
+    for _ in 0..REPEATS {
+        let start = Instant::now();
+        let hits = if parallel {
+            rays.par_iter().filter(|(r, t)| f(r, *t)).count()
+        } else {
+            rays.iter().filter(|(r, t)| f(r, *t)).count()
+        };
+        let mrays = rays.len() as f64 / start.elapsed().as_secs_f64() / 1e6;
+        best = (best.0.max(mrays), hits);
+    }
+    best
 }
 
 fn main() {

@@ -30,6 +30,8 @@ pub struct PixelSampler {
     dimension: u32,
     /// `Some(state)` for an independent (pseudo-random) stream.
     random: Option<u64>,
+    /// The current set of 4 Sobol dimensions (`sample_4d` computes four at once with SIMD).
+    cached: [f32; 4],
 }
 
 impl PixelSampler {
@@ -43,6 +45,7 @@ impl PixelSampler {
             index: index % BLOCK,
             dimension: 0,
             random: None,
+            cached: [0.0; 4],
         }
     }
 
@@ -56,6 +59,7 @@ impl PixelSampler {
             index,
             dimension: 0,
             random: Some(state),
+            cached: [0.0; 4],
         }
     }
 

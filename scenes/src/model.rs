@@ -102,6 +102,9 @@ pub enum IntegratorKind {
     Path,
     /// Emission + one bounce of direct light + perfect-specular chains.
     Direct,
+    /// As `Direct`, with visibility ignored: every light is seen unoccluded (light sampling
+    /// only, no shadow rays). The ground truth for unshadowed real-time shading.
+    DirectUnshadowed,
     /// Ambient occlusion with a radius: fraction of unoccluded cosine-weighted directions.
     Ao,
 }

@@ -158,6 +158,64 @@ fn irradiance_from_rectangle_matches_polygon_formula() {
 }
 
 #[test]
+fn unshadowed_direct_light_ignores_blockers() {
+    let (light_center, half_u, half_v) = (
+        Vec3::new(0.0, 1.0, 0.0),
+        Vec3::new(0.5, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, 0.25),
+    );
+    let corners = [
+        light_center - half_u - half_v,
+        light_center + half_u - half_v,
+        light_center + half_u + half_v,
+        light_center - half_u + half_v,
+    ];
+    let target = Vec3::new(0.1, 0.0, 0.05);
+    let eye = target + Vec3::new(1.5, 0.5, 2.0);
+    let mut scene = empty_scene(Camera::look_at(eye, target, Vec3::Y, 0.02), 4, 4);
+    add_shape(
+        &mut scene,
+        "floor",
+        square(Vec3::ZERO, 20.0, Vec3::Y),
+        diffuse(Vec3::ONE),
+    );
+    // A blocker halfway up, covering most of the light as seen from the target.
+    add_shape(
+        &mut scene,
+        "blocker",
+        square(Vec3::new(0.0, 0.5, 0.0), 0.4, Vec3::Y),
+        diffuse(Vec3::splat(0.5)),
+    );
+    let light = add_shape(
+        &mut scene,
+        "light",
+        Geometry::Rectangle {
+            center: light_center,
+            half_u,
+            half_v,
+        },
+        diffuse(Vec3::ZERO),
+    );
+    scene.shapes[light].emission = Some(Emission {
+        radiance: TexRgb::Constant(Vec3::ONE),
+        two_sided: false,
+    });
+    let expected = polygon_irradiance(target, Vec3::Y, &corners) / std::f64::consts::PI;
+    let unshadowed = render(&scene, settings(IntegratorKind::DirectUnshadowed, -1, 2), 256).image;
+    let (mean, se) = mean_and_stderr(&unshadowed, 0);
+    assert!(
+        (mean - expected).abs() <= 3.0 * se + 1e-5 * expected,
+        "unshadowed {mean} vs {expected} (stderr {se})"
+    );
+    let shadowed = render(&scene, settings(IntegratorKind::Direct, -1, 2), 256).image;
+    let (mean_s, _) = mean_and_stderr(&shadowed, 0);
+    assert!(
+        mean_s < 0.5 * expected,
+        "the blocker should hide most of the light: {mean_s} vs unshadowed {expected}"
+    );
+}
+
+#[test]
 fn diffuse_plane_under_uniform_environment_is_albedo_times_radiance() {
     let albedo = Vec3::new(0.8, 0.5, 0.2);
     let sky = Vec3::new(1.0, 2.0, 0.5);

@@ -1,7 +1,9 @@
 //! The `verity` command line: the top-level parser and one module per subcommand.
 //!
 //! Exit statuses (compare/README.md): 0 success, 1 the work failed (render or writing the
-//! output), 2 bad usage or bad input (unknown flag, invalid value, unreadable scene). Errors
+//! output; `crosscheck`: the renderers disagree), 2 bad usage or bad input (unknown flag,
+//! invalid value, unreadable scene, a scene Mitsuba cannot express), 3 an external tool
+//! (Mitsuba 3) cannot be run. Errors
 //! are one `error: <message>` line on stderr; a panic is reported the same way, never with a
 //! backtrace.
 
@@ -11,6 +13,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+pub mod crosscheck;
+pub mod export_mitsuba;
 pub mod render;
 
 /// Verity tells a real-time renderer how wrong it is.
@@ -19,7 +23,8 @@ pub mod render;
     name = "verity",
     version,
     about = "Verity: measure real-time rendering approximations against a path-traced ground truth",
-    after_help = "Exit status: 0 success, 1 the render or writing its output failed, 2 bad usage or input."
+    after_help = "Exit status: 0 success, 1 the work failed (or crosscheck: the renderers disagree), 2 bad usage or input \
+                  (or a scene Mitsuba cannot express), 3 Mitsuba cannot be run (see scripts/setup.sh)."
 )]
 pub struct Cli {
     /// What to do.
@@ -32,6 +37,10 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene with the oracle (the CPU path tracer) to a layered EXR and a PNG preview.
     Render(render::RenderArgs),
+    /// Export a scene as a Mitsuba 3 XML scene (+ PLY meshes, EXR images), or say what Mitsuba cannot express.
+    ExportMitsuba(export_mitsuba::ExportMitsubaArgs),
+    /// Render a scene with the oracle and Mitsuba 3 and z-test them per pixel (exit 0 agree, 1 disagree).
+    Crosscheck(crosscheck::CrossCheckArgs),
 }
 
 /// Why a command failed, which decides the exit status.
@@ -41,6 +50,8 @@ pub enum Failure {
     Run,
     /// Bad usage or bad input (invalid flag value, unreadable scene): exit status 2.
     Input,
+    /// A required external tool (Mitsuba 3) cannot be run here: exit status 3.
+    Unavailable,
 }
 
 impl Failure {
@@ -49,6 +60,7 @@ impl Failure {
         match self {
             Failure::Run => 1,
             Failure::Input => 2,
+            Failure::Unavailable => 3,
         }
     }
 }
@@ -67,6 +79,14 @@ impl CliError {
     pub fn input(message: impl Into<String>) -> Self {
         CliError {
             failure: Failure::Input,
+            message: message.into(),
+        }
+    }
+
+    /// A required external tool cannot be run (exit status 3).
+    pub fn unavailable(message: impl Into<String>) -> Self {
+        CliError {
+            failure: Failure::Unavailable,
             message: message.into(),
         }
     }
@@ -116,6 +136,8 @@ pub fn run_from(args: impl IntoIterator<Item = OsString>) -> ExitCode {
 fn dispatch(cli: Cli, command_line: &str) -> Result<(), CliError> {
     match cli.command {
         Command::Render(args) => render::run(&args, command_line),
+        Command::ExportMitsuba(args) => export_mitsuba::run(&args),
+        Command::Crosscheck(args) => crosscheck::run(&args),
     }
 }
 

@@ -102,6 +102,8 @@ pub enum IntegratorArg {
     Path,
     /// Emission + one bounce of direct light + perfect-specular chains.
     Direct,
+    /// As direct, with every light unoccluded (no shadow rays): unshadowed ground truth.
+    DirectUnshadowed,
     /// Ambient occlusion within --ao-radius.
     Ao,
 }
@@ -111,6 +113,7 @@ impl From<IntegratorArg> for IntegratorKind {
         match a {
             IntegratorArg::Path => IntegratorKind::Path,
             IntegratorArg::Direct => IntegratorKind::Direct,
+            IntegratorArg::DirectUnshadowed => IntegratorKind::DirectUnshadowed,
             IntegratorArg::Ao => IntegratorKind::Ao,
         }
     }
@@ -139,6 +142,7 @@ pub fn integrator_name(kind: IntegratorKind) -> &'static str {
     match kind {
         IntegratorKind::Path => "path",
         IntegratorKind::Direct => "direct",
+        IntegratorKind::DirectUnshadowed => "direct-unshadowed",
         IntegratorKind::Ao => "ao",
     }
 }

@@ -2,11 +2,14 @@
 //! reciprocity, energy bound, pdf normalisation, χ² of the sampler). Each BSDF's own test
 //! module calls [`standard_checks`] for its parameter grid, plus its closed-form θ sweep.
 
+use std::f64::consts::PI;
+
 use glam::Vec3;
 use scenes::Rgb;
 
 use super::chi2::{chi2_test, integrate_sphere, Pcg32};
 use super::Bsdf;
+use crate::sampling::square_to_uniform_sphere;
 
 /// Outgoing directions every check runs at: (θo in degrees, φo in radians). The last one
 /// is below the surface (two-sided reflection).
@@ -51,7 +54,6 @@ pub fn standard_checks(name: &str, bsdf: &Bsdf, expect: &Expect, seed: u64) {
         let pdf_integral = if expect.chi2 {
             chi2_test(bsdf, wo, CHI2_SAMPLES, seed * 16 + k as u64)
                 .unwrap_or_else(|e| panic!("{case}: χ² test failed: {e}"))
-                .pdf_integral
         } else {
             integrate_sphere(&|w| bsdf.pdf(wo, w) as f64)
         };
@@ -143,12 +145,13 @@ pub fn check_sample_consistency(case: &str, bsdf: &Bsdf, wo: Vec3, rng: &mut Pcg
 
 /// eval(ωo, ωi)/|cos θi| = eval(ωi, ωo)/|cos θo| for random pairs on the same side.
 pub fn check_reciprocity(name: &str, bsdf: &Bsdf, rng: &mut Pcg32) {
+    let mut uniform = || {
+        let u = rng.next_vec2();
+        square_to_uniform_sphere(u)
+    };
     let mut checked = 0;
     while checked < 20_000 {
-        let wo =
-            super::chi2::sphere_direction(2.0 * rng.next_f32() as f64 - 1.0, 6.3 * rng.next_f32() as f64);
-        let wi =
-            super::chi2::sphere_direction(2.0 * rng.next_f32() as f64 - 1.0, 6.3 * rng.next_f32() as f64);
+        let (wo, wi) = (uniform(), uniform());
         if wo.z.abs() < 1e-2 || wi.z.abs() < 1e-2 {
             continue;
         }
@@ -192,4 +195,61 @@ pub fn energy_estimate(bsdf: &Bsdf, wo: Vec3, rng: &mut Pcg32) -> ([f64; 3], [f6
         sigma[c] = (var / n as f64).sqrt();
     }
     (mean, sigma)
+}
+
+/// One configuration of the closed-form θ sweeps: ωo at θo (azimuth 0) and ωi at θi in the
+/// plane of incidence, opposite ωo in azimuth or on its side, with the GGX quantities
+/// derived by hand from the angles alone (independent of the vector code under test).
+pub struct InPlane {
+    /// θo, θi in radians.
+    pub theta_o: f64,
+    /// See `theta_o`.
+    pub theta_i: f64,
+    /// The directions as the BSDF sees them.
+    pub wo: Vec3,
+    /// See `wo`.
+    pub wi: Vec3,
+    /// GGX D(h) = α²/(π cos⁴θh (α² + tan²θh)²) (Walter et al. 2007, eq. 33, angle form).
+    pub d: f64,
+    /// Λ(θo), Λ(θi) with Λ(θ) = (−1 + √(1 + α² tan²θ))/2.
+    pub lambda_o: f64,
+    /// See `lambda_o`.
+    pub lambda_i: f64,
+    /// cos θd = ωo·h.
+    pub cos_d: f64,
+}
+
+/// Calls `check` for θo ∈ {0°, 30°, 70°} × θi ∈ {0°, 15°, 30°, 50°, 85°} × {opposite, same
+/// azimuth}. Opposite: θh = |θi − θo|/2, θd = (θo + θi)/2; same azimuth: θh = (θo + θi)/2,
+/// θd = |θo − θi|/2.
+pub fn in_plane_sweep(alpha: f64, mut check: impl FnMut(&InPlane)) {
+    let lambda = |theta: f64| 0.5 * ((1.0 + alpha * alpha * theta.tan().powi(2)).sqrt() - 1.0);
+    for theta_o in [0.0f64, 30.0, 70.0].map(f64::to_radians) {
+        for theta_i in [0.0f64, 15.0, 30.0, 50.0, 85.0].map(f64::to_radians) {
+            for opposite in [true, false] {
+                let (th, td) = if opposite {
+                    ((theta_i - theta_o).abs() / 2.0, (theta_o + theta_i) / 2.0)
+                } else {
+                    ((theta_o + theta_i) / 2.0, (theta_o - theta_i).abs() / 2.0)
+                };
+                let a2 = alpha * alpha;
+                let phi_i = if opposite { std::f32::consts::PI } else { 0.0 };
+                check(&InPlane {
+                    theta_o,
+                    theta_i,
+                    wo: direction(theta_o.to_degrees() as f32, 0.0),
+                    wi: direction(theta_i.to_degrees() as f32, phi_i),
+                    d: a2 / (PI * th.cos().powi(4) * (a2 + th.tan().powi(2)).powi(2)),
+                    lambda_o: lambda(theta_o),
+                    lambda_i: lambda(theta_i),
+                    cos_d: td.cos(),
+                });
+            }
+        }
+    }
+}
+
+/// |actual − expected| ≤ 10⁻³·|expected| + 10⁻⁶.
+pub fn close(actual: f32, expected: f64) -> bool {
+    (actual as f64 - expected).abs() <= 1e-3 * expected.abs() + 1e-6
 }

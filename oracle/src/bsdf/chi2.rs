@@ -12,6 +12,7 @@
 use std::f64::consts::{PI, TAU};
 
 use glam::{Vec2, Vec3};
+use rayon::prelude::*;
 
 use super::Bsdf;
 
@@ -71,11 +72,8 @@ impl Pcg32 {
     }
 }
 
-/// Unit direction with cos θ = `z` and azimuth `phi`.
-pub fn sphere_direction(z: f64, phi: f64) -> Vec3 {
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    Vec3::new((r * phi.cos()) as f32, (r * phi.sin()) as f32, z as f32)
-}
+/// A function on the sphere to integrate (shared between quadrature threads).
+pub type Integrand<'a> = dyn Fn(Vec3) -> f64 + Sync + 'a;
 
 /// Grid cell of direction `w` in an nz × nφ grid over (cos θ ∈ [−1, 1], φ ∈ [0, 2π)).
 fn cell_of(w: Vec3, nz: usize, nphi: usize) -> usize {
@@ -106,37 +104,46 @@ const RELATIVE_TOLERANCE: f64 = 1e-6;
 /// the poles stay wide (in cos θ a lobe of width α at the pole is only α²/2 wide), by
 /// adaptive 2D Simpson quadrature on a base grid refined where the Simpson estimates of a
 /// rectangle and its four quarters disagree.
-pub fn integrate_cells(f: &dyn Fn(Vec3) -> f64, nz: usize, nphi: usize) -> Vec<f64> {
-    let integrand = |theta: f64, phi: f64| f(sphere_direction(theta.cos(), phi)) * theta.sin();
+pub fn integrate_cells(f: &Integrand<'_>, nz: usize, nphi: usize) -> Vec<f64> {
+    let integrand = |theta: f64, phi: f64| {
+        let (st, ct) = theta.sin_cos();
+        let (sp, cp) = phi.sin_cos();
+        f(Vec3::new((st * cp) as f32, (st * sp) as f32, ct as f32)) * st
+    };
     let (dz, dp) = (2.0 / nz as f64, TAU / nphi as f64);
     let bp = dp / BASE_SUBDIVISIONS as f64;
     let tol_per_sr = TOLERANCE / (4.0 * PI);
-    let mut cells = vec![0.0; nz * nphi];
-    for iz in 0..nz {
-        // The cell's cos θ range [z0, z0 + dz] is θ ∈ [acos(z0 + dz), acos z0]; base steps
-        // in θ no longer than dz/BASE_SUBDIVISIONS (the polar cells span the widest θ range).
-        let z0 = -1.0 + iz as f64 * dz;
-        let (t0, t1) = ((z0 + dz).min(1.0).acos(), z0.max(-1.0).acos());
-        let n_theta = ((t1 - t0) / (dz / BASE_SUBDIVISIONS as f64)).ceil().max(1.0) as usize;
-        let bt = (t1 - t0) / n_theta as f64;
-        let tol = tol_per_sr * dz * dp / (n_theta * BASE_SUBDIVISIONS) as f64;
-        for ip in 0..nphi {
-            let mut sum = 0.0;
-            for st in 0..n_theta {
-                for sp in 0..BASE_SUBDIVISIONS {
-                    let a = t0 + st as f64 * bt;
-                    let p = ip as f64 * dp + sp as f64 * bp;
-                    sum += adaptive_simpson(&integrand, Rect::new(a, a + bt, p, p + bp), tol);
-                }
-            }
-            cells[iz * nphi + ip] = sum;
-        }
-    }
-    cells
+    // One cos θ row of cells per task.
+    let rows: Vec<Vec<f64>> = (0..nz)
+        .into_par_iter()
+        .map(|iz| {
+            // The row's cos θ range [z0, z0 + dz] is θ ∈ [acos(z0 + dz), acos z0]; base steps
+            // in θ no longer than dz/BASE_SUBDIVISIONS (the polar rows span the widest θ range).
+            let z0 = -1.0 + iz as f64 * dz;
+            let (t0, t1) = ((z0 + dz).min(1.0).acos(), z0.max(-1.0).acos());
+            let n_theta = ((t1 - t0) / (dz / BASE_SUBDIVISIONS as f64)).ceil().max(1.0) as usize;
+            let bt = (t1 - t0) / n_theta as f64;
+            let tol = tol_per_sr * dz * dp / (n_theta * BASE_SUBDIVISIONS) as f64;
+            (0..nphi)
+                .map(|ip| {
+                    let mut sum = 0.0;
+                    for st in 0..n_theta {
+                        for sp in 0..BASE_SUBDIVISIONS {
+                            let a = t0 + st as f64 * bt;
+                            let p = ip as f64 * dp + sp as f64 * bp;
+                            sum += adaptive_simpson(&integrand, Rect::new(a, a + bt, p, p + bp), tol);
+                        }
+                    }
+                    sum
+                })
+                .collect()
+        })
+        .collect();
+    rows.concat()
 }
 
 /// ∫ f dω over the whole sphere (see [`integrate_cells`]).
-pub fn integrate_sphere(f: &dyn Fn(Vec3) -> f64) -> f64 {
+pub fn integrate_sphere(f: &Integrand<'_>) -> f64 {
     integrate_cells(f, GRID.0, GRID.1).iter().sum()
 }
 
@@ -227,18 +234,10 @@ fn refine(f: &dyn Fn(f64, f64) -> f64, r: Rect, v: &[[f64; 3]; 3], whole: f64, t
         .sum()
 }
 
-/// Outcome of a passed χ² test.
-#[derive(Debug)]
-pub struct Chi2Outcome {
-    /// ∫ pdf over the sphere (quadrature).
-    pub pdf_integral: f64,
-    /// The p-value.
-    pub p_value: f64,
-}
-
 /// χ² goodness-of-fit of `bsdf.sample(wo, ·)` against `bsdf.pdf(wo, ·)` with `samples`
-/// draws binned on the [`GRID`]; `Err` describes the failure (worst cells).
-pub fn chi2_test(bsdf: &Bsdf, wo: Vec3, samples: u32, seed: u64) -> Result<Chi2Outcome, String> {
+/// draws binned on the [`GRID`]. Returns ∫pdf dω (quadrature); `Err` describes the failure
+/// (worst cells).
+pub fn chi2_test(bsdf: &Bsdf, wo: Vec3, samples: u32, seed: u64) -> Result<f64, String> {
     let mut sample = |rng: &mut Pcg32| {
         let u_lobe = rng.next_f32();
         bsdf.sample(wo, u_lobe, rng.next_vec2())
@@ -251,10 +250,10 @@ pub fn chi2_test(bsdf: &Bsdf, wo: Vec3, samples: u32, seed: u64) -> Result<Chi2O
 /// [`chi2_test`] for any sampler (`None` = lost sample) and density.
 fn chi2_test_with(
     sample: &mut dyn FnMut(&mut Pcg32) -> Option<Vec3>,
-    pdf: &dyn Fn(Vec3) -> f64,
+    pdf: &Integrand<'_>,
     samples: u32,
     seed: u64,
-) -> Result<Chi2Outcome, String> {
+) -> Result<f64, String> {
     let (nz, nphi) = GRID;
     // Histogram of sampled directions; the last cell counts lost samples.
     let mut observed = vec![0.0f64; nz * nphi + 1];
@@ -295,10 +294,7 @@ fn chi2_test_with(
             worst_cells(&observed, &expected, nphi)
         ));
     }
-    Ok(Chi2Outcome {
-        pdf_integral,
-        p_value,
-    })
+    Ok(pdf_integral)
 }
 
 /// Pearson's χ² after pooling: cells are taken in increasing order of expected count and

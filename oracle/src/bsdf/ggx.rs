@@ -113,65 +113,35 @@ impl Ggx {
 
 #[cfg(test)]
 mod tests {
-    use std::f64::consts::PI;
-
     use super::*;
-    use crate::bsdf::check::{direction, standard_checks, Expect};
+    use crate::bsdf::check::{close, direction, in_plane_sweep, standard_checks, Expect};
     use crate::bsdf::Bsdf;
 
-    /// Λ(θ) = (−1 + √(1 + α² tan²θ))/2 from the angle.
-    fn lambda(alpha: f64, theta: f64) -> f64 {
-        0.5 * ((1.0 + alpha * alpha * theta.tan().powi(2)).sqrt() - 1.0)
-    }
-
-    /// Hand-derived in-plane values. With ωi opposite ωo in azimuth, θh = |θi − θo|/2 and
-    /// θd = (θo + θi)/2; with ωi on ωo's azimuth, θh = (θo + θi)/2 and θd = |θo − θi|/2.
-    /// D = α²/(π cos⁴θh (α² + tan²θh)²) (Walter's form), eval = k F(θd) D G2/(4 cos θo),
-    /// pdf = G1(θo) D/(4 cos θo).
+    /// Hand-derived in-plane values ([`in_plane_sweep`]): eval = k F(θd) D G2/(4 cos θo),
+    /// pdf = G1(θo) D/(4 cos θo), G2 = 1/(1 + Λo + Λi) or 1/((1 + Λo)(1 + Λi)).
     #[test]
     fn bsdf_ggx_closed_form_sweep() {
         let (k, f0) = (0.9f64, 0.04f64);
         for masking in [Masking::HeightCorrelated, Masking::Separable] {
             for roughness in [0.05f64, 0.3, 0.8] {
-                let alpha = (roughness * roughness).max(1e-3);
-                let bsdf = Bsdf::Ggx(Ggx::new(
-                    Rgb::splat(k as f32),
-                    Rgb::splat(f0 as f32),
-                    roughness as f32,
-                    masking,
-                ));
-                for theta_o in [0.0f64, 30.0, 70.0] {
-                    let wo = direction(theta_o as f32, 0.0);
-                    for theta_i in [0.0f64, 15.0, 30.0, 50.0, 85.0] {
-                        let (to, ti) = (theta_o.to_radians(), theta_i.to_radians());
-                        for opposite in [true, false] {
-                            let (th, td) = if opposite {
-                                ((ti - to).abs() / 2.0, (to + ti) / 2.0)
-                            } else {
-                                ((to + ti) / 2.0, (to - ti).abs() / 2.0)
-                            };
-                            let d = alpha * alpha
-                                / (PI * th.cos().powi(4) * (alpha * alpha + th.tan().powi(2)).powi(2));
-                            let (lo, li) = (lambda(alpha, to), lambda(alpha, ti));
-                            let g2 = match masking {
-                                Masking::HeightCorrelated => 1.0 / (1.0 + lo + li),
-                                Masking::Separable => 1.0 / ((1.0 + lo) * (1.0 + li)),
-                            };
-                            let f = f0 + (1.0 - f0) * (1.0 - td.cos()).powi(5);
-                            let expected_eval = k * f * d * g2 / (4.0 * to.cos());
-                            let expected_pdf = d / ((1.0 + lo) * 4.0 * to.cos());
-                            let wi =
-                                direction(theta_i as f32, if opposite { std::f32::consts::PI } else { 0.0 });
-                            let (e, p) = (bsdf.eval(wo, wi).x as f64, bsdf.pdf(wo, wi) as f64);
-                            assert!(
-                                (e - expected_eval).abs() <= 1e-3 * expected_eval + 1e-6
-                                    && (p - expected_pdf).abs() <= 1e-3 * expected_pdf + 1e-6,
-                                "{masking:?}, r {roughness}, θo {theta_o}°, θi {theta_i}°, opposite {opposite}: \
-                                 eval {e} vs {expected_eval}, pdf {p} vs {expected_pdf}"
-                            );
-                        }
-                    }
-                }
+                let (k32, f032) = (Rgb::splat(k as f32), Rgb::splat(f0 as f32));
+                let bsdf = Bsdf::Ggx(Ggx::new(k32, f032, roughness as f32, masking));
+                in_plane_sweep((roughness * roughness).max(1e-3), |c| {
+                    let g2 = match masking {
+                        Masking::HeightCorrelated => 1.0 / (1.0 + c.lambda_o + c.lambda_i),
+                        Masking::Separable => 1.0 / ((1.0 + c.lambda_o) * (1.0 + c.lambda_i)),
+                    };
+                    let f = f0 + (1.0 - f0) * (1.0 - c.cos_d).powi(5);
+                    let eval = k * f * c.d * g2 / (4.0 * c.theta_o.cos());
+                    let pdf = c.d / ((1.0 + c.lambda_o) * 4.0 * c.theta_o.cos());
+                    let (e, p) = (bsdf.eval(c.wo, c.wi).x, bsdf.pdf(c.wo, c.wi));
+                    assert!(
+                        close(e, eval) && close(p, pdf),
+                        "{masking:?}, r {roughness}, ωo {}, ωi {}: eval {e} vs {eval}, pdf {p} vs {pdf}",
+                        c.wo,
+                        c.wi
+                    );
+                });
             }
         }
         // Hand values, roughness 0.3 (α = 0.09), f0 = 1, k = 1 at normal incidence: D/4 =

@@ -46,7 +46,7 @@ impl Lambert {
         }
         let local = square_to_cosine_hemisphere(u);
         let pdf = cosine_hemisphere_pdf(local);
-        if !(pdf > 0.0) {
+        if pdf <= 0.0 {
             return None;
         }
         Some(BsdfSample {

@@ -8,8 +8,9 @@
 //!
 //! Every term is symmetric in ωo, ωi, so f is reciprocal. It is not energy conserving by
 //! construction: the diffuse term is weighted by 1 − F(ωo·h) at the half vector of the
-//! pair, not by what the specular lobe leaves over, so for a white base colour the
-//! dielectric's albedo exceeds 1 at grazing ωo. Two-sided.
+//! pair, not by what the specular lobe leaves over, so with a white base colour and m < 1
+//! the albedo exceeds 1 beyond θo ≈ 40° (m = 0, roughness 0.05: 1.0004 at 45°, 1.35 at 80°,
+//! 1.80 at 89°). The pure metal (m = 1) is single-scattering GGX and stays ≤ 1. Two-sided.
 //!
 //! Sampling is a one-sample mixture: the specular lobe (visible normals, Heitz 2018) with
 //! probability p, the cosine-weighted diffuse lobe otherwise, where p is the specular share
@@ -152,7 +153,7 @@ impl MetalRough {
         let m = self.metallic;
         let f_d = schlick_scalar(DIELECTRIC_F0, wo.z);
         let diffuse = (1.0 - m) * (1.0 - f_d) * luminance(self.base_color);
-        if !(diffuse > 0.0) {
+        if diffuse <= 0.0 {
             return 1.0;
         }
         let spec = m * luminance(schlick(self.base_color, wo.z)) + (1.0 - m) * f_d;
@@ -173,80 +174,54 @@ mod tests {
     use std::f64::consts::PI;
 
     use super::*;
-    use crate::bsdf::check::{direction, standard_checks, Expect};
+    use crate::bsdf::check::{close, direction, in_plane_sweep, standard_checks, Expect};
     use crate::bsdf::Bsdf;
 
-    /// Λ(θ) = (−1 + √(1 + α² tan²θ))/2 from the angle.
-    fn lambda(alpha: f64, theta: f64) -> f64 {
-        0.5 * ((1.0 + alpha * alpha * theta.tan().powi(2)).sqrt() - 1.0)
+    /// Lobe-selection probability from the documented albedo estimate, in f64.
+    fn specular_probability(c: [f64; 3], m: f64, cos_o: f64) -> f64 {
+        let y = |v: [f64; 3]| 0.2126 * v[0] + 0.7152 * v[1] + 0.0722 * v[2];
+        let w = (1.0 - cos_o).powi(5);
+        let fo = 0.04 + 0.96 * w;
+        let diffuse = (1.0 - m) * (1.0 - fo) * y(c);
+        let spec = m * y(c.map(|ck| ck + (1.0 - ck) * w)) + (1.0 - m) * fo;
+        if diffuse > 0.0 {
+            (spec / (spec + diffuse)).clamp(0.1, 0.9)
+        } else {
+            1.0
+        }
     }
 
-    /// Hand-derived in-plane values (θh, θd as in the GGX sweep), straight from glTF
-    /// Appendix B: f·cos = [(1−m)(1−Fd)c/π + ((1−m)Fd + m(c + (1−c)w))·D·G2/(4 cos θo cos θi)]·cos θi,
+    /// Hand-derived in-plane values ([`in_plane_sweep`]) straight from glTF Appendix B:
+    /// f·cos = [(1−m)(1−Fd)c/π + ((1−m)Fd + m(c + (1−c)w))·D·G2/(4 cos θo cos θi)]·cos θi,
     /// w = (1 − cos θd)⁵, Fd = 0.04 + 0.96w; pdf = p·G1(θo)D/(4 cos θo) + (1−p)cos θi/π.
     #[test]
     fn bsdf_metal_rough_closed_form_sweep() {
         let c = [0.8f64, 0.5, 0.2];
-        let y = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
         for m in [0.0f64, 0.5, 1.0] {
             for roughness in [0.05f64, 0.3, 0.8] {
-                let alpha = (roughness * roughness).max(1e-3);
                 let base = Rgb::new(c[0] as f32, c[1] as f32, c[2] as f32);
                 let bsdf = Bsdf::MetalRough(MetalRough::new(base, m as f32, roughness as f32));
-                for theta_o in [0.0f64, 30.0, 70.0] {
-                    let to = theta_o.to_radians();
-                    // Lobe-selection probability from the documented albedo estimate.
-                    let fo = 0.04 + 0.96 * (1.0 - to.cos()).powi(5);
-                    let y_metal: f64 = (0..3)
-                        .map(|k| {
-                            [0.2126, 0.7152, 0.0722][k] * (c[k] + (1.0 - c[k]) * (1.0 - to.cos()).powi(5))
-                        })
-                        .sum();
-                    let diffuse = (1.0 - m) * (1.0 - fo) * y;
-                    let spec = m * y_metal + (1.0 - m) * fo;
-                    let p = if diffuse > 0.0 {
-                        (spec / (spec + diffuse)).clamp(0.1, 0.9)
-                    } else {
-                        1.0
-                    };
-                    let wo = direction(theta_o as f32, 0.0);
-                    for theta_i in [0.0f64, 15.0, 30.0, 50.0, 85.0] {
-                        let ti = theta_i.to_radians();
-                        for opposite in [true, false] {
-                            let (th, td) = if opposite {
-                                ((ti - to).abs() / 2.0, (to + ti) / 2.0)
-                            } else {
-                                ((to + ti) / 2.0, (to - ti).abs() / 2.0)
-                            };
-                            let d = alpha * alpha
-                                / (PI * th.cos().powi(4) * (alpha * alpha + th.tan().powi(2)).powi(2));
-                            let (lo, li) = (lambda(alpha, to), lambda(alpha, ti));
-                            let s = d / ((1.0 + lo + li) * 4.0 * to.cos() * ti.cos());
-                            let w = (1.0 - td.cos()).powi(5);
-                            let fd = 0.04 + 0.96 * w;
-                            let expected_pdf =
-                                p * d / ((1.0 + lo) * 4.0 * to.cos()) + (1.0 - p) * ti.cos() / PI;
-                            let wi =
-                                direction(theta_i as f32, if opposite { std::f32::consts::PI } else { 0.0 });
-                            let (e, pdf) = (bsdf.eval(wo, wi), bsdf.pdf(wo, wi) as f64);
-                            for k in 0..3 {
-                                let f = (1.0 - m) * (1.0 - fd) * c[k] / PI
-                                    + ((1.0 - m) * fd + m * (c[k] + (1.0 - c[k]) * w)) * s;
-                                let expected = f * ti.cos();
-                                assert!(
-                                    (e[k] as f64 - expected).abs() <= 1e-3 * expected + 1e-6,
-                                    "m {m}, r {roughness}, θo {theta_o}°, θi {theta_i}°, opposite {opposite}: \
-                                     eval[{k}] {} vs {expected}",
-                                    e[k]
-                                );
-                            }
-                            assert!(
-                                (pdf - expected_pdf).abs() <= 1e-3 * expected_pdf + 1e-6,
-                                "m {m}, r {roughness}, θo {theta_o}°, θi {theta_i}°: pdf {pdf} vs {expected_pdf}"
-                            );
-                        }
+                in_plane_sweep((roughness * roughness).max(1e-3), |g| {
+                    let (cos_o, cos_i) = (g.theta_o.cos(), g.theta_i.cos());
+                    let s = g.d / ((1.0 + g.lambda_o + g.lambda_i) * 4.0 * cos_o * cos_i);
+                    let w = (1.0 - g.cos_d).powi(5);
+                    let fd = 0.04 + 0.96 * w;
+                    let p = specular_probability(c, m, cos_o);
+                    let pdf = p * g.d / ((1.0 + g.lambda_o) * 4.0 * cos_o) + (1.0 - p) * cos_i / PI;
+                    let (e, actual_pdf) = (bsdf.eval(g.wo, g.wi), bsdf.pdf(g.wo, g.wi));
+                    let case = format!("m {m}, r {roughness}, ωo {}, ωi {}", g.wo, g.wi);
+                    for k in 0..3 {
+                        let metal = c[k] + (1.0 - c[k]) * w;
+                        let f = (1.0 - m) * (1.0 - fd) * c[k] / PI + ((1.0 - m) * fd + m * metal) * s;
+                        assert!(
+                            close(e[k], f * cos_i),
+                            "{case}: eval[{k}] {} vs {}",
+                            e[k],
+                            f * cos_i
+                        );
                     }
-                }
+                    assert!(close(actual_pdf, pdf), "{case}: pdf {actual_pdf} vs {pdf}");
+                });
             }
         }
         // Hand values: c = (0.8, 0.5, 0.2), m = 0.5, roughness 0.3, ωo = ωi = z (h = z, w = 0):
@@ -254,7 +229,7 @@ mod tests {
         // p = 0.527974, pdf = p/(4πα²) + (1 − p)/π = 5.337263.
         let bsdf = Bsdf::MetalRough(MetalRough::new(Rgb::new(0.8, 0.5, 0.2), 0.5, 0.3));
         let (e, p) = (bsdf.eval(Vec3::Z, Vec3::Z), bsdf.pdf(Vec3::Z, Vec3::Z));
-        let expected = Rgb::new(4.248_470, 2.728_977, 1.209_483);
+        let expected = Rgb::new(4.24847, 2.728_977, 1.209_483);
         assert!(
             (e - expected).abs().max_element() < 1e-4,
             "eval {e} vs {expected}"

@@ -170,7 +170,8 @@ impl Bsdf {
 /// ωo and ωi lie strictly on the same side, else both with z > 0.
 #[inline]
 pub(crate) fn upper_pair(wo: Vec3, wi: Vec3) -> Option<(Vec3, Vec3)> {
-    if !(wo.z * wi.z > 0.0) {
+    let same_side = wo.z * wi.z;
+    if same_side.is_nan() || same_side <= 0.0 {
         return None;
     }
     if wo.z < 0.0 {

@@ -70,7 +70,7 @@ impl Phong {
             return None;
         }
         let pdf = self.lobe_pdf(cos_alpha);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let weight = self.reflectance * ((self.exponent + 2.0) / (self.exponent + 1.0) * wi.z);

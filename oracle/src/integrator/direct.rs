@@ -4,10 +4,13 @@
 //! 64 when unbounded); at the first non-delta surface the direct light is estimated by one
 //! light sample and one BSDF sample combined with MIS (Veach 1997 §9.2), and the path ends.
 //! Light reaching that surface through other surfaces (indirect light, caustics) is excluded.
+//!
+//! `direct_unshadowed` is the same with visibility ignored: one light sample per surface, no
+//! shadow ray, no BSDF sample (see [`Visibility::Ignored`]).
 
 use scenes::Rgb;
 
-use super::{emission_at, escaped, sample_light, shade, CameraSample, Context, FirstHit, Origin};
+use super::{emission_at, escaped, sample_light, shade, CameraSample, Context, FirstHit, Origin, Visibility};
 use crate::geometry::{spawn_ray, Ray};
 use crate::sampler::PixelSampler;
 
@@ -15,7 +18,12 @@ use crate::sampler::PixelSampler;
 const MAX_SPECULAR_CHAIN: u32 = 64;
 
 /// Radiance along `ray`: directly visible and direct light, through specular chains.
-pub fn trace(ctx: &Context, mut ray: Ray, sampler: &mut PixelSampler) -> CameraSample {
+pub fn trace(
+    ctx: &Context,
+    mut ray: Ray,
+    sampler: &mut PixelSampler,
+    visibility: Visibility,
+) -> CameraSample {
     let max_surfaces = if ctx.settings.max_depth < 0 {
         MAX_SPECULAR_CHAIN
     } else {
@@ -53,9 +61,12 @@ pub fn trace(ctx: &Context, mut ray: Ray, sampler: &mut PixelSampler) -> CameraS
             continue;
         }
         // Direct light at the first non-delta surface: light sample + BSDF sample, MIS.
-        let (direct, shadow_rays) = sample_light(ctx, &h, &frame, &bsdf, wo, sampler);
+        let (direct, shadow_rays) = sample_light(ctx, &h, &frame, &bsdf, wo, sampler, visibility);
         radiance += throughput * direct;
         rays += shadow_rays;
+        if visibility == Visibility::Ignored {
+            break;
+        }
         if let Some(s) = bsdf.sample(wo, u_lobe, u) {
             let next = spawn_ray(h.p, h.ng, frame.to_world(s.wi));
             let origin = Origin::Bsdf { p: h.p, pdf: s.pdf };

@@ -53,7 +53,8 @@ pub struct CameraSample {
 pub fn trace(ctx: &Context, ray: Ray, sampler: &mut PixelSampler) -> CameraSample {
     match ctx.settings.integrator {
         IntegratorKind::Path => path::trace(ctx, ray, sampler),
-        IntegratorKind::Direct => direct::trace(ctx, ray, sampler),
+        IntegratorKind::Direct => direct::trace(ctx, ray, sampler, Visibility::Traced),
+        IntegratorKind::DirectUnshadowed => direct::trace(ctx, ray, sampler, Visibility::Ignored),
         IntegratorKind::Ao => ao::trace(ctx, ray, sampler),
     }
 }
@@ -129,9 +130,19 @@ pub(crate) fn escaped(ctx: &Context, ray: &Ray, origin: Origin) -> Rgb {
     total
 }
 
+/// Whether light samples are tested for occlusion.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Visibility {
+    /// Shadow rays; light and BSDF samples combined by MIS.
+    Traced,
+    /// Every light unoccluded: light sampling alone (every emitter's sampling covers all of
+    /// it, so the estimate is unbiased without MIS), no shadow rays.
+    Ignored,
+}
+
 /// Next-event estimation: one light sample (selection ∝ power) with a shadow ray,
-/// MIS-weighted against BSDF sampling. Always consumes 3 sampler dimensions. Returns the
-/// contribution and the number of rays traced.
+/// MIS-weighted against BSDF sampling (or, with [`Visibility::Ignored`], neither). Always
+/// consumes 3 sampler dimensions. Returns the contribution and the number of rays traced.
 pub(crate) fn sample_light(
     ctx: &Context,
     hit: &SurfaceHit,
@@ -139,6 +150,7 @@ pub(crate) fn sample_light(
     bsdf: &Bsdf,
     wo: Vec3,
     sampler: &mut PixelSampler,
+    visibility: Visibility,
 ) -> (Rgb, u32) {
     let u_select = sampler.next_1d();
     let u = sampler.next_2d();
@@ -155,6 +167,9 @@ pub(crate) fn sample_light(
     let f = bsdf.eval(wo, wi);
     if f == Rgb::ZERO {
         return (Rgb::ZERO, 0);
+    }
+    if visibility == Visibility::Ignored {
+        return (f * ls.li / ls.pdf, 0);
     }
     let (shadow, tmax) = shadow_ray(hit, ls.wi, ls.dist);
     if ctx.accel.occluded(&shadow, tmax) {

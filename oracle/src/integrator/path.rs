@@ -6,7 +6,7 @@
 
 use scenes::Rgb;
 
-use super::{emission_at, escaped, sample_light, shade, CameraSample, Context, FirstHit, Origin};
+use super::{emission_at, escaped, sample_light, shade, CameraSample, Context, FirstHit, Origin, Visibility};
 use crate::geometry::{spawn_ray, Ray};
 use crate::sampler::PixelSampler;
 
@@ -43,7 +43,7 @@ pub fn trace(ctx: &Context, mut ray: Ray, sampler: &mut PixelSampler) -> CameraS
         }
         let wo = frame.to_local(-ray.dir);
         // Next-event estimation.
-        let (direct, shadow_rays) = sample_light(ctx, &h, &frame, &bsdf, wo, sampler);
+        let (direct, shadow_rays) = sample_light(ctx, &h, &frame, &bsdf, wo, sampler, Visibility::Traced);
         radiance += throughput * direct;
         rays += shadow_rays;
         // Continue the path by sampling the BSDF.

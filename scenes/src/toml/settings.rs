@@ -102,8 +102,9 @@ pub(crate) fn render(t: Option<Table>) -> Result<RenderSettings, SceneError> {
         r.spp = f.int_in(1, i64::from(u32::MAX))? as u32;
     }
     if let Some(f) = t.get("integrator") {
-        r.integrator = match f.keyword(&["path", "direct", "ao"])? {
+        r.integrator = match f.keyword(&["path", "direct", "direct_unshadowed", "ao"])? {
             "direct" => IntegratorKind::Direct,
+            "direct_unshadowed" => IntegratorKind::DirectUnshadowed,
             "ao" => IntegratorKind::Ao,
             _ => IntegratorKind::Path,
         };

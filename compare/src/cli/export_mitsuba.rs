@@ -1,0 +1,174 @@
+//! `verity export-mitsuba`: write a scene as a Mitsuba 3 XML scene (+ PLY meshes and EXR
+//! images) that computes the same image as the oracle, or refuse naming what Mitsuba cannot
+//! express. [`SceneArgs`] (the scene and the settings that shape the export) is shared by
+//! `crosscheck` and `bench --vs-mitsuba`.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use scenes::{Film, Scene};
+
+use super::CliError;
+use crate::mitsuba::export::{self, Export};
+
+/// Largest width or height `--resolution` accepts (as `verity render`).
+pub const MAX_RESOLUTION: u32 = 16384;
+
+/// The scene and the settings that go into the export.
+#[derive(Args, Clone, Debug)]
+pub struct SceneArgs {
+    /// Scene file: a TOML scene (see scenes/README.md) or a glTF 2.0 asset (.gltf, .glb).
+    #[arg(value_name = "SCENE")]
+    pub scene: PathBuf,
+
+    /// Image size, e.g. 64x64, each side in 1..=16384 [default: the scene's].
+    #[arg(long, value_name = "WxH", value_parser = parse_resolution)]
+    pub resolution: Option<Film>,
+
+    /// Path depth, Mitsuba's meaning: 1 = emitters seen directly, 2 = direct light, −1 =
+    /// unbounded [default: the scene's].
+    #[arg(long, value_name = "D", allow_negative_numbers = true, value_parser = parse_max_depth)]
+    pub max_depth: Option<i32>,
+}
+
+impl SceneArgs {
+    /// Loads the scene and applies `--resolution` and `--max-depth`.
+    pub fn load(&self) -> Result<Scene, CliError> {
+        let mut scene = load_scene(&self.scene)?;
+        if let Some(film) = self.resolution {
+            scene.film = film;
+        }
+        if let Some(d) = self.max_depth {
+            scene.render.max_depth = d;
+        }
+        Ok(scene)
+    }
+}
+
+/// Flags of `verity export-mitsuba`.
+#[derive(Args, Clone, Debug)]
+pub struct ExportMitsubaArgs {
+    /// The scene and its settings.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+
+    /// Samples per pixel written into the scene's sampler [default: the scene's].
+    #[arg(long, value_name = "N", value_parser = parse_spp)]
+    pub spp: Option<u32>,
+
+    /// Seed of Mitsuba's `independent` sampler [default: the scene's].
+    #[arg(long, value_name = "K")]
+    pub seed: Option<u64>,
+
+    /// Output directory; receives scene.xml, meshes/*.ply and textures/*.exr
+    /// [default: out/<scene stem>-mitsuba].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// Runs `verity export-mitsuba`.
+pub fn run(args: &ExportMitsubaArgs) -> Result<(), CliError> {
+    let mut scene = args.scene.load()?;
+    if let Some(spp) = args.spp {
+        scene.render.spp = spp;
+    }
+    if let Some(seed) = args.seed {
+        scene.render.seed = seed;
+    }
+    let exported = export_scene(&scene)?;
+    let dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| default_dir(&args.scene.scene, "mitsuba"));
+    let xml = exported
+        .write(&dir)
+        .map_err(|e| CliError::run(format!("writing the export: {e}")))?;
+    println!(
+        "exported {} -> {} ({} files beside it)",
+        args.scene.scene.display(),
+        xml.display(),
+        exported.assets.len()
+    );
+    Ok(())
+}
+
+/// Exports, turning a refusal into a bad-input error (exit 2) that lists every problem.
+pub fn export_scene(scene: &Scene) -> Result<Export, CliError> {
+    export::export(scene).map_err(|e| CliError::input(e.to_string()))
+}
+
+/// `out/<scene stem>-<suffix>`.
+pub fn default_dir(scene: &Path, suffix: &str) -> PathBuf {
+    let stem = scene
+        .file_stem()
+        .unwrap_or_else(|| "scene".as_ref())
+        .to_string_lossy();
+    Path::new("out").join(format!("{stem}-{suffix}"))
+}
+
+/// Loads a scene file; a missing or malformed file is bad input (exit 2).
+pub fn load_scene(path: &Path) -> Result<Scene, CliError> {
+    if !path.is_file() {
+        let why = if path.exists() {
+            "is not a file"
+        } else {
+            "no such file"
+        };
+        return Err(CliError::input(format!("{}: {why}", path.display())));
+    }
+    scenes::load(path).map_err(|e| CliError::input(e.to_string()))
+}
+
+/// A whole number ≥ 1.
+pub fn parse_spp(s: &str) -> Result<u32, String> {
+    match s.parse::<u32>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err("expected a whole number ≥ 1".into()),
+    }
+}
+
+fn parse_max_depth(s: &str) -> Result<i32, String> {
+    match s.parse::<i32>() {
+        Ok(d) if d >= -1 => Ok(d),
+        _ => Err("expected −1 (unbounded) or a depth ≥ 0".into()),
+    }
+}
+
+/// `WxH` (also `W×H`), each side in 1..=[`MAX_RESOLUTION`].
+pub fn parse_resolution(s: &str) -> Result<Film, String> {
+    let usage = || format!("expected WIDTHxHEIGHT such as 64x64, each in 1..={MAX_RESOLUTION}");
+    let (w, h) = s.split_once(['x', 'X', '×']).ok_or_else(usage)?;
+    let side = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|n| (1..=MAX_RESOLUTION).contains(n))
+    };
+    match (side(w), side(h)) {
+        (Some(width), Some(height)) => Ok(Film { width, height }),
+        _ => Err(usage()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flag_values_are_checked() {
+        assert_eq!(
+            parse_resolution("64×32"),
+            Ok(Film {
+                width: 64,
+                height: 32
+            })
+        );
+        for bad in ["0x4", "64", "16385x2", "ax3"] {
+            assert!(parse_resolution(bad).is_err(), "{bad} was accepted");
+        }
+        assert_eq!(parse_spp("3"), Ok(3));
+        assert!(parse_spp("0").is_err() && parse_spp("-1").is_err());
+        assert_eq!(parse_max_depth("-1"), Ok(-1));
+        assert!(parse_max_depth("-2").is_err());
+    }
+}
