@@ -165,7 +165,8 @@ pub fn render(
             rays: film.rays,
             rel_err,
         });
-        if !go_on {
+        let finished = stop_now(&job.stop, done, elapsed, rel_err);
+        if !go_on && !finished {
             let checkpointed = job.checkpoint.is_some();
             if let Some(cp) = &job.checkpoint {
                 crate::checkpoint::save(&cp.path, fingerprint, &film, elapsed)?;
@@ -175,7 +176,7 @@ pub fn render(
                 checkpointed,
             });
         }
-        if stop_now(&job.stop, done, elapsed, rel_err) {
+        if finished {
             break;
         }
         let pass = pass_size(done, job.stop.spp, samples_per_second, width, height);

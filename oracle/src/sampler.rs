@@ -80,12 +80,15 @@ impl PixelSampler {
             // 24 random bits → a float in [0, 1) with every value exactly representable.
             return (mix64(*state) >> 40) as f32 * (1.0 / (1u32 << 24) as f32);
         }
-        let seed = if d < DIMS {
-            self.seed
-        } else {
-            mix64(u64::from(self.seed) ^ u64::from(d / DIMS)) as u32
-        };
-        sobol_burley::sample(self.index, d % DIMS, seed)
+        if d.is_multiple_of(4) {
+            let seed = if d < DIMS {
+                self.seed
+            } else {
+                mix64(u64::from(self.seed) ^ u64::from(d / DIMS)) as u32
+            };
+            self.cached = sobol_burley::sample_4d(self.index, (d % DIMS) / 4, seed);
+        }
+        self.cached[(d % 4) as usize]
     }
 
     /// Next point in [0, 1)².

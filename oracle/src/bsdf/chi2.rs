@@ -30,7 +30,8 @@ const PDF_PRECISION: f64 = 5e-5;
 const MIN_EXPECTED: f64 = 5.0;
 
 /// PCG32 (XSH-RR), O'Neill 2014, "PCG: A Family of Simple Fast Space-Efficient
-/// Statistically Good Algorithms for Random Number Generation" (HMC-CS-2014-0905), §6.3.
+/// Statistically Good Algorithms for Random Number Generation" (HMC-CS-2014-0905), the
+/// XSH-RR output function with the 64-bit LCG of `pcg32_random_r`.
 pub struct Pcg32 {
     state: u64,
     inc: u64,

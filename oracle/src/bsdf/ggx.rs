@@ -100,9 +100,9 @@ impl Ggx {
         false
     }
 
-    /// The reflectance multiplier k.
+    /// The specular colour at normal incidence, k·f0.
     pub fn albedo(&self) -> Rgb {
-        self.reflectance
+        self.reflectance * self.f0
     }
 
     /// k·(f0 + (1 − f0)(1 − cos θd)⁵).

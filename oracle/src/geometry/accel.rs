@@ -4,10 +4,11 @@
 //! (Ylitie, Karras & Laine 2017, "Efficient Incoherent Ray Traversal on GPUs Through
 //! Compressed Wide BVHs", HPG) built from their bounding boxes by PLOC (Meister & Bittner 2018,
 //! "Parallel Locally-Ordered Clustering for Bounding Volume Hierarchy Construction", TVCG)
-//! with parallel reinsertion (Meister & Bittner 2022), all from the `obvhs` crate. Primitives
+//! with parallel reinsertion (Meister & Bittner 2018, "Parallel Reinsertion for Bounding
+//! Volume Hierarchy Optimization", CGF 37(2)), all from the `obvhs` crate. Primitives
 //! are stored in BVH leaf order, so a leaf's triangles are adjacent in memory.
 //!
-//! Two details of `obvhs` 0.4 traversal are handled here:
+//! Three details of `obvhs` 0.4 traversal are handled here:
 //! - its node test clamps the entry distance to t ≥ 10⁻⁴ (`cwbvh::node::EPSILON`), which would
 //!   drop hits closer than 0.1 mm (rays leaving a crease). Node tests therefore use the ray
 //!   moved back by `NODE_T_SHIFT` > 10⁻⁴, while primitives are tested against the true ray;
@@ -45,7 +46,7 @@ const NODE_T_SHIFT: f32 = 2e-4;
 /// Relative padding of primitive bounding boxes (2⁻²⁰ ≈ 8 ULPs of the largest coordinate).
 const AABB_PAD: f32 = 1.0 / 1_048_576.0;
 /// Coordinates beyond this magnitude (m) are refused: cross products of edges would overflow.
-pub(crate) const MAX_COORD: f32 = 1e15;
+const MAX_COORD: f32 = 1e15;
 
 /// BVH build preset (obvhs' `BvhBuildParams`); all use PLOC + reinsertion and CWBVH leaves of
 /// up to 3 primitives. Spatial pre-splits of the slow presets apply to triangle-only builds

@@ -150,15 +150,15 @@ impl Triangle {
             tangent: None,
         };
         if let Some((mesh, tri)) = attrs {
-            interpolate_attributes(&mut s, mesh, mesh.indices[tri].map(|i| i as usize), b);
+            interpolate_attributes(&mut s, self.v, mesh, mesh.indices[tri].map(|i| i as usize), b);
         }
         s
     }
 }
 
 /// Fills the shading normal, uv, ∂p/∂u, ∂p/∂v and tangent of `s` from the vertex attributes
-/// `idx` of `mesh`.
-fn interpolate_attributes(s: &mut Surface, mesh: &Mesh, idx: [usize; 3], b: Vec3) {
+/// `idx` of `mesh` (whose positions are `v`).
+fn interpolate_attributes(s: &mut Surface, v: [Vec3; 3], mesh: &Mesh, idx: [usize; 3], b: Vec3) {
     let lerp3 = |v: [Vec3; 3]| v[0] * b.x + v[1] * b.y + v[2] * b.z;
     if !mesh.normals.is_empty() {
         // Shading normal only when all three vertex normals are usable.
@@ -170,7 +170,7 @@ fn interpolate_attributes(s: &mut Surface, mesh: &Mesh, idx: [usize; 3], b: Vec3
     if !mesh.uvs.is_empty() {
         let uv = idx.map(|i| mesh.uvs[i]);
         s.uv = uv[0] * b.x + uv[1] * b.y + uv[2] * b.z;
-        if let Some((dpdu, dpdv)) = uv_derivatives(idx.map(|i| mesh.positions[i]), uv) {
+        if let Some((dpdu, dpdv)) = uv_derivatives(v, uv) {
             (s.dpdu, s.dpdv) = (dpdu, dpdv);
         }
     }

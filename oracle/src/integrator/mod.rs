@@ -160,7 +160,7 @@ pub(crate) fn sample_light(
     let Some((_, ls)) = ctx.lights.sample(hit.p, u_select, u) else {
         return (Rgb::ZERO, 0);
     };
-    if !(ls.pdf > 0.0) || ls.li == Rgb::ZERO {
+    if ls.pdf.is_nan() || ls.pdf <= 0.0 || ls.li == Rgb::ZERO {
         return (Rgb::ZERO, 0);
     }
     let wi = frame.to_local(ls.wi);

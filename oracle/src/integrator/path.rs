@@ -25,7 +25,14 @@ pub fn trace(ctx: &Context, mut ray: Ray, sampler: &mut PixelSampler) -> CameraS
     let mut rays = 1;
     let mut hit = ctx.accel.intersect(&ray, f32::INFINITY);
     let mut depth = 0u32;
-    while max_depth > 0 {
+    if max_depth == 0 {
+        return CameraSample {
+            radiance,
+            first_hit,
+            rays: 0,
+        };
+    }
+    loop {
         let Some(h) = hit else {
             radiance += throughput * escaped(ctx, &ray, origin);
             break;
@@ -68,7 +75,7 @@ pub fn trace(ctx: &Context, mut ray: Ray, sampler: &mut PixelSampler) -> CameraS
         let max_t = throughput.max_element();
         if depth >= ctx.settings.rr_depth {
             let q = (max_t * eta * eta).min(0.95);
-            if !(u_rr < q) {
+            if u_rr >= q {
                 break;
             }
             throughput /= q;

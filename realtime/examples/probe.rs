@@ -1,0 +1,5 @@
+fn main() {
+    for a in realtime::adapters() {
+        println!("{a}");
+    }
+}
