@@ -16,11 +16,30 @@ need_apt=()
 want() { dpkg -s "$1" >/dev/null 2>&1 || need_apt+=("$1"); }
 want pkg-config        # -sys crates
 want python3-venv      # the pinned Python tools (Mitsuba, flip-evaluator) live in .venv
+want libllvm19         # Mitsuba's llvm_ad_rgb variant JIT-compiles with LLVM (DRJIT_LIBLLVM_PATH)
 
 if [ ${#need_apt[@]} -gt 0 ]; then
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
   say "apt-get install ${need_apt[*]}"
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${need_apt[@]}" >/dev/null
+fi
+# The Python venv for the Mitsuba 3 cross-check (compare/python/requirements.txt, pinned).
+# Nothing is exported: verity finds .venv/bin/python itself (or $VERITY_PYTHON). The stamp
+# records the requirements last installed, so a run with nothing to do is instant. If the
+# install fails, setup says so and goes on: the other tests still run, and the cross-check
+# tests fail with the reason (they never skip).
+REQ=compare/python/requirements.txt
+STAMP=.venv/.verity-requirements
+install_venv() {
+  [ -x .venv/bin/python ] || { say "creating .venv"; python3 -m venv .venv; } || return 1
+  say "pip install -r $REQ (into .venv)"
+  .venv/bin/python -m pip install --quiet --disable-pip-version-check -r "$REQ" || return 1
+  .venv/bin/python -c "import mitsuba, numpy; assert mitsuba.__version__ == '3.9.1', mitsuba.__version__" \
+    || return 1
+  cp "$REQ" "$STAMP"
+}
+if [ ! -x .venv/bin/python ] || ! cmp -s "$REQ" "$STAMP"; then
+  install_venv || say "WARNING: could not install $REQ into .venv; the Mitsuba cross-check tests will fail" >&2
 fi
 say "ok"

@@ -13,6 +13,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+pub mod bench;
 pub mod crosscheck;
 pub mod export_mitsuba;
 pub mod render;
@@ -41,6 +42,8 @@ pub enum Command {
     ExportMitsuba(export_mitsuba::ExportMitsubaArgs),
     /// Render a scene with the oracle and Mitsuba 3 and z-test them per pixel (exit 0 agree, 1 disagree).
     Crosscheck(crosscheck::CrossCheckArgs),
+    /// Benchmark: with --vs-mitsuba, the oracle's time to equal error against Mitsuba 3.
+    Bench(bench::BenchArgs),
 }
 
 /// Why a command failed, which decides the exit status.
@@ -138,6 +141,7 @@ fn dispatch(cli: Cli, command_line: &str) -> Result<(), CliError> {
         Command::Render(args) => render::run(&args, command_line),
         Command::ExportMitsuba(args) => export_mitsuba::run(&args),
         Command::Crosscheck(args) => crosscheck::run(&args),
+        Command::Bench(args) => bench::run(&args),
     }
 }
 

@@ -6,7 +6,9 @@
 //! - [`ztest`]: the per-pixel z-test of Mitsuba's own render tests, and relMSE.
 //! - [`runner`]: finds the venv's Python and runs `compare/python/render_mitsuba.py`.
 //! - [`crosscheck`]: export + both renders + test; [`report`]: its HTML page.
+//! - [`bench`]: time to equal error, oracle vs Mitsuba.
 
+pub mod bench;
 pub mod crosscheck;
 pub mod export;
 pub mod ply;

@@ -258,6 +258,7 @@ mod tests {
         assert_eq!(plan_passes(64, 64, 256, 1), (256, 1));
         // 1024² × 64 spp = 2^26 samples: 16 passes of 2^22.
         assert_eq!(plan_passes(1024, 1024, 64, 1), (64, 16));
-        assert_eq!(plan_passes(1024, 1024, 50, 1), (64, 16));
+        // 1024² × 50 spp: 13 passes of 4 spp (2^22 samples each); spp rounds up to 52.
+        assert_eq!(plan_passes(1024, 1024, 50, 1), (52, 13));
     }
 }

@@ -148,9 +148,14 @@ pub fn escape(s: &str) -> String {
     out
 }
 
-/// A float written so that it parses back to the same f32 (Rust's shortest round-trip form).
+/// A float written so that it parses back to the same f32 (Rust's shortest round-trip
+/// form); −0 is written as 0.
 pub fn num(x: f32) -> String {
-    format!("{x:?}")
+    if x == 0.0 {
+        "0.0".to_string()
+    } else {
+        format!("{x:?}")
+    }
 }
 
 /// `x, y, z` with round-trip floats.
@@ -179,9 +184,10 @@ mod tests {
 
     #[test]
     fn floats_round_trip() {
-        for x in [0.1f32, 1.0 / 3.0, 1e-30, 17.0, -0.725] {
+        for x in [0.1f32, 1.0 / 3.0, 1e-30, 17.0, -0.725, 3.4e38] {
             let s = num(x);
             assert_eq!(s.parse::<f32>().unwrap(), x, "{x} written as {s}");
         }
+        assert_eq!(num(-0.0), "0.0");
     }
 }
