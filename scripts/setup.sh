@@ -17,6 +17,8 @@ want() { dpkg -s "$1" >/dev/null 2>&1 || need_apt+=("$1"); }
 want pkg-config        # -sys crates
 want python3-venv      # the pinned Python tools (Mitsuba, flip-evaluator) live in .venv
 want libllvm19         # Mitsuba's llvm_ad_rgb variant JIT-compiles with LLVM (DRJIT_LIBLLVM_PATH)
+want libvulkan1        # the Vulkan loader wgpu opens (realtime renderer)
+want mesa-vulkan-drivers  # lavapipe: a Vulkan CPU driver, so the realtime tests run without a GPU
 
 if [ ${#need_apt[@]} -gt 0 ]; then
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"

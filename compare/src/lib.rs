@@ -1,9 +1,13 @@
-//! Verity's comparison side: metrics, studies and reports (to come), and the `verity`
-//! command-line tool ([`cli`]; reference in compare/README.md).
+//! Verity's comparison side: [`metrics`], [`study`] files and their runs, the [`report`], the
+//! Mitsuba 3 cross-check, and the `verity` command-line tool ([`cli`]; reference in
+//! compare/README.md).
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod cli;
+pub mod metrics;
 pub mod mitsuba;
 pub mod progress;
+pub mod report;
+pub mod study;

@@ -63,21 +63,42 @@ radius = 1
 #[test]
 fn export_writes_the_scene_and_its_meshes() {
     let dir = test_dir("export");
-    let out = verity(&dir, &["export-mitsuba", &builtin("cornell-box"), "--out", "cb", "--spp", "32"], &[]);
+    let out = verity(
+        &dir,
+        &[
+            "export-mitsuba",
+            &builtin("cornell-box"),
+            "--out",
+            "cb",
+            "--spp",
+            "32",
+        ],
+        &[],
+    );
     assert_status(&out, 0, "export-mitsuba");
     let xml = std::fs::read_to_string(dir.join("cb/scene.xml")).expect("scene.xml written");
-    assert!(xml.contains(r#"<integer name="sample_count" value="32"/>"#), "{xml}");
+    assert!(
+        xml.contains(r#"<integer name="sample_count" value="32"/>"#),
+        "{xml}"
+    );
     for mesh in ["cb/meshes/5-short_block.ply", "cb/meshes/6-tall_block.ply"] {
         assert!(dir.join(mesh).is_file(), "{mesh} not written");
     }
-    assert!(text(&out.stdout).starts_with("exported "), "{}", text(&out.stdout));
+    assert!(
+        text(&out.stdout).starts_with("exported "),
+        "{}",
+        text(&out.stdout)
+    );
 }
 
 #[test]
 fn a_scene_mitsuba_cannot_express_is_bad_input() {
     let dir = test_dir("phong");
     std::fs::write(dir.join("phong.toml"), PHONG_SCENE).unwrap();
-    for cmd in [&["export-mitsuba", "phong.toml"][..], &["crosscheck", "phong.toml"][..]] {
+    for cmd in [
+        &["export-mitsuba", "phong.toml"][..],
+        &["crosscheck", "phong.toml"][..],
+    ] {
         let out = verity(&dir, cmd, &[]);
         assert_status(&out, 2, cmd[0]);
         let err = text(&out.stderr);
@@ -93,17 +114,39 @@ fn crosscheck_agrees_and_writes_its_page() {
     let dir = test_dir("crosscheck");
     let out = verity(
         &dir,
-        &["crosscheck", &builtin("soft-shadow"), "--resolution", "24x16", "--spp", "64", "--out", "cc", "-q"],
+        &[
+            "crosscheck",
+            &builtin("soft-shadow"),
+            "--resolution",
+            "24x16",
+            "--spp",
+            "64",
+            "--out",
+            "cc",
+            "-q",
+        ],
         &[],
     );
     assert_status(&out, 0, "crosscheck soft-shadow");
     let stdout = text(&out.stdout);
-    assert!(stdout.contains(": AGREE — ") && stdout.contains("relMSE oracle vs Mitsuba"), "{stdout}");
-    for f in ["cc/oracle.exr", "cc/mitsuba.exr", "cc/pvalue.png", "cc/mitsuba/scene.xml"] {
+    assert!(
+        stdout.contains(": AGREE — ") && stdout.contains("relMSE oracle vs Mitsuba"),
+        "{stdout}"
+    );
+    for f in [
+        "cc/oracle.exr",
+        "cc/mitsuba.exr",
+        "cc/pvalue.png",
+        "cc/mitsuba/scene.xml",
+    ] {
         assert!(dir.join(f).is_file(), "{f} not written");
     }
     let html = std::fs::read_to_string(dir.join("cc/index.html")).expect("index.html");
-    assert_eq!(html.matches("src=\"data:image/png;base64,").count(), 3, "three embedded images");
+    assert_eq!(
+        html.matches("src=\"data:image/png;base64,").count(),
+        3,
+        "three embedded images"
+    );
     assert!(html.contains("AGREE"));
 }
 
@@ -112,12 +155,22 @@ fn crosscheck_without_mitsuba_exits_3_and_says_what_to_install() {
     let dir = test_dir("no-python");
     let out = verity(
         &dir,
-        &["crosscheck", &builtin("soft-shadow"), "--resolution", "8x8", "--spp", "4"],
+        &[
+            "crosscheck",
+            &builtin("soft-shadow"),
+            "--resolution",
+            "8x8",
+            "--spp",
+            "4",
+        ],
         &[("VERITY_PYTHON", "/nonexistent/python")],
     );
     assert_status(&out, 3, "crosscheck without Python");
     let err = text(&out.stderr);
-    assert!(err.contains("scripts/setup.sh") && err.contains("mitsuba==3.9.1"), "{err}");
+    assert!(
+        err.contains("scripts/setup.sh") && err.contains("mitsuba==3.9.1"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -129,12 +182,26 @@ fn bench_needs_vs_mitsuba_and_prints_ratios() {
 
     let out = verity(
         &dir,
-        &["bench", "--vs-mitsuba", &builtin("soft-shadow"), "--resolution", "16x16", "--spp", "16", "-q"],
+        &[
+            "bench",
+            "--vs-mitsuba",
+            &builtin("soft-shadow"),
+            "--resolution",
+            "16x16",
+            "--spp",
+            "16",
+            "-q",
+        ],
         &[],
     );
     assert_status(&out, 0, "bench --vs-mitsuba");
     let stdout = text(&out.stdout);
-    for needle in ["oracle ", "mitsuba llvm_ad_rgb ", "mitsuba scalar_rgb ", "time to equal error: mitsuba llvm_ad_rgb / oracle = "] {
+    for needle in [
+        "oracle ",
+        "mitsuba llvm_ad_rgb ",
+        "mitsuba scalar_rgb ",
+        "time to equal error: mitsuba llvm_ad_rgb / oracle = ",
+    ] {
         assert!(stdout.contains(needle), "`{needle}` missing in\n{stdout}");
     }
 }

@@ -15,7 +15,10 @@ fn scene(materials: Vec<Material>, shapes: Vec<Shape>) -> Scene {
     Scene {
         source: "test.toml".into(),
         camera: Camera::look_at(Vec3::new(0.0, 1.0, 4.0), Vec3::ZERO, Vec3::Y, 35.0),
-        film: Film { width: 40, height: 30 },
+        film: Film {
+            width: 40,
+            height: 30,
+        },
         render: RenderSettings {
             spp: 16,
             max_depth: 5,
@@ -73,19 +76,38 @@ fn refusal(s: &Scene) -> String {
 #[test]
 fn integrator_camera_film_and_sampler() {
     let x = xml(&scene(vec![diffuse(0.5)], vec![sphere("s", 0)]));
-    assert_has(&x, r#"<integrator type="path"> <integer name="max_depth" value="5"/> <integer name="rr_depth" value="3"/>"#);
-    assert_has(&x, r#"<sensor type="perspective"> <string name="fov_axis" value="y"/> <float name="fov" value="35.0"/>"#);
+    assert_has(
+        &x,
+        r#"<integrator type="path"> <integer name="max_depth" value="5"/> <integer name="rr_depth" value="3"/>"#,
+    );
+    assert_has(
+        &x,
+        r#"<sensor type="perspective"> <string name="fov_axis" value="y"/> <float name="fov" value="35.0"/>"#,
+    );
     assert_has(&x, r#"<lookat origin="0.0, 1.0, 4.0""#);
-    assert_has(&x, r#"<sampler type="independent"> <integer name="sample_count" value="16"/> <integer name="seed" value="7"/>"#);
-    assert_has(&x, r#"<integer name="width" value="40"/> <integer name="height" value="30"/>"#);
-    assert_has(&x, r#"<string name="pixel_format" value="rgb"/> <string name="component_format" value="float32"/> <rfilter type="box"/>"#);
+    assert_has(
+        &x,
+        r#"<sampler type="independent"> <integer name="sample_count" value="16"/> <integer name="seed" value="7"/>"#,
+    );
+    assert_has(
+        &x,
+        r#"<integer name="width" value="40"/> <integer name="height" value="30"/>"#,
+    );
+    assert_has(
+        &x,
+        r#"<string name="pixel_format" value="rgb"/> <string name="component_format" value="float32"/> <rfilter type="box"/>"#,
+    );
 }
 
 #[test]
 fn lookat_target_is_along_the_view_direction() {
     let s = scene(vec![diffuse(0.5)], vec![sphere("s", 0)]);
     let x = ok(&s).xml;
-    let target = x.split("target=\"").nth(1).and_then(|t| t.split('"').next()).expect("a target");
+    let target = x
+        .split("target=\"")
+        .nth(1)
+        .and_then(|t| t.split('"').next())
+        .expect("a target");
     let v: Vec<f32> = target.split(", ").map(|c| c.parse().unwrap()).collect();
     let want = s.camera.position() + s.camera.forward();
     assert!(
@@ -122,12 +144,27 @@ fn materials_map_to_twosided_bsdfs_except_the_dielectric() {
     ];
     let shapes = (0..4).map(|i| sphere(&format!("s{i}"), i)).collect();
     let x = xml(&scene(materials, shapes));
-    assert_has(&x, r#"<bsdf type="twosided" id="bsdf-0"> <bsdf type="diffuse"> <rgb name="reflectance" value="0.25, 0.25, 0.25"/>"#);
-    assert_has(&x, r#"<bsdf type="twosided" id="bsdf-1"> <bsdf type="conductor"> <string name="material" value="none"/> <rgb name="specular_reflectance" value="0.9, 0.8, 0.7"/>"#);
+    assert_has(
+        &x,
+        r#"<bsdf type="twosided" id="bsdf-0"> <bsdf type="diffuse"> <rgb name="reflectance" value="0.25, 0.25, 0.25"/>"#,
+    );
+    assert_has(
+        &x,
+        r#"<bsdf type="twosided" id="bsdf-1"> <bsdf type="conductor"> <string name="material" value="none"/> <rgb name="specular_reflectance" value="0.9, 0.8, 0.7"/>"#,
+    );
     // alpha = roughness² = 0.25.
-    assert_has(&x, r#"<bsdf type="roughconductor"> <string name="distribution" value="ggx"/> <float name="alpha" value="0.25"/> <boolean name="sample_visible" value="true"/> <string name="material" value="none"/> <rgb name="specular_reflectance" value="0.5, 0.5, 0.5"/>"#);
-    assert_has(&x, r#"<bsdf type="dielectric" id="bsdf-3"> <float name="int_ior" value="1.5"/> <float name="ext_ior" value="1.25"/>"#);
-    assert!(!x.contains(r#"type="twosided" id="bsdf-3""#), "the dielectric must stay one-sided");
+    assert_has(
+        &x,
+        r#"<bsdf type="roughconductor"> <string name="distribution" value="ggx"/> <float name="alpha" value="0.25"/> <boolean name="sample_visible" value="true"/> <string name="material" value="none"/> <rgb name="specular_reflectance" value="0.5, 0.5, 0.5"/>"#,
+    );
+    assert_has(
+        &x,
+        r#"<bsdf type="dielectric" id="bsdf-3"> <float name="int_ior" value="1.5"/> <float name="ext_ior" value="1.25"/>"#,
+    );
+    assert!(
+        !x.contains(r#"type="twosided" id="bsdf-3""#),
+        "the dielectric must stay one-sided"
+    );
 }
 
 #[test]
@@ -159,12 +196,24 @@ fn shapes_sphere_rectangle_disk_and_area_emission() {
         half_v: Vec3::new(1.0, 0.0, 0.0),
     };
     let x = xml(&scene(vec![diffuse(0.5)], vec![sphere("ball", 0), rect, disk]));
-    assert_has(&x, r#"<shape type="sphere" id="shape-0-ball"> <point name="center" value="1.0, 2.0, 3.0"/> <float name="radius" value="0.5"/> <ref id="bsdf-0"/>"#);
+    assert_has(
+        &x,
+        r#"<shape type="sphere" id="shape-0-ball"> <point name="center" value="1.0, 2.0, 3.0"/> <float name="radius" value="0.5"/> <ref id="bsdf-0"/>"#,
+    );
     // Columns (half_u, half_v, n, center) with n = normalize((2,0,0) × (0,0,−3)) = +Y.
-    assert_has(&x, r#"<shape type="rectangle" id="shape-1-lamp"> <transform name="to_world"> <matrix value="2.0 0.0 0.0 1.0 0.0 0.0 1.0 2.0 0.0 -3.0 0.0 3.0 0.0 0.0 0.0 1.0"/>"#);
-    assert_has(&x, r#"<emitter type="area"> <rgb name="radiance" value="5.0, 4.0, 3.0"/> </emitter>"#);
+    assert_has(
+        &x,
+        r#"<shape type="rectangle" id="shape-1-lamp"> <transform name="to_world"> <matrix value="2.0 0.0 0.0 1.0 0.0 0.0 1.0 2.0 0.0 -3.0 0.0 3.0 0.0 0.0 0.0 1.0"/>"#,
+    );
+    assert_has(
+        &x,
+        r#"<emitter type="area"> <rgb name="radiance" value="5.0, 4.0, 3.0"/> </emitter>"#,
+    );
     // n = (0,0,1) × (1,0,0) = +Y.
-    assert_has(&x, r#"<shape type="disk" id="shape-2-d"> <transform name="to_world"> <matrix value="0.0 1.0 0.0 0.0 0.0 0.0 1.0 0.0 1.0 0.0 0.0 0.0 0.0 0.0 0.0 1.0"/>"#);
+    assert_has(
+        &x,
+        r#"<shape type="disk" id="shape-2-d"> <transform name="to_world"> <matrix value="0.0 1.0 0.0 0.0 0.0 0.0 1.0 0.0 1.0 0.0 0.0 0.0 0.0 0.0 0.0 1.0"/>"#,
+    );
 }
 
 #[test]
@@ -182,11 +231,19 @@ fn meshes_become_ply_files() {
     flat.geometry = Geometry::Mesh(Arc::new(tri(false)));
     let e = ok(&scene(vec![diffuse(0.5)], vec![smooth, flat]));
     let x = e.xml.split_whitespace().collect::<Vec<_>>().join(" ");
-    assert_has(&x, r#"<shape type="ply" id="shape-0-smooth_one"> <string name="filename" value="meshes/0-smooth_one.ply"/> <boolean name="face_normals" value="false"/> <boolean name="flip_tex_coords" value="false"/>"#);
-    assert_has(&x, r#"<string name="filename" value="meshes/1-flat.ply"/> <boolean name="face_normals" value="true"/>"#);
+    assert_has(
+        &x,
+        r#"<shape type="ply" id="shape-0-smooth_one"> <string name="filename" value="meshes/0-smooth_one.ply"/> <boolean name="face_normals" value="false"/> <boolean name="flip_tex_coords" value="false"/>"#,
+    );
+    assert_has(
+        &x,
+        r#"<string name="filename" value="meshes/1-flat.ply"/> <boolean name="face_normals" value="true"/>"#,
+    );
     let names: Vec<&str> = e.assets.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names, ["meshes/0-smooth_one.ply", "meshes/1-flat.ply"]);
-    assert!(matches!(&e.assets[0].1, Asset::Ply(b) if b.starts_with(b"ply\nformat binary_little_endian 1.0")));
+    assert!(
+        matches!(&e.assets[0].1, Asset::Ply(b) if b.starts_with(b"ply\nformat binary_little_endian 1.0"))
+    );
 }
 
 #[test]
@@ -201,14 +258,28 @@ fn textures_are_baked_with_their_factor_and_wrap_mode() {
         }],
         vec![sphere("s", 0)],
     );
-    s.textures = vec![Arc::new(Texture::from_texels(2, 1, texels, [WrapMode::Mirror; 2]))];
+    s.textures = vec![Arc::new(Texture::from_texels(
+        2,
+        1,
+        texels,
+        [WrapMode::Mirror; 2],
+    ))];
     let e = ok(&s);
     let x = e.xml.split_whitespace().collect::<Vec<_>>().join(" ");
-    assert_has(&x, r#"<texture type="bitmap" name="reflectance"> <string name="filename" value="textures/tex0-0.exr"/> <string name="filter_type" value="bilinear"/> <string name="wrap_mode" value="mirror"/> <boolean name="raw" value="true"/>"#);
+    assert_has(
+        &x,
+        r#"<texture type="bitmap" name="reflectance"> <string name="filename" value="textures/tex0-0.exr"/> <string name="filter_type" value="bilinear"/> <string name="wrap_mode" value="mirror"/> <boolean name="raw" value="true"/>"#,
+    );
     let Some((_, Asset::Exr(img))) = e.assets.iter().find(|(n, _)| n == "textures/tex0-0.exr") else {
-        panic!("no texture file in {:?}", e.assets.iter().map(|a| &a.0).collect::<Vec<_>>())
+        panic!(
+            "no texture file in {:?}",
+            e.assets.iter().map(|a| &a.0).collect::<Vec<_>>()
+        )
     };
-    assert_eq!(img.rgb("").unwrap(), vec![Vec3::new(0.25, 0.25, 0.5), Vec3::new(0.5, 1.0, 0.5)]);
+    assert_eq!(
+        img.rgb("").unwrap(),
+        vec![Vec3::new(0.25, 0.25, 0.5), Vec3::new(0.5, 1.0, 0.5)]
+    );
 }
 
 #[test]
@@ -239,17 +310,43 @@ fn lights_and_environments() {
         radiance: Vec3::splat(0.5),
     });
     let x = xml(&s);
-    assert_has(&x, r#"<emitter type="point"> <point name="position" value="1.0, 2.0, 3.0"/> <rgb name="intensity" value="4.0, 5.0, 6.0"/>"#);
-    assert_has(&x, r#"<emitter type="spot"> <rgb name="intensity" value="2.0, 2.0, 2.0"/> <float name="cutoff_angle" value="30.0"/> <float name="beam_width" value="20.0"/> <transform name="to_world"> <lookat origin="0.0, 3.0, 0.0" target="0.0, 2.0, 0.0" up="1.0, 0.0, 0.0"/>"#);
-    assert_has(&x, r#"<emitter type="directional"> <vector name="direction" value="0.0, -1.0, 0.0"/> <rgb name="irradiance" value="3.0, 3.0, 3.0"/>"#);
-    assert_has(&x, r#"<emitter type="constant"> <rgb name="radiance" value="0.5, 0.5, 0.5"/>"#);
+    assert_has(
+        &x,
+        r#"<emitter type="point"> <point name="position" value="1.0, 2.0, 3.0"/> <rgb name="intensity" value="4.0, 5.0, 6.0"/>"#,
+    );
+    assert_has(
+        &x,
+        r#"<emitter type="spot"> <rgb name="intensity" value="2.0, 2.0, 2.0"/> <float name="cutoff_angle" value="30.0"/> <float name="beam_width" value="20.0"/> <transform name="to_world"> <lookat origin="0.0, 3.0, 0.0" target="0.0, 2.0, 0.0" up="1.0, 0.0, 0.0"/>"#,
+    );
+    assert_has(
+        &x,
+        r#"<emitter type="directional"> <vector name="direction" value="0.0, -1.0, 0.0"/> <rgb name="irradiance" value="3.0, 3.0, 3.0"/>"#,
+    );
+    assert_has(
+        &x,
+        r#"<emitter type="constant"> <rgb name="radiance" value="0.5, 0.5, 0.5"/>"#,
+    );
 
-    s.textures = vec![Arc::new(Texture::from_texels(2, 1, vec![Vec4::ONE; 2], [WrapMode::Repeat; 2]))];
-    s.environment = Some(Environment::Map { texture: 0, scale: 2.5 });
+    s.textures = vec![Arc::new(Texture::from_texels(
+        2,
+        1,
+        vec![Vec4::ONE; 2],
+        [WrapMode::Repeat; 2],
+    ))];
+    s.environment = Some(Environment::Map {
+        texture: 0,
+        scale: 2.5,
+    });
     let e = ok(&s);
     let x = e.xml.split_whitespace().collect::<Vec<_>>().join(" ");
-    assert_has(&x, r#"<emitter type="envmap"> <string name="filename" value="textures/environment.exr"/> <float name="scale" value="2.5"/>"#);
-    assert!(e.assets.iter().any(|(n, a)| n == "textures/environment.exr" && matches!(a, Asset::Exr(_))));
+    assert_has(
+        &x,
+        r#"<emitter type="envmap"> <string name="filename" value="textures/environment.exr"/> <float name="scale" value="2.5"/>"#,
+    );
+    assert!(e
+        .assets
+        .iter()
+        .any(|(n, a)| n == "textures/environment.exr" && matches!(a, Asset::Exr(_))));
 }
 
 #[test]
@@ -296,13 +393,24 @@ fn refusals_name_the_item_and_the_feature() {
             ),
             "textured roughness",
         ),
-        (ggx(Vec3::ONE, TexScalar::Constant(0.0), Masking::Separable), "roughness 0 is a mirror"),
+        (
+            ggx(Vec3::ONE, TexScalar::Constant(0.0), Masking::Separable),
+            "roughness 0 is a mirror",
+        ),
     ];
     for (material, want) in cases {
         let mut s = scene(vec![material], vec![sphere("s", 0)]);
-        s.textures = vec![Arc::new(Texture::from_texels(1, 1, vec![Vec4::ONE], [WrapMode::Repeat; 2]))];
+        s.textures = vec![Arc::new(Texture::from_texels(
+            1,
+            1,
+            vec![Vec4::ONE],
+            [WrapMode::Repeat; 2],
+        ))];
         let msg = refusal(&s);
-        assert!(msg.contains(want) && msg.starts_with("test.toml: Mitsuba 3 cannot express"), "expected `{want}` in: {msg}");
+        assert!(
+            msg.contains(want) && msg.starts_with("test.toml: Mitsuba 3 cannot express"),
+            "expected `{want}` in: {msg}"
+        );
     }
 }
 
@@ -318,7 +426,10 @@ fn refusals_of_shapes_lights_textures_and_integrators() {
     assert!(refusal(&s).contains("shape `s`: two-sided emission"));
 
     let mut s = base();
-    s.shapes[0].normal_map = Some(NormalMap { texture: 0, scale: 1.0 });
+    s.shapes[0].normal_map = Some(NormalMap {
+        texture: 0,
+        scale: 1.0,
+    });
     assert!(refusal(&s).contains("shape `s`: normal map"));
 
     let mut s = base();
@@ -331,7 +442,12 @@ fn refusals_of_shapes_lights_textures_and_integrators() {
     assert!(refusal(&s).contains("light `sun`: directional light with an angular diameter of 0.53°"));
 
     let mut s = base();
-    s.textures = vec![Arc::new(Texture::from_texels(1, 1, vec![Vec4::ONE], [WrapMode::Repeat, WrapMode::Clamp]))];
+    s.textures = vec![Arc::new(Texture::from_texels(
+        1,
+        1,
+        vec![Vec4::ONE],
+        [WrapMode::Repeat, WrapMode::Clamp],
+    ))];
     s.materials[0] = Material::Diffuse {
         albedo: TexRgb::Image {
             texture: 0,
@@ -350,7 +466,9 @@ fn refusals_of_shapes_lights_textures_and_integrators() {
 
     let mut s = base();
     s.render.integrator = IntegratorKind::Direct;
-    s.materials[0] = Material::Mirror { reflectance: Vec3::ONE };
+    s.materials[0] = Material::Mirror {
+        reflectance: Vec3::ONE,
+    };
     assert!(refusal(&s).contains("integrator `direct`: ours follows perfect-specular chains"));
 }
 

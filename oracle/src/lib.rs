@@ -16,3 +16,6 @@ pub mod sampler;
 pub mod sampling;
 
 pub use render::{render, CheckpointConfig, Progress, RenderError, RenderJob, RenderResult, StopRule};
+
+/// The oracle's version (part of every ground truth's cache key and EXR header).
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -217,7 +217,11 @@ fn specular_alpha(b: Bsdf) -> f32 {
     }
 }
 
-// The albedo AOV (Bsdf::albedo).
+// The albedo AOV (Bsdf::albedo): ρ (Lambert), ks (Phong), k·f0 (GGX: the specular colour at
+// normal incidence), base colour (metal-rough), reflectance (mirror), 1 (dielectric).
 fn bsdf_albedo(b: Bsdf) -> vec3<f32> {
+    if b.kind == MAT_GGX {
+        return b.color * b.f0;
+    }
     return b.color;
 }

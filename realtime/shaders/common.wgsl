@@ -3,7 +3,7 @@
 // Technique: none (shared declarations). Every struct mirrors a `#[repr(C)]` Pod struct in
 // realtime/src/gpu_types.rs field for field; the Rust side asserts the sizes.
 // Inputs: group 0 = the scene (frame uniform, shapes, materials, lights, emitters, textures,
-// texels) and the counter buffer. Conventions: DESIGN.md "Conventions" (right-handed, +Y up,
+// texels) and the counter buffer (written only by the counting variant of the module). Conventions: DESIGN.md "Conventions" (right-handed, +Y up,
 // camera looks down −Z, pixel (i, j) covers [i, i+1]×[j, j+1], row 0 at the top).
 // Failure mode: none of its own; the projection must stay identical to
 // `scenes::Camera::ray_direction` (the parity tests check it).
@@ -42,10 +42,8 @@ const ENV_MAP: u32 = 2u;
 const AREA_QUADRATURE: u32 = 0u;
 const AREA_REPRESENTATIVE_POINT: u32 = 1u;
 
-// Pipeline-overridable constants: the area-light method and whether the cost counters are
-// written (off for timed frames, so counting never costs time that is reported).
+// Pipeline-overridable constant: the area-light method (shade.wgsl dispatches on it).
 override AREA_METHOD: u32 = 0u;
-override COUNTERS: bool = false;
 
 struct FrameUniforms {
     view_proj: mat4x4<f32>,
@@ -85,7 +83,7 @@ struct Shape {
     dual_v: vec4<f32>,
     // Emitted radiance (constant) or its factor (textured).
     emission: vec4<f32>,
-    // Emits (0/1), two-sided (0/1), radiance texture or NONE, unused.
+    // Emits (0/1), two-sided (0/1), radiance texture or NONE, mesh has authored tangents (0/1).
     emission_info: vec4<u32>,
 }
 
@@ -139,10 +137,11 @@ struct TextureInfo {
 @group(0) @binding(4) var<storage, read> emitters: array<u32>;
 @group(0) @binding(5) var<storage, read> texture_infos: array<TextureInfo>;
 @group(0) @binding(6) var<storage, read> texels: array<vec4<f32>>;
-// Per target row: fragments shaded, texel fetches, loop iterations (summed in u64 on the CPU).
+// Per target row: texel fetches, loop iterations (summed in u64 on the CPU).
 @group(0) @binding(7) var<storage, read_write> counters: array<atomic<u32>>;
 
-// Cost counters of the current invocation: texel fetches (x) and loop iterations (y).
+// Cost counters of the current invocation: texel fetches (x) and loop iterations (y); the
+// entry points hand them to `flush_counters` (counters_on.wgsl / counters_off.wgsl).
 var<private> cost: vec2<u32>;
 
 fn count_fetch() {
@@ -151,15 +150,6 @@ fn count_fetch() {
 
 fn count_iteration() {
     cost.y += 1u;
-}
-
-// Adds this invocation's counts to its target row (entry points only).
-fn flush_counters(row: u32) {
-    if COUNTERS {
-        atomicAdd(&counters[3u * row], 1u);
-        atomicAdd(&counters[3u * row + 1u], cost.x);
-        atomicAdd(&counters[3u * row + 2u], cost.y);
-    }
 }
 
 // Camera::ray_direction for the raster position (x, y) of the final film (DESIGN.md "Camera"):

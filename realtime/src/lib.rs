@@ -1,14 +1,51 @@
-//! Verity's headless wgpu renderer.
+//! Verity's headless wgpu renderer: the real-time side of every comparison.
+//!
+//! It renders a [`scenes::Scene`] with the same camera, projection, pixel centres, colour
+//! space, BSDFs and light units as the oracle (DESIGN.md "Conventions"), so that when nothing
+//! is approximated the two agree, and every approximation's measured error is its own. No
+//! window or surface: an adapter is picked the way wgpu's tools pick one (`WGPU_BACKEND`,
+//! `WGPU_ADAPTER_NAME`), which runs on Mesa's lavapipe in CI and unchanged on real GPUs.
+//!
+//! ```no_run
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! let scene = scenes::load(std::path::Path::new("scenes/soft-shadow.toml"))?;
+//! let renderer = realtime::Renderer::new()?;
+//! let settings = realtime::RasterSettings::new(256, 256).ssaa(2);
+//! let out = renderer.render(&scene, &settings)?;
+//! println!("{}", out.timing.summary());
+//! out.image.write_exr("out/soft-shadow-raster.exr")?;
+//! # Ok(()) }
+//! ```
+//!
+//! | module | what |
+//! |---|---|
+//! | [`gpu`] | adapter and device selection |
+//! | [`method`] | methods (`area_quadrature`, `area_representative_point`) and parameters |
+//! | [`render`] | settings, the frame loop, timing, read-back |
+//! | `frame` | one frame: uniforms, render passes, timestamp queries |
+//! | `upload` | the scene as GPU buffers (meshes de-indexed, analytic shapes as proxies) |
+//! | [`pipelines`] | shader module and pipelines (forward, G-buffer, lighting) |
+//! | [`image`] | box filter over supersamples, the oracle's EXR channel layout |
+//! | [`timing`] | GPU timestamps / wall time, hardware-independent counters |
+//! | `shaders/*.wgsl` | the techniques, each file headed by its paper and failure mode |
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-/// Adapter names visible to wgpu.
-pub fn adapters() -> Vec<String> {
-    let instance = wgpu::Instance::new(&wgpu::InstanceDescriptor::from_env_or_default());
-    instance
-        .enumerate_adapters(wgpu::Backends::all())
-        .into_iter()
-        .map(|a| format!("{:?}", a.get_info()))
-        .collect()
-}
+pub mod error;
+mod frame;
+pub mod gpu;
+pub mod gpu_types;
+pub mod image;
+pub mod method;
+pub mod pipelines;
+pub mod render;
+mod targets;
+pub mod timing;
+mod upload;
+
+pub use error::{RasterError, INSTALL_HINT};
+pub use gpu::Gpu;
+pub use method::{AreaMethod, Method, PipelineKind};
+pub use render::{RasterOutput, RasterSettings, Renderer};
+pub use timing::{Counters, Timing, TimingSource};

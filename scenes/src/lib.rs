@@ -19,16 +19,37 @@ use std::path::Path;
 pub use error::SceneError;
 pub use model::*;
 
+/// Radiance of the sky a glTF asset loaded on its own is lit by when it brings no light of
+/// its own (no punctual light, no emissive surface): a uniform white environment, so that
+/// `verity render model.glb` shows the model instead of a black frame.
+pub const DEFAULT_SKY_RADIANCE: f32 = 1.0;
+
 /// Loads a scene from a `.toml` scene file or a `.gltf`/`.glb` asset, chosen by extension.
+///
+/// A glTF asset loaded directly that has no lights and no emissive surface gets a uniform
+/// environment of radiance [`DEFAULT_SKY_RADIANCE`] (a note says so on standard error); a
+/// TOML scene that includes it supplies its own lighting instead.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    match path
+    let ext = path
         .extension()
         .and_then(|e| e.to_str())
-        .map(|e| e.to_ascii_lowercase())
-        .as_deref()
-    {
+        .map(|e| e.to_ascii_lowercase());
+    match ext.as_deref() {
         Some("toml") => toml::load(path),
-        Some("gltf") | Some("glb") => gltf::load(path),
+        Some("gltf") | Some("glb") => {
+            let mut scene = gltf::load(path)?;
+            let unlit = scene.lights.is_empty() && scene.shapes.iter().all(|s| s.emission.is_none());
+            if unlit && scene.environment.is_none() {
+                eprintln!(
+                    "{}: note: the asset has no lights; lit by a uniform sky of radiance {DEFAULT_SKY_RADIANCE}",
+                    path.display()
+                );
+                scene.environment = Some(Environment::Constant {
+                    radiance: Rgb::splat(DEFAULT_SKY_RADIANCE),
+                });
+            }
+            Ok(scene)
+        }
         _ => Err(SceneError::new(path, "unknown scene file type")
             .hint("give a .toml scene file or a .gltf/.glb asset")),
     }

@@ -10,11 +10,11 @@
 mod inputs;
 mod lights;
 mod materials;
-mod read;
+pub mod read;
 mod settings;
 mod shapes;
 mod transform;
-mod tree;
+pub mod tree;
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -58,17 +58,24 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
     load_str(&text, path)
 }
 
-/// Loads a scene from TOML text; `path` names it in messages and anchors relative paths
-/// (files it references are read from `path`'s directory).
-pub fn load_str(text: &str, path: &Path) -> Result<Scene, SceneError> {
-    let ctx = Ctx::new(path, text);
-    let root = tree::parse(text).map_err(|e| {
-        let mut err = SceneError::new(path, format!("TOML syntax: {}", e.message().trim_end()));
+/// Parses TOML `text` (the file of `ctx`) into a located tree; a syntax error names the file
+/// and line. Other TOML formats of the project (study files) read their fields through
+/// [`read`] like scene files do.
+pub fn parse_document(ctx: &Ctx, text: &str) -> Result<tree::Node, SceneError> {
+    tree::parse(text).map_err(|e| {
+        let mut err = SceneError::new(&ctx.file, format!("TOML syntax: {}", e.message().trim_end()));
         if let Some(span) = e.span() {
             err = err.line(ctx.line_of(span.start));
         }
         err
-    })?;
+    })
+}
+
+/// Loads a scene from TOML text; `path` names it in messages and anchors relative paths
+/// (files it references are read from `path`'s directory).
+pub fn load_str(text: &str, path: &Path) -> Result<Scene, SceneError> {
+    let ctx = Ctx::new(path, text);
+    let root = parse_document(&ctx, text)?;
     let doc = Field::root(&ctx, &root).table()?;
     doc.only(SECTIONS, "a scene file")?;
     let section = |key: &str| doc.get(key).map(|f| f.table()).transpose();

@@ -26,7 +26,7 @@ pub struct BenchArgs {
     #[arg(long, value_name = "N", default_value_t = 64, value_parser = parse_spp)]
     pub spp: u32,
 
-    /// Samples per pixel of the reference (Mitsuba llvm_ad_rgb) [default: 16 × --spp].
+    /// Samples per pixel of the reference (Mitsuba llvm_ad_rgb) [default: 32 × --spp].
     #[arg(long, value_name = "M", value_parser = parse_spp)]
     pub reference_spp: Option<u32>,
 
@@ -47,7 +47,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         ));
     }
     let scene = args.scene.load()?;
-    let reference_spp = args.reference_spp.unwrap_or(args.spp.saturating_mul(16));
+    let reference_spp = args.reference_spp.unwrap_or(args.spp.saturating_mul(32));
     let opts = BenchOptions {
         spp: args.spp,
         reference_spp,
@@ -60,7 +60,12 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let b = bench(&scene, &opts).map_err(cli_error)?;
     println!(
         "{}",
-        table(&args.scene.scene.display().to_string(), scene.film.width, scene.film.height, &b)
+        table(
+            &args.scene.scene.display().to_string(),
+            scene.film.width,
+            scene.film.height,
+            &b
+        )
     );
     Ok(())
 }

@@ -26,7 +26,8 @@ pub struct CrossCheckArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
 
-    /// Samples per pixel of both renders; rounded up to a multiple of Mitsuba's 64 passes.
+    /// Samples per pixel of both renders; above 64 rounded up to a multiple of 64 (Mitsuba
+    /// renders 64 independent passes for its variance).
     #[arg(long, value_name = "N", default_value_t = DEFAULT_SPP, value_parser = parse_spp)]
     pub spp: u32,
 

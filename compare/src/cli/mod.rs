@@ -3,7 +3,7 @@
 //! Exit statuses (compare/README.md): 0 success, 1 the work failed (render or writing the
 //! output; `crosscheck`: the renderers disagree), 2 bad usage or bad input (unknown flag,
 //! invalid value, unreadable scene, a scene Mitsuba cannot express), 3 an external tool
-//! (Mitsuba 3) cannot be run. Errors
+//! (Mitsuba 3, a GPU adapter for `raster`) cannot be run. Errors
 //! are one `error: <message>` line on stderr; a panic is reported the same way, never with a
 //! backtrace.
 
@@ -15,8 +15,11 @@ use clap::{Parser, Subcommand};
 
 pub mod bench;
 pub mod crosscheck;
+pub mod diff;
 pub mod export_mitsuba;
+pub mod raster;
 pub mod render;
+pub mod report;
 
 /// Verity tells a real-time renderer how wrong it is.
 #[derive(Debug, Parser)]
@@ -24,8 +27,9 @@ pub mod render;
     name = "verity",
     version,
     about = "Verity: measure real-time rendering approximations against a path-traced ground truth",
-    after_help = "Exit status: 0 success, 1 the work failed (or crosscheck: the renderers disagree), 2 bad usage or input \
-                  (or a scene Mitsuba cannot express), 3 Mitsuba cannot be run (see scripts/setup.sh)."
+    after_help = "Exit status: 0 success, 1 the work failed (or crosscheck: the renderers disagree; report: a declared \
+                  bound fails), 2 bad usage or input (or a scene Mitsuba cannot express), 3 Mitsuba or a GPU adapter is \
+                  unavailable (see scripts/setup.sh). verity diff: 0 pass, 1 warn, 2 fail, 3 size mismatch, 4 file error."
 )]
 pub struct Cli {
     /// What to do.
@@ -44,6 +48,12 @@ pub enum Command {
     Crosscheck(crosscheck::CrossCheckArgs),
     /// Benchmark: with --vs-mitsuba, the oracle's time to equal error against Mitsuba 3.
     Bench(bench::BenchArgs),
+    /// Render a scene with the realtime (wgpu) renderer to a layered EXR and print the timing line.
+    Raster(raster::RasterArgs),
+    /// Run a study (default: the built-in area-light study) and write its HTML/JSON/CSV/EXR report.
+    Report(report::ReportArgs),
+    /// Compare two EXRs, idiff-like (exit 0 pass, 1 warn, 2 fail, 3 size mismatch, 4 file error).
+    Diff(diff::DiffArgs),
 }
 
 /// Why a command failed, which decides the exit status.
@@ -53,8 +63,10 @@ pub enum Failure {
     Run,
     /// Bad usage or bad input (invalid flag value, unreadable scene): exit status 2.
     Input,
-    /// A required external tool (Mitsuba 3) cannot be run here: exit status 3.
+    /// A required external tool (Mitsuba 3, a GPU adapter) cannot be run here: exit status 3.
     Unavailable,
+    /// A command-specific status (`verity diff`: 3 size mismatch, 4 file error).
+    Status(u8),
 }
 
 impl Failure {
@@ -64,6 +76,7 @@ impl Failure {
             Failure::Run => 1,
             Failure::Input => 2,
             Failure::Unavailable => 3,
+            Failure::Status(code) => code,
         }
     }
 }
@@ -127,7 +140,7 @@ pub fn run_from(args: impl IntoIterator<Item = OsString>) -> ExitCode {
     let outcome = panic::catch_unwind(AssertUnwindSafe(|| dispatch(cli, &command_line)));
     let _ = panic::take_hook();
     match outcome {
-        Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Ok(code)) => ExitCode::from(code),
         Ok(Err(e)) => {
             eprintln!("error: {}", e.message);
             ExitCode::from(e.failure.exit_status())
@@ -136,12 +149,17 @@ pub fn run_from(args: impl IntoIterator<Item = OsString>) -> ExitCode {
     }
 }
 
-fn dispatch(cli: Cli, command_line: &str) -> Result<(), CliError> {
+/// Runs the subcommand; `Ok` carries the exit status of a command that ran to the end
+/// (0, or `verity diff`'s 1 warn / 2 fail, `verity report`'s 1 when a bound fails).
+fn dispatch(cli: Cli, command_line: &str) -> Result<u8, CliError> {
     match cli.command {
-        Command::Render(args) => render::run(&args, command_line),
-        Command::ExportMitsuba(args) => export_mitsuba::run(&args),
-        Command::Crosscheck(args) => crosscheck::run(&args),
-        Command::Bench(args) => bench::run(&args),
+        Command::Render(args) => render::run(&args, command_line).map(|()| 0),
+        Command::ExportMitsuba(args) => export_mitsuba::run(&args).map(|()| 0),
+        Command::Crosscheck(args) => crosscheck::run(&args).map(|()| 0),
+        Command::Bench(args) => bench::run(&args).map(|()| 0),
+        Command::Raster(args) => raster::run(&args, command_line).map(|()| 0),
+        Command::Report(args) => report::run(&args),
+        Command::Diff(args) => diff::run(&args),
     }
 }
 

@@ -82,18 +82,33 @@ pub fn bench(scene: &Scene, opts: &BenchOptions) -> Result<Bench, CrossCheckErro
         .map_err(|e| CrossCheckError::Io(e.to_string()))?;
     let render_mitsuba = |variant: Variant, spp: u32, min_passes: u32, seed: u64, name: &str| {
         let (spp, passes) = plan_passes(w, h, spp, min_passes);
-        note(format!("bench: Mitsuba {} {w}x{h}, {spp} spp ({name})", variant.name()));
+        note(format!(
+            "bench: Mitsuba {} {w}x{h}, {spp} spp ({name})",
+            variant.name()
+        ));
         mitsuba
-            .render(&xml, variant, spp, passes, seed, &opts.out_dir.join(format!("{name}.exr")))
+            .render(
+                &xml,
+                variant,
+                spp,
+                passes,
+                seed,
+                &opts.out_dir.join(format!("{name}.exr")),
+            )
             .map_err(CrossCheckError::Mitsuba)
     };
 
-    let reference = render_mitsuba(Variant::LlvmAdRgb, opts.reference_spp, VARIANCE_PASSES, 1000, "reference")?;
+    let reference = render_mitsuba(
+        Variant::LlvmAdRgb,
+        opts.reference_spp,
+        VARIANCE_PASSES,
+        1000,
+        "reference",
+    )?;
     let ref_rgb = rgb(&reference)?;
-    let ref_var = reference
-        .image
-        .rgb("variance")
-        .ok_or_else(|| CrossCheckError::Mitsuba(RunnerError::Failed("the reference has no variance".into())))?;
+    let ref_var = reference.image.rgb("variance").ok_or_else(|| {
+        CrossCheckError::Mitsuba(RunnerError::Failed("the reference has no variance".into()))
+    })?;
     let reference_noise = noise_relmse(&ref_rgb, &ref_var);
     let error = |img: &[Vec3]| (relmse(img, &ref_rgb) - reference_noise).max(1e-12);
 

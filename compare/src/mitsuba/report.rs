@@ -114,7 +114,7 @@ fn pvalue_map(check: &CrossCheck) -> LayeredImage {
             } else {
                 p.iter().copied().fold(f64::INFINITY, f64::min)
             };
-            let srgb = if !(p_min > z.alpha) {
+            let srgb = if p_min.is_nan() || p_min <= z.alpha {
                 FAIL_COLOUR
             } else {
                 ramp((p_min.log10() / log_alpha).clamp(0.0, 1.0) as f32)

@@ -10,13 +10,16 @@ use crate::SceneError;
 
 /// The file being read: its path (for messages), its directory (for relative paths) and
 /// its line index.
-pub(crate) struct Ctx {
+pub struct Ctx {
+    /// The file, for messages.
     pub file: PathBuf,
+    /// Its directory, against which relative paths resolve.
     pub dir: PathBuf,
     lines: Lines,
 }
 
 impl Ctx {
+    /// The context of `file` whose text is `text`.
     pub fn new(file: &Path, text: &str) -> Self {
         let dir = file.parent().map(Path::to_path_buf).unwrap_or_default();
         Ctx {
@@ -39,18 +42,25 @@ impl Ctx {
 
 /// One value of the file with its dotted path and line.
 #[derive(Clone)]
-pub(crate) struct Field<'a> {
+pub struct Field<'a> {
+    /// The file.
     pub ctx: &'a Ctx,
+    /// The value.
     pub node: &'a Node,
+    /// Dotted path of the field (`method[1].sweep.n`).
     pub path: String,
+    /// 1-based line, where known.
     pub line: Option<usize>,
 }
 
 /// A table of the file: named entries and where the table starts.
 #[derive(Clone)]
-pub(crate) struct Table<'a> {
+pub struct Table<'a> {
+    /// The file.
     pub ctx: &'a Ctx,
+    /// Dotted path of the table.
     pub path: String,
+    /// 1-based line of the table, where known.
     pub line: Option<usize>,
     entries: &'a [(String, Node)],
 }
@@ -308,6 +318,14 @@ impl<'a> Table<'a> {
         })
     }
 
+    /// Every key in document order with its field (for tables of free-form keys).
+    pub fn fields(&self) -> Vec<(&'a str, Field<'a>)> {
+        self.entries
+            .iter()
+            .map(|(k, _)| (k.as_str(), self.get(k).expect("key comes from this table")))
+            .collect()
+    }
+
     /// Does the table have `key`?
     pub fn has(&self, key: &str) -> bool {
         self.entries.iter().any(|(k, _)| k == key)
@@ -384,7 +402,7 @@ fn quoted(words: &[&str]) -> String {
 }
 
 /// "; did you mean `x`?" for the closest word within edit distance 2, else "".
-pub(crate) fn did_you_mean(word: &str, candidates: &[&str]) -> String {
+pub fn did_you_mean(word: &str, candidates: &[&str]) -> String {
     candidates
         .iter()
         .map(|c| (edit_distance(word, c), c))

@@ -21,20 +21,27 @@ const DATETIME: &str = "$__toml_private_datetime";
 
 /// A value and, where the parser knows it, its byte range in the document.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Node {
+pub struct Node {
+    /// Byte range in the document, where the parser knows it.
     pub span: Option<Range<usize>>,
+    /// The value.
     pub value: Value,
 }
 
 /// A TOML value whose children are [`Node`]s.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) enum Value {
+pub enum Value {
     /// Keys in document order.
     Table(Vec<(String, Node)>),
+    /// An array.
     Array(Vec<Node>),
+    /// A float.
     Float(f64),
+    /// An integer.
     Integer(i64),
+    /// A string.
     String(String),
+    /// A boolean.
     Bool(bool),
     /// A date-time, kept as written (scene files have no use for one).
     Datetime(String),

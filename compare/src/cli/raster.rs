@@ -1,0 +1,283 @@
+//! `verity raster`: render a scene with the realtime (wgpu) renderer to a layered EXR plus a
+//! PNG preview, and print the timing line.
+//!
+//! The EXR has the oracle's layout (R, G, B, depth.Z, normal.X/Y/Z, albedo.R/G/B, coverage.Y,
+//! object_id.Y) and a header naming the adapter, backend, method, parameters, pipeline,
+//! supersampling and the measured cost. The adapter is chosen by `WGPU_BACKEND` /
+//! `WGPU_ADAPTER_NAME` (realtime/src/gpu.rs); without any, the command exits with status 3
+//! and says what to install.
+
+use std::path::{Path, PathBuf};
+
+use clap::{Args, ValueEnum};
+use realtime::{Method, PipelineKind, RasterError, RasterOutput, RasterSettings, Renderer};
+use scenes::Scene;
+
+use super::CliError;
+
+/// Largest width or height `--resolution` accepts.
+pub const MAX_RESOLUTION: u32 = 16384;
+
+/// Flags of `verity raster`.
+#[derive(Args, Clone, Debug)]
+pub struct RasterArgs {
+    /// Scene file: a TOML scene (see scenes/README.md) or a glTF 2.0 asset (.gltf, .glb).
+    #[arg(value_name = "SCENE")]
+    pub scene: PathBuf,
+
+    /// Area-light method: area_quadrature (N×N quadrature, converges to the exact
+    /// unshadowed integral) or area_representative_point (Karis 2013).
+    #[arg(long, value_name = "NAME", default_value = "area_quadrature")]
+    pub method: String,
+
+    /// A method parameter, repeatable: n=16 (area_quadrature's N), env_n=8 (environment
+    /// quadrature N, 0 = no environment lighting).
+    #[arg(long = "param", value_name = "K=V", value_parser = parse_param)]
+    pub params: Vec<(String, String)>,
+
+    /// Forward shading, or deferred (G-buffer + lighting pass).
+    #[arg(long, value_enum, default_value_t = PipelineArg::Forward)]
+    pub pipeline: PipelineArg,
+
+    /// Image size, e.g. 640x480, each side in 1..=16384 [default: the scene's].
+    #[arg(long, value_name = "WxH", value_parser = parse_resolution)]
+    pub resolution: Option<(u32, u32)>,
+
+    /// Supersampling: K×K samples per pixel (box filter), K in 1..=16.
+    #[arg(long, value_name = "K", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=16))]
+    pub ssaa: u32,
+
+    /// Output EXR; the PNG preview goes beside it with the extension .png
+    /// [default: out/<scene stem>-raster.exr].
+    #[arg(long, value_name = "FILE.exr")]
+    pub out: Option<PathBuf>,
+
+    /// Exposure of the PNG preview in stops (the EXR is not scaled).
+    #[arg(long, value_name = "STOPS", default_value_t = 0.0, allow_negative_numbers = true,
+          value_parser = parse_exposure)]
+    pub exposure: f32,
+
+    /// Untimed warm-up frames.
+    #[arg(long, value_name = "N", default_value_t = 2)]
+    pub warmup: u32,
+
+    /// Timed frames (the reported time is their median), ≥ 1.
+    #[arg(long, value_name = "N", default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: u32,
+
+    /// Skip the extra frame that counts texel fetches and loop iterations per pixel.
+    #[arg(long)]
+    pub no_counters: bool,
+}
+
+/// `--pipeline` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum PipelineArg {
+    /// Shade in the geometry pass.
+    Forward,
+    /// G-buffer pass, then a full-screen lighting pass.
+    Deferred,
+}
+
+impl From<PipelineArg> for PipelineKind {
+    fn from(p: PipelineArg) -> Self {
+        match p {
+            PipelineArg::Forward => PipelineKind::Forward,
+            PipelineArg::Deferred => PipelineKind::Deferred,
+        }
+    }
+}
+
+/// Runs `verity raster`; `command_line` goes into the EXR header.
+pub fn run(args: &RasterArgs, command_line: &str) -> Result<(), CliError> {
+    let method =
+        Method::parse(&args.method, &args.params).map_err(|e| CliError::input(format!("--method: {e}")))?;
+    let scene = load_scene(&args.scene)?;
+    let out = output_path(args)?;
+    let (width, height) = args.resolution.unwrap_or((scene.film.width, scene.film.height));
+    let settings = RasterSettings::new(width, height)
+        .method(method)
+        .pipeline(args.pipeline.into())
+        .ssaa(args.ssaa)
+        .frames(args.warmup, args.frames)
+        .counters(!args.no_counters);
+    let renderer = Renderer::new().map_err(cli_error)?;
+    let mut result = renderer.render(&scene, &settings).map_err(cli_error)?;
+    result
+        .image
+        .set_attribute("software", format!("verity {}", env!("CARGO_PKG_VERSION")));
+    result.image.set_attribute("command_line", command_line);
+    result
+        .image
+        .write_exr(&out)
+        .map_err(|e| CliError::run(e.to_string()))?;
+    result
+        .image
+        .write_png_preview(out.with_extension("png"), args.exposure)
+        .map_err(|e| CliError::run(e.to_string()))?;
+    println!("{}", timing_line(&args.scene, &settings, &result, &out));
+    Ok(())
+}
+
+/// The exit status of a renderer error: no adapter is an unavailable tool (3), bad scenes and
+/// settings are bad input (2), the rest a failed run (1).
+fn cli_error(e: RasterError) -> CliError {
+    match e {
+        RasterError::NoAdapter(_) | RasterError::Unsupported { .. } => CliError::unavailable(e.to_string()),
+        RasterError::Scene(_) | RasterError::Settings(_) => CliError::input(e.to_string()),
+        RasterError::Gpu { .. } => CliError::run(e.to_string()),
+    }
+}
+
+/// `raster SCENE: WxH (ssaa K), PIPELINE, METHOD(params): T ms/frame (…) on ADAPTER [backend];
+/// counters -> OUT`
+pub fn timing_line(scene: &Path, s: &RasterSettings, r: &RasterOutput, out: &Path) -> String {
+    let mut line = format!(
+        "raster {}: {}x{} (ssaa {}), {}, {}: {}",
+        scene.display(),
+        s.width,
+        s.height,
+        s.ssaa,
+        s.pipeline.name(),
+        s.method,
+        r.timing.summary()
+    );
+    if let Some(c) = &r.counters {
+        line += &format!("; {}", c.summary());
+    }
+    line + &format!(" -> {}", out.display())
+}
+
+/// `--out`, or `out/<scene stem>-raster.exr`; must end in `.exr`; its directory is created.
+fn output_path(args: &RasterArgs) -> Result<PathBuf, CliError> {
+    let out = match &args.out {
+        Some(out) => out.clone(),
+        None => {
+            let stem = args.scene.file_stem().unwrap_or_else(|| "raster".as_ref());
+            let mut name = stem.to_os_string();
+            name.push("-raster.exr");
+            Path::new("out").join(name)
+        }
+    };
+    let is_exr = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    if !is_exr || out.file_stem().is_none() {
+        return Err(CliError::input(format!(
+            "--out {}: the output must be a .exr file (the PNG preview is written beside it)",
+            out.display()
+        )));
+    }
+    if out.is_dir() {
+        return Err(CliError::input(format!(
+            "--out {}: is a directory",
+            out.display()
+        )));
+    }
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            CliError::input(format!(
+                "--out {}: cannot create directory {}: {e}",
+                out.display(),
+                dir.display()
+            ))
+        })?;
+    }
+    Ok(out)
+}
+
+fn load_scene(path: &Path) -> Result<Scene, CliError> {
+    if !path.is_file() {
+        let why = if path.exists() {
+            "is not a file"
+        } else {
+            "no such file"
+        };
+        return Err(CliError::input(format!("{}: {why}", path.display())));
+    }
+    scenes::load(path).map_err(|e| CliError::input(e.to_string()))
+}
+
+/// `K=V` with a non-empty key.
+fn parse_param(s: &str) -> Result<(String, String), String> {
+    match s.split_once('=') {
+        Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), v.trim().to_string())),
+        _ => Err("expected KEY=VALUE, e.g. n=16".into()),
+    }
+}
+
+fn parse_exposure(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(x) if x.is_finite() && x.abs() <= 64.0 => Ok(x),
+        _ => Err("expected a number of stops in −64..=64".into()),
+    }
+}
+
+/// `WxH` (also `W×H`), each side in 1..=[`MAX_RESOLUTION`].
+fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
+    let usage = || format!("expected WIDTHxHEIGHT such as 640x480, each in 1..={MAX_RESOLUTION}");
+    let (w, h) = s.split_once(['x', 'X', '×']).ok_or_else(usage)?;
+    let side = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|n| (1..=MAX_RESOLUTION).contains(n))
+    };
+    match (side(w), side(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => Err(usage()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn params_and_resolutions_parse() {
+        assert_eq!(parse_param("n=16"), Ok(("n".into(), "16".into())));
+        assert!(parse_param("n").is_err() && parse_param("=3").is_err());
+        assert_eq!(parse_resolution("64x48"), Ok((64, 48)));
+        for bad in ["0x5", "16385x1", "64", "axb"] {
+            assert!(parse_resolution(bad).is_err(), "{bad} was accepted");
+        }
+        assert!(parse_exposure("nan").is_err() && parse_exposure("-1") == Ok(-1.0));
+    }
+
+    /// Bad method and missing scenes fail as bad input before any GPU work.
+    #[test]
+    fn bad_input_fails_before_the_gpu() {
+        use clap::Parser;
+        let args = |extra: &[&str]| {
+            let cli = super::super::Cli::try_parse_from(["verity", "raster"].iter().chain(extra))
+                .unwrap_or_else(|e| panic!("{e}"));
+            match cli.command {
+                super::super::Command::Raster(a) => a,
+                other => panic!("parsed as {other:?}"),
+            }
+        };
+        let e = run(&args(&["/no/such/scene.toml"]), "").unwrap_err();
+        assert_eq!(e.failure, super::super::Failure::Input);
+        assert!(e.message.contains("no such file"), "{}", e.message);
+        let e = run(
+            &args(&["x.toml", "--method", "area_quadrature", "--param", "n=99"]),
+            "",
+        )
+        .unwrap_err();
+        assert!(e.message.contains("1..=64"), "{}", e.message);
+    }
+
+    #[test]
+    fn renderer_errors_map_to_exit_statuses() {
+        use super::super::Failure;
+        let f = |e| cli_error(e).failure;
+        assert_eq!(f(RasterError::NoAdapter("x".into())), Failure::Unavailable);
+        assert_eq!(f(RasterError::Scene("x".into())), Failure::Input);
+        assert_eq!(f(RasterError::Settings("x".into())), Failure::Input);
+        assert_eq!(
+            f(RasterError::Gpu {
+                context: "c".into(),
+                message: "m".into()
+            }),
+            Failure::Run
+        );
+    }
+}

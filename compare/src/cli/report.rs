@@ -1,0 +1,94 @@
+//! `verity report [STUDY] [--out DIR] [--quick]`: run a study and write its report
+//! (compare/src/report, compare/src/study). With no STUDY, the built-in default study
+//! ([`DEFAULT_STUDY`]).
+//!
+//! Exit status: 0 when the report is written and every declared bound holds; 1 when a bound
+//! fails (the report is still written, failing rows first) or rendering fails; 2 bad input
+//! (study, scene or mask); 3 no GPU adapter.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+use realtime::Renderer;
+
+use super::CliError;
+use crate::progress::ProgressMode;
+use crate::study::run::{run_study, RunOptions, StudyError};
+use crate::study::{self, DEFAULT_STUDY};
+
+/// Flags of `verity report`.
+#[derive(Args, Clone, Debug)]
+pub struct ReportArgs {
+    /// Study file (TOML, format in compare/README.md) [default: scenes/studies/area-lights.toml].
+    #[arg(value_name = "STUDY")]
+    pub study: Option<PathBuf>,
+
+    /// Report folder [default: out/<study name>, or out/<study name>-quick with --quick].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+
+    /// Quick mode: the study's [quick] resolution and sample count (what the tests run).
+    #[arg(long)]
+    pub quick: bool,
+
+    /// Ground-truth cache folder [default: out/cache].
+    #[arg(long, value_name = "DIR")]
+    pub cache: Option<PathBuf>,
+
+    /// No progress on stderr.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// The default study: relative to the current directory, else to the workspace the binary
+/// was built from (so `verity report` works from anywhere in a checkout).
+fn default_study() -> PathBuf {
+    let here = PathBuf::from(DEFAULT_STUDY);
+    if here.exists() {
+        return here;
+    }
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join(DEFAULT_STUDY)
+}
+
+/// Runs `verity report`; returns 0, or 1 when a declared bound fails.
+pub fn run(args: &ReportArgs) -> Result<u8, CliError> {
+    let path = args.study.clone().unwrap_or_else(default_study);
+    let study = study::load(&path).map_err(|e| CliError::input(e.to_string()))?;
+    let out_dir = args.out.clone().unwrap_or_else(|| {
+        PathBuf::from("out").join(if args.quick {
+            format!("{}-quick", study.name)
+        } else {
+            study.name.clone()
+        })
+    });
+    let opts = RunOptions {
+        quick: args.quick,
+        out_dir: out_dir.clone(),
+        cache_dir: args.cache.clone().unwrap_or_else(|| PathBuf::from("out/cache")),
+        progress: ProgressMode::detect(args.quiet),
+    };
+    let renderer = Renderer::new().map_err(|e| CliError::unavailable(e.to_string()))?;
+    let result = run_study(&study, &renderer, &opts).map_err(|e| match e {
+        StudyError::Input(m) => CliError::input(m),
+        StudyError::Run(m) => CliError::run(m),
+        StudyError::Unavailable(m) => CliError::unavailable(m),
+    })?;
+    crate::report::write(&result, study.stability.metric.name(), &out_dir)
+        .map_err(|e| CliError::run(format!("{}: {e}", out_dir.display())))?;
+    let failures = result.failures();
+    println!(
+        "report {}: {} variants on {}, {} of {} bounds hold -> {}",
+        study.name,
+        result.variants.len(),
+        result.adapter.name,
+        result.thresholds.len() - failures.len(),
+        result.thresholds.len(),
+        out_dir.join("index.html").display()
+    );
+    for f in &failures {
+        eprintln!("FAIL {}", f.message(&study.name));
+    }
+    Ok(u8::from(!failures.is_empty()))
+}

@@ -1,0 +1,470 @@
+//! Image metrics: how far a test image (an approximation) is from a reference (the oracle).
+//!
+//! Every metric is computed over a [`Mask`] (the whole image, an object, a rectangle or a
+//! custom mask) and comes with the **reference's own noise floor**: the value the metric would
+//! take if the test image were the exact (noise-free) image, estimated from the oracle's
+//! per-pixel variance of the mean (`variance.R/G/B`). A measured value near its floor says
+//! "no error we can resolve at this sample count", not "no error".
+//!
+//! | metric | per pixel | aggregate | source |
+//! |---|---|---|---|
+//! | `mse` | (a − r)² per channel | mean | — |
+//! | `rmse` | — | √mse | — |
+//! | `relmse` | (a − r)² / (r² + 0.01) per channel | mean | Rousselle, Knaus, Zwicker 2011, §6 |
+//! | `smape` | \|a − r\| / (\|a\| + \|r\| + 0.01) per channel | mean | Vogels et al. 2018, §6 |
+//! | `psnr` | — | 10 log₁₀(1 / mse), peak 1 on linear values | — |
+//! | `ssim` | 1 − SSIM of tone-mapped luminance | mean SSIM | Wang, Bovik, Sheikh, Simoncelli 2004 |
+//! | `flip_ldr` | LDR-FLIP of the tone-mapped images | mean | Andersson et al. 2020 |
+//! | `flip_hdr` | HDR-FLIP of the linear images | mean | Andersson et al. 2021 |
+//!
+//! "Tone-mapped" is the project's preview mapping: exposure 1, clamp to [0, 1]
+//! ([`display_value`]); SSIM then takes the sRGB-encoded luminance, LDR-FLIP the clamped
+//! linear RGB (linear RGB → XYZ → YyCxCz, as the reference tool does for linear input).
+//!
+//! A test image with NaN or ±Inf in any selected pixel always fails: its metrics are NaN and
+//! [`MetricValue::non_finite`] counts the pixels. A non-finite reference is an error.
+
+pub mod flip;
+pub mod mask;
+pub mod noise;
+pub mod ssim;
+
+use std::fmt;
+
+use glam::Vec3;
+use scenes::layered::LayeredImage;
+
+pub use mask::Mask;
+
+/// ε of relMSE and SMAPE (DESIGN.md "Comparison"; Rousselle et al. 2011 and Vogels et al.
+/// 2018 use the same 0.01 so that dark pixels do not dominate).
+pub const RELATIVE_EPSILON: f32 = 0.01;
+
+/// A metric by name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Metric {
+    /// Mean squared error of linear RGB.
+    Mse,
+    /// Root of [`Metric::Mse`].
+    Rmse,
+    /// Relative MSE, (a − r)²/(r² + 0.01).
+    RelMse,
+    /// Symmetric mean absolute percentage error, |a − r|/(|a| + |r| + 0.01).
+    Smape,
+    /// Peak signal-to-noise ratio in dB, peak 1 (higher is better).
+    Psnr,
+    /// Mean structural similarity of tone-mapped luminance (higher is better).
+    Ssim,
+    /// LDR-FLIP of the tone-mapped images.
+    FlipLdr,
+    /// HDR-FLIP of the linear images.
+    FlipHdr,
+}
+
+impl Metric {
+    /// Every metric, in report order.
+    pub const ALL: [Metric; 8] = [
+        Metric::Mse,
+        Metric::Rmse,
+        Metric::RelMse,
+        Metric::Smape,
+        Metric::Psnr,
+        Metric::Ssim,
+        Metric::FlipLdr,
+        Metric::FlipHdr,
+    ];
+
+    /// The metric's name in study files, metrics.json and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Metric::Mse => "mse",
+            Metric::Rmse => "rmse",
+            Metric::RelMse => "relmse",
+            Metric::Smape => "smape",
+            Metric::Psnr => "psnr",
+            Metric::Ssim => "ssim",
+            Metric::FlipLdr => "flip_ldr",
+            Metric::FlipHdr => "flip_hdr",
+        }
+    }
+
+    /// The metric called `name`; the error lists the names accepted.
+    pub fn parse(name: &str) -> Result<Metric, String> {
+        Metric::ALL.into_iter().find(|m| m.name() == name).ok_or_else(|| {
+            let names: Vec<&str> = Metric::ALL.iter().map(|m| m.name()).collect();
+            format!("unknown metric `{name}`; metrics: {}", names.join(", "))
+        })
+    }
+
+    /// True for PSNR and SSIM, where a larger value means a better image.
+    pub fn higher_is_better(self) -> bool {
+        matches!(self, Metric::Psnr | Metric::Ssim)
+    }
+
+    /// The name of the per-pixel error map this metric writes (`error.<name>.Y`), if any.
+    pub fn map_name(self) -> Option<&'static str> {
+        match self {
+            Metric::Rmse | Metric::Psnr => None,
+            m => Some(m.name()),
+        }
+    }
+}
+
+impl fmt::Display for Metric {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// An RGB image with the reference's per-pixel variance of the mean, when it has one.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RgbImage {
+    /// Width in pixels.
+    pub width: usize,
+    /// Height in pixels.
+    pub height: usize,
+    /// Linear Rec.709 RGB, row-major, row 0 at the top.
+    pub rgb: Vec<Vec3>,
+    /// Variance of each pixel's mean (`variance.R/G/B`), if the image has it.
+    pub variance: Option<Vec<Vec3>>,
+}
+
+impl RgbImage {
+    /// The `R`, `G`, `B` (and `variance.*`) channels of a layered image; `what` names the image
+    /// in the error.
+    pub fn from_layered(img: &LayeredImage, what: &str) -> Result<RgbImage, String> {
+        let rgb = img
+            .rgb("")
+            .ok_or_else(|| format!("{what}: no R, G, B channels"))?;
+        Ok(RgbImage {
+            width: img.width as usize,
+            height: img.height as usize,
+            rgb,
+            variance: img.rgb("variance"),
+        })
+    }
+
+    /// An image without variance.
+    pub fn new(width: usize, height: usize, rgb: Vec<Vec3>) -> RgbImage {
+        assert_eq!(rgb.len(), width * height, "RgbImage::new: pixel count");
+        RgbImage {
+            width,
+            height,
+            rgb,
+            variance: None,
+        }
+    }
+}
+
+/// One metric's value over a mask.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MetricValue {
+    /// Which metric.
+    pub metric: Metric,
+    /// Its value (NaN when the test image has non-finite pixels in the mask).
+    pub value: f64,
+    /// The value the exact image would score against this noisy reference (0 for error metrics
+    /// and +∞ dB / 1 for PSNR / SSIM when the reference has no variance).
+    pub noise_floor: f64,
+    /// Selected pixels of the test image that are NaN or ±Inf.
+    pub non_finite: usize,
+    /// The per-pixel error map (full image, zero outside the mask), when the metric has one.
+    pub map: Option<Vec<f32>>,
+}
+
+impl MetricValue {
+    /// False when the test image has NaN/Inf pixels in the mask: always a failure.
+    pub fn is_finite(&self) -> bool {
+        self.non_finite == 0 && self.value.is_finite()
+    }
+}
+
+/// Why metrics cannot be computed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum MetricError {
+    /// The two images (or the mask) differ in size.
+    SizeMismatch(String),
+    /// The reference itself has NaN/Inf, or the mask selects no pixel.
+    BadInput(String),
+}
+
+impl fmt::Display for MetricError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MetricError::SizeMismatch(s) | MetricError::BadInput(s) => f.write_str(s),
+        }
+    }
+}
+
+impl std::error::Error for MetricError {}
+
+/// Computes `metrics` of `test` against `reference` over `mask`.
+pub fn evaluate(
+    reference: &RgbImage,
+    test: &RgbImage,
+    mask: &Mask,
+    metrics: &[Metric],
+) -> Result<Vec<MetricValue>, MetricError> {
+    check_inputs(reference, test, mask)?;
+    let non_finite = (0..test.rgb.len())
+        .filter(|&i| mask.selects(i) && !test.rgb[i].is_finite())
+        .count();
+    let floors = noise::NoiseFloors::new(reference, mask, metrics);
+    Ok(metrics
+        .iter()
+        .map(|&metric| {
+            let (value, map) = if non_finite > 0 {
+                (f64::NAN, None)
+            } else {
+                value_and_map(metric, reference, test, mask)
+            };
+            MetricValue {
+                metric,
+                value,
+                noise_floor: floors.get(metric),
+                non_finite,
+                map,
+            }
+        })
+        .collect())
+}
+
+/// Sizes agree, the mask selects something, the reference is finite where selected.
+fn check_inputs(reference: &RgbImage, test: &RgbImage, mask: &Mask) -> Result<(), MetricError> {
+    if (reference.width, reference.height) != (test.width, test.height) {
+        return Err(MetricError::SizeMismatch(format!(
+            "image sizes differ: reference {}x{}, test {}x{}",
+            reference.width, reference.height, test.width, test.height
+        )));
+    }
+    if mask.len() != reference.rgb.len() {
+        return Err(MetricError::SizeMismatch(format!(
+            "mask `{}` has {} pixels, the images {}",
+            mask.name,
+            mask.len(),
+            reference.rgb.len()
+        )));
+    }
+    if mask.count() == 0 {
+        return Err(MetricError::BadInput(format!(
+            "mask `{}` selects no pixel",
+            mask.name
+        )));
+    }
+    if let Some(i) = (0..reference.rgb.len()).find(|&i| mask.selects(i) && !reference.rgb[i].is_finite()) {
+        return Err(MetricError::BadInput(format!(
+            "the reference has a non-finite pixel at ({}, {})",
+            i % reference.width,
+            i / reference.width
+        )));
+    }
+    Ok(())
+}
+
+/// The aggregate value and per-pixel map of one metric (inputs checked, test finite).
+pub(crate) fn value_and_map(
+    metric: Metric,
+    reference: &RgbImage,
+    test: &RgbImage,
+    mask: &Mask,
+) -> (f64, Option<Vec<f32>>) {
+    match metric {
+        Metric::Mse => pixelwise(reference, test, mask, squared_error),
+        Metric::Rmse => (pixelwise(reference, test, mask, squared_error).0.sqrt(), None),
+        Metric::RelMse => pixelwise(reference, test, mask, relative_squared_error),
+        Metric::Smape => pixelwise(reference, test, mask, smape_term),
+        Metric::Psnr => (psnr(pixelwise(reference, test, mask, squared_error).0), None),
+        Metric::Ssim => {
+            let ssim = ssim::ssim_map(reference, test);
+            let mean = mask.mean(&ssim);
+            let error: Vec<f32> = ssim.iter().map(|s| 1.0 - s).collect();
+            (mean, Some(mask.zero_outside(error)))
+        }
+        Metric::FlipLdr => {
+            let map = flip_ldr_map(reference, test);
+            (mask.mean(&map), Some(mask.zero_outside(map)))
+        }
+        Metric::FlipHdr => {
+            let map = flip_hdr_map(reference, test);
+            (mask.mean(&map), Some(mask.zero_outside(map)))
+        }
+    }
+}
+
+/// Mean of a per-channel term over the mask's pixels and the three channels, and the per-pixel
+/// map (mean over channels).
+fn pixelwise(
+    reference: &RgbImage,
+    test: &RgbImage,
+    mask: &Mask,
+    term: fn(f32, f32) -> f32,
+) -> (f64, Option<Vec<f32>>) {
+    let map: Vec<f32> = reference
+        .rgb
+        .iter()
+        .zip(&test.rgb)
+        .map(|(r, a)| (term(a.x, r.x) + term(a.y, r.y) + term(a.z, r.z)) / 3.0)
+        .collect();
+    (mask.mean(&map), Some(mask.zero_outside(map)))
+}
+
+/// (a − r)².
+fn squared_error(a: f32, r: f32) -> f32 {
+    (a - r) * (a - r)
+}
+
+/// (a − r)² / (r² + ε): Rousselle, Knaus, Zwicker, "Adaptive Sampling and Reconstruction using
+/// Greedy Error Minimization", SIGGRAPH Asia 2011, §6 (relative MSE), ε = 0.01.
+fn relative_squared_error(a: f32, r: f32) -> f32 {
+    (a - r) * (a - r) / (r * r + RELATIVE_EPSILON)
+}
+
+/// |a − r| / (|a| + |r| + ε): Vogels et al., "Denoising with Kernel Prediction and Asymmetric
+/// Loss Functions", SIGGRAPH 2018, §6 (SMAPE), ε = 0.01.
+fn smape_term(a: f32, r: f32) -> f32 {
+    (a - r).abs() / (a.abs() + r.abs() + RELATIVE_EPSILON)
+}
+
+/// PSNR = 10 log₁₀(peak² / MSE) with peak 1 (linear radiance; values above 1 count fully).
+pub fn psnr(mse: f64) -> f64 {
+    if mse <= 0.0 {
+        f64::INFINITY
+    } else {
+        -10.0 * mse.log10()
+    }
+}
+
+/// The tone mapping used for LDR metrics and previews: exposure 1, clamp to [0, 1].
+pub fn display_value(linear: f32) -> f32 {
+    linear.clamp(0.0, 1.0)
+}
+
+/// Pixels per degree of every FLIP evaluation (the FLIP papers' default viewing conditions).
+fn ppd() -> f32 {
+    flip::default_pixels_per_degree()
+}
+
+/// A FLIP input of `img`'s size over `rgb`.
+fn flip_input<'a>(img: &RgbImage, rgb: &'a [[f32; 3]]) -> flip::FlipInput<'a> {
+    flip::FlipInput {
+        width: img.width,
+        height: img.height,
+        rgb,
+    }
+}
+
+/// LDR-FLIP map of the tone-mapped ([`display_value`]) images.
+fn flip_ldr_map(reference: &RgbImage, test: &RgbImage) -> Vec<f32> {
+    let tone = |img: &RgbImage| -> Vec<[f32; 3]> {
+        img.rgb.iter().map(|c| c.to_array().map(display_value)).collect()
+    };
+    let (r, t) = (tone(reference), tone(test));
+    flip::ldr_flip(flip_input(reference, &r), flip_input(test, &t), ppd())
+}
+
+/// HDR-FLIP map of the linear images (automatic exposure range from the reference).
+fn flip_hdr_map(reference: &RgbImage, test: &RgbImage) -> Vec<f32> {
+    let lin = |img: &RgbImage| -> Vec<[f32; 3]> {
+        img.rgb.iter().map(|c| c.to_array().map(|v| v.max(0.0))).collect()
+    };
+    let (r, t) = (lin(reference), lin(test));
+    flip::hdr_flip(flip_input(reference, &r), flip_input(test, &t), ppd(), None).map
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn image(values: &[f32]) -> RgbImage {
+        RgbImage::new(values.len(), 1, values.iter().map(|&v| Vec3::splat(v)).collect())
+    }
+
+    #[test]
+    fn pointwise_metrics_match_their_formulas() {
+        let r = image(&[0.5, 1.0]);
+        let a = image(&[0.6, 0.5]);
+        let all = Mask::all(2, 1);
+        let v = evaluate(
+            &r,
+            &a,
+            &all,
+            &[
+                Metric::Mse,
+                Metric::Rmse,
+                Metric::RelMse,
+                Metric::Smape,
+                Metric::Psnr,
+            ],
+        )
+        .unwrap();
+        let mse: f64 = (0.01 + 0.25) / 2.0;
+        let relmse = (0.01 / 0.26 + 0.25 / 1.01) / 2.0;
+        let smape = (0.1 / 1.11 + 0.5 / 1.51) / 2.0;
+        for (got, want) in v
+            .iter()
+            .zip([mse, mse.sqrt(), relmse, smape, -10.0 * mse.log10()])
+        {
+            assert!(
+                (got.value - want).abs() < 1e-6 * want.abs().max(1.0),
+                "{}: {} vs {want}",
+                got.metric,
+                got.value
+            );
+            assert_eq!(
+                got.noise_floor,
+                if got.metric == Metric::Psnr {
+                    f64::INFINITY
+                } else {
+                    0.0
+                }
+            );
+        }
+    }
+
+    #[test]
+    fn non_finite_test_pixels_fail_and_are_counted() {
+        let r = image(&[0.5, 0.5, 0.5]);
+        let a = image(&[0.5, f32::NAN, f32::INFINITY]);
+        let v = evaluate(&r, &a, &Mask::all(3, 1), &[Metric::Mse]).unwrap();
+        assert_eq!(v[0].non_finite, 2);
+        assert!(!v[0].is_finite() && v[0].value.is_nan());
+        // Outside the mask, a NaN does not count.
+        let mut m = Mask::all(3, 1);
+        m.pixels[1] = false;
+        m.pixels[2] = false;
+        let v = evaluate(&r, &a, &m, &[Metric::Mse]).unwrap();
+        assert!(v[0].is_finite() && v[0].value == 0.0);
+    }
+
+    #[test]
+    fn bad_inputs_are_errors() {
+        let r = image(&[0.5, 0.5]);
+        let a = image(&[0.5, 0.5, 0.5]);
+        assert!(matches!(
+            evaluate(&r, &a, &Mask::all(2, 1), &[Metric::Mse]),
+            Err(MetricError::SizeMismatch(_))
+        ));
+        let nan_ref = image(&[f32::NAN, 0.5]);
+        let e = evaluate(&nan_ref, &r, &Mask::all(2, 1), &[Metric::Mse]).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("reference has a non-finite pixel at (0, 0)"),
+            "{e}"
+        );
+        let mut empty = Mask::all(2, 1);
+        empty.pixels = vec![false; 2];
+        assert!(evaluate(&r, &r, &empty, &[Metric::Mse])
+            .unwrap_err()
+            .to_string()
+            .contains("selects no pixel"));
+    }
+
+    #[test]
+    fn names_round_trip_and_unknown_names_list_the_choices() {
+        for m in Metric::ALL {
+            assert_eq!(Metric::parse(m.name()), Ok(m));
+        }
+        let e = Metric::parse("l2").unwrap_err();
+        assert!(e.contains("relmse") && e.contains("flip_hdr"), "{e}");
+    }
+}

@@ -1,0 +1,327 @@
+//! SVG charts: error against cost with the Pareto front, and error against a swept parameter
+//! with its break point. Plain SVG 1.1 text, readable in any browser and embeddable in HTML;
+//! axes are logarithmic where values span decades.
+
+use std::fmt::Write as _;
+
+/// One point of an error-vs-cost chart.
+#[derive(Clone, Debug)]
+pub struct CostPoint {
+    /// Variant label.
+    pub label: String,
+    /// Cost, ms.
+    pub cost_ms: f64,
+    /// Error (lower is better).
+    pub error: f64,
+}
+
+/// Indices of the Pareto-optimal points: no other point has both lower-or-equal cost and
+/// lower-or-equal error with one of them strictly lower. Non-finite points are never optimal.
+pub fn pareto_front(points: &[CostPoint]) -> Vec<usize> {
+    let ok = |p: &CostPoint| p.cost_ms.is_finite() && p.error.is_finite();
+    (0..points.len())
+        .filter(|&i| {
+            let p = &points[i];
+            ok(p)
+                && !points.iter().any(|q| {
+                    ok(q)
+                        && q.cost_ms <= p.cost_ms
+                        && q.error <= p.error
+                        && (q.cost_ms < p.cost_ms || q.error < p.error)
+                })
+        })
+        .collect()
+}
+
+const W: f64 = 640.0;
+const H: f64 = 400.0;
+const LEFT: f64 = 80.0;
+const RIGHT: f64 = 20.0;
+const TOP: f64 = 30.0;
+const BOTTOM: f64 = 60.0;
+
+/// A log or linear axis mapping values to pixels.
+struct Axis {
+    lo: f64,
+    hi: f64,
+    log: bool,
+    from: f64,
+    to: f64,
+}
+
+impl Axis {
+    /// An axis over `values` (finite, > 0 for log), padded a little.
+    fn fit(values: impl Iterator<Item = f64>, from: f64, to: f64) -> Axis {
+        let v: Vec<f64> = values.filter(|x| x.is_finite()).collect();
+        let (mut lo, mut hi) = v.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+        if !lo.is_finite() {
+            (lo, hi) = (1.0, 10.0);
+        }
+        let log = lo > 0.0 && hi / lo > 20.0;
+        if log {
+            (lo, hi) = (lo / 1.5, hi * 1.5);
+        } else {
+            let pad = ((hi - lo) * 0.1).max(hi.abs() * 0.05).max(1e-12);
+            (lo, hi) = (lo - pad, hi + pad);
+        }
+        Axis {
+            lo,
+            hi,
+            log,
+            from,
+            to,
+        }
+    }
+
+    fn px(&self, v: f64) -> f64 {
+        let t = if self.log {
+            (v.ln() - self.lo.ln()) / (self.hi.ln() - self.lo.ln())
+        } else {
+            (v - self.lo) / (self.hi - self.lo)
+        };
+        self.from + t * (self.to - self.from)
+    }
+
+    /// Tick values: decades on a log axis, 5 steps on a linear one.
+    fn ticks(&self) -> Vec<f64> {
+        if self.log {
+            let (a, b) = (self.lo.log10().ceil() as i32, self.hi.log10().floor() as i32);
+            (a..=b).map(|e| 10f64.powi(e)).collect()
+        } else {
+            (0..=5)
+                .map(|k| self.lo + (self.hi - self.lo) * k as f64 / 5.0)
+                .collect()
+        }
+    }
+}
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// Frame, ticks and axis titles.
+fn axes(svg: &mut String, x: &Axis, y: &Axis, x_title: &str, y_title: &str, title: &str) {
+    let _ = write!(
+        svg,
+        r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {W} {H}" width="{W}" height="{H}" font-family="sans-serif" font-size="11">
+<rect x="0" y="0" width="{W}" height="{H}" fill="white"/>
+<text x="{}" y="18" text-anchor="middle" font-size="13">{}</text>
+<rect x="{LEFT}" y="{TOP}" width="{}" height="{}" fill="none" stroke="#444"/>
+"##,
+        W / 2.0,
+        esc(title),
+        W - LEFT - RIGHT,
+        H - TOP - BOTTOM
+    );
+    for t in x.ticks() {
+        let p = x.px(t);
+        let _ = writeln!(
+            svg,
+            r##"<line x1="{p:.1}" y1="{:.1}" x2="{p:.1}" y2="{TOP}" stroke="#ddd"/><text x="{p:.1}" y="{:.1}" text-anchor="middle">{}</text>"##,
+            H - BOTTOM,
+            H - BOTTOM + 15.0,
+            fmt_tick(t)
+        );
+    }
+    for t in y.ticks() {
+        let p = y.px(t);
+        let _ = writeln!(
+            svg,
+            r##"<line x1="{LEFT}" y1="{p:.1}" x2="{:.1}" y2="{p:.1}" stroke="#ddd"/><text x="{:.1}" y="{:.1}" text-anchor="end">{}</text>"##,
+            W - RIGHT,
+            LEFT - 5.0,
+            p + 4.0,
+            fmt_tick(t)
+        );
+    }
+    let _ = writeln!(
+        svg,
+        r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text><text transform="translate(16 {:.1}) rotate(-90)" text-anchor="middle">{}</text>"#,
+        LEFT + (W - LEFT - RIGHT) / 2.0,
+        H - 20.0,
+        esc(x_title),
+        TOP + (H - TOP - BOTTOM) / 2.0,
+        esc(y_title)
+    );
+}
+
+fn fmt_tick(v: f64) -> String {
+    if v != 0.0 && (v.abs() < 1e-2 || v.abs() >= 1e4) {
+        format!("{v:.0e}")
+    } else {
+        format!("{}", (v * 1000.0).round() / 1000.0)
+    }
+}
+
+/// Error against cost, Pareto-optimal points filled and joined.
+pub fn error_vs_cost(points: &[CostPoint], metric: &str, cost_title: &str, title: &str) -> String {
+    let x = Axis::fit(points.iter().map(|p| p.cost_ms), LEFT, W - RIGHT);
+    let y = Axis::fit(points.iter().map(|p| p.error), H - BOTTOM, TOP);
+    let mut svg = String::new();
+    axes(&mut svg, &x, &y, cost_title, metric, title);
+    let mut front = pareto_front(points);
+    front.sort_by(|&a, &b| points[a].cost_ms.total_cmp(&points[b].cost_ms));
+    let path: Vec<String> = front
+        .iter()
+        .map(|&i| format!("{:.1},{:.1}", x.px(points[i].cost_ms), y.px(points[i].error)))
+        .collect();
+    let _ = writeln!(
+        svg,
+        r##"<polyline points="{}" fill="none" stroke="#d33" stroke-width="1.5"/>"##,
+        path.join(" ")
+    );
+    for (i, p) in points.iter().enumerate() {
+        if !(p.cost_ms.is_finite() && p.error.is_finite()) {
+            continue;
+        }
+        let on = front.contains(&i);
+        let _ = writeln!(
+            svg,
+            r##"<g><title>{} — {:.4} ms, {metric} {:.3e}{}</title><circle cx="{:.1}" cy="{:.1}" r="4.5" fill="{}" stroke="#d33"/><text x="{:.1}" y="{:.1}" font-size="9">{}</text></g>"##,
+            esc(&p.label),
+            p.cost_ms,
+            p.error,
+            if on { " (Pareto-optimal)" } else { "" },
+            x.px(p.cost_ms),
+            y.px(p.error),
+            if on { "#d33" } else { "white" },
+            x.px(p.cost_ms) + 6.0,
+            y.px(p.error) - 6.0,
+            esc(&p.label)
+        );
+    }
+    svg += "</svg>\n";
+    svg
+}
+
+/// Error against a swept parameter (values in listed order along x), with the noise floor
+/// and the break point marked.
+pub fn error_vs_parameter(
+    parameter: &str,
+    values: &[String],
+    errors: &[f64],
+    noise_floor: Option<f64>,
+    breakpoint: Option<&str>,
+    metric: &str,
+    title: &str,
+) -> String {
+    let numeric: Option<Vec<f64>> = values.iter().map(|v| v.parse::<f64>().ok()).collect();
+    let xs: Vec<f64> = match &numeric {
+        Some(v) => v.clone(),
+        None => (0..values.len()).map(|i| i as f64).collect(),
+    };
+    let x = Axis::fit(xs.iter().copied(), LEFT, W - RIGHT);
+    let y = Axis::fit(
+        errors.iter().copied().chain(noise_floor.filter(|f| *f > 0.0)),
+        H - BOTTOM,
+        TOP,
+    );
+    let mut svg = String::new();
+    axes(&mut svg, &x, &y, parameter, metric, title);
+    if let Some(f) = noise_floor.filter(|f| f.is_finite() && *f > 0.0) {
+        let p = y.px(f);
+        let _ = writeln!(
+            svg,
+            r##"<line x1="{LEFT}" y1="{p:.1}" x2="{:.1}" y2="{p:.1}" stroke="#888" stroke-dasharray="4 3"/><text x="{:.1}" y="{:.1}" text-anchor="end" fill="#666">reference noise floor</text>"##,
+            W - RIGHT,
+            W - RIGHT - 4.0,
+            p - 4.0
+        );
+    }
+    let mut order: Vec<usize> = (0..values.len()).filter(|&i| errors[i].is_finite()).collect();
+    order.sort_by(|&a, &b| xs[a].total_cmp(&xs[b]));
+    let line: Vec<String> = order
+        .iter()
+        .map(|&i| format!("{:.1},{:.1}", x.px(xs[i]), y.px(errors[i])))
+        .collect();
+    let _ = writeln!(
+        svg,
+        r##"<polyline points="{}" fill="none" stroke="#36c" stroke-width="1.5"/>"##,
+        line.join(" ")
+    );
+    for &i in &order {
+        let broken = breakpoint == Some(values[i].as_str());
+        let _ = writeln!(
+            svg,
+            r##"<g><title>{parameter} = {}: {metric} {:.3e}{}</title><circle cx="{:.1}" cy="{:.1}" r="4.5" fill="{}"/></g>"##,
+            esc(&values[i]),
+            errors[i],
+            if broken { " (break point)" } else { "" },
+            x.px(xs[i]),
+            y.px(errors[i]),
+            if broken { "#d33" } else { "#36c" }
+        );
+        if numeric.is_none() {
+            let _ = writeln!(
+                svg,
+                r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
+                x.px(xs[i]),
+                H - BOTTOM + 28.0,
+                esc(&values[i])
+            );
+        }
+    }
+    if let Some(b) = breakpoint.and_then(|b| values.iter().position(|v| v == b)) {
+        let p = x.px(xs[b]);
+        let _ = writeln!(
+            svg,
+            r##"<line x1="{p:.1}" y1="{TOP}" x2="{p:.1}" y2="{:.1}" stroke="#d33" stroke-dasharray="2 2"/><text x="{:.1}" y="{:.1}" fill="#d33">break point</text>"##,
+            H - BOTTOM,
+            p + 4.0,
+            TOP + 12.0
+        );
+    }
+    svg += "</svg>\n";
+    svg
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(cost: f64, error: f64) -> CostPoint {
+        CostPoint {
+            label: format!("{cost}/{error}"),
+            cost_ms: cost,
+            error,
+        }
+    }
+
+    #[test]
+    fn pareto_front_keeps_exactly_the_undominated_points() {
+        let pts = [
+            p(1.0, 10.0),
+            p(2.0, 5.0),
+            p(3.0, 6.0),
+            p(4.0, 1.0),
+            p(2.0, 5.0),
+            p(0.5, f64::NAN),
+        ];
+        // (3, 6) is dominated by (2, 5); the duplicate (2, 5) points do not dominate each other.
+        assert_eq!(pareto_front(&pts), vec![0, 1, 3, 4]);
+        let svg = error_vs_cost(&pts, "relmse", "ms", "t");
+        assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+        assert_eq!(svg.matches("(Pareto-optimal)").count(), 4);
+    }
+
+    #[test]
+    fn parameter_chart_marks_the_break_point() {
+        let values: Vec<String> = ["16", "8", "4", "2", "1"].map(String::from).to_vec();
+        let svg = error_vs_parameter(
+            "n",
+            &values,
+            &[1e-6, 2e-6, 1e-5, 1e-4, 1e-3],
+            Some(1e-6),
+            Some("2"),
+            "relmse",
+            "t",
+        );
+        assert!(svg.contains("n = 2: relmse 1.000e-4 (break point)"));
+        assert!(svg.contains("reference noise floor"));
+    }
+}

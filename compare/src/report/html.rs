@@ -1,0 +1,240 @@
+//! `index.html`: one self-contained page (inline CSS, a few lines of JavaScript, SVG charts
+//! inline and as files) drawn from the [`StudyResult`] alone, so every number on it is also in
+//! metrics.json.
+//!
+//! Reading order: what was measured and on which adapter; the declared bounds, failing first;
+//! error against cost with the Pareto front; error against every swept parameter; the metric
+//! table (click a column to sort; rows that fail a bound or have NaN/Inf come first); then per
+//! variant ground truth | approximation | error map, where hovering (or clicking) the
+//! approximation flips it to the ground truth.
+
+use std::fmt::Write as _;
+
+use super::chart::{self, CostPoint};
+use crate::study::result::{StudyResult, VariantResult};
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+fn num(v: f64) -> String {
+    if v.is_nan() {
+        "NaN".into()
+    } else if v.is_infinite() {
+        if v > 0.0 { "∞" } else { "−∞" }.into()
+    } else if v != 0.0 && (v.abs() < 1e-2 || v.abs() >= 1e4) {
+        format!("{v:.3e}")
+    } else {
+        format!("{v:.4}")
+    }
+}
+
+const STYLE: &str = r#"
+body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1200px; color: #222; }
+table { border-collapse: collapse; font-size: 13px; }
+th, td { border: 1px solid #ccc; padding: 3px 7px; text-align: right; }
+th { background: #f3f3f3; cursor: pointer; }
+td.l, th.l { text-align: left; }
+tr.fail td { background: #fde2e2; }
+.pass { color: #176b17; } .failtxt { color: #b00; font-weight: bold; }
+.triple { display: flex; gap: 8px; align-items: flex-start; margin-bottom: 1.2em; }
+.triple figure { margin: 0; } .triple img { image-rendering: pixelated; width: 256px; }
+.triple img.err { width: auto; height: 256px; }
+figcaption { font-size: 12px; color: #555; }
+.note { background: #fff7d6; padding: 6px 10px; border-left: 4px solid #e0b000; }
+"#;
+
+const SCRIPT: &str = r#"
+function sortTable(th) {
+  const table = th.closest('table'), i = [...th.parentNode.children].indexOf(th);
+  const rows = [...table.tBodies[0].rows], asc = th.dataset.asc !== '1';
+  const key = r => { const t = r.cells[i].dataset.v ?? r.cells[i].textContent; const x = parseFloat(t); return isNaN(x) ? t : x; };
+  rows.sort((a, b) => { const x = key(a), y = key(b); return (x > y ? 1 : x < y ? -1 : 0) * (asc ? 1 : -1); });
+  th.dataset.asc = asc ? '1' : '0'; rows.forEach(r => table.tBodies[0].appendChild(r));
+}
+function flip(img, on) { img.src = on ? img.dataset.gt : img.dataset.approx; }
+"#;
+
+/// The whole page.
+pub fn page(r: &StudyResult, cost_svg: &str, sweep_svgs: &[(String, String)]) -> String {
+    let mut h = String::new();
+    let _ = write!(
+        h,
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{}</title><style>{STYLE}</style><script>{SCRIPT}</script></head><body>\n",
+        esc(&r.title)
+    );
+    let _ = writeln!(h, "<h1>{}</h1><p>{}</p>", esc(&r.title), esc(&r.description));
+    header(&mut h, r);
+    thresholds(&mut h, r);
+    let _ = writeln!(h, "<h2>Error against cost</h2>{cost_svg}");
+    if !sweep_svgs.is_empty() {
+        h += "<h2>Error against parameter</h2>\n";
+        for (caption, svg) in sweep_svgs {
+            let _ = writeln!(
+                h,
+                "<figure>{svg}<figcaption>{}</figcaption></figure>",
+                esc(caption)
+            );
+        }
+    }
+    metric_table(&mut h, r);
+    flicker(&mut h, r);
+    images(&mut h, r);
+    h += "<p>All numbers: <a href=\"metrics.json\">metrics.json</a>, <a href=\"metrics.csv\">metrics.csv</a>; all images as EXR beside the PNGs.</p></body></html>\n";
+    h
+}
+
+fn header(h: &mut String, r: &StudyResult) {
+    let gt = &r.ground_truth;
+    let _ = writeln!(
+        h,
+        "<p>Study <code>{}</code> ({} mode), scene <code>{}</code>, {}×{} pixels.<br>Ground truth: oracle <code>{}</code>, {} spp, {:.2} s{}, mean relative standard error {:.2e} (its own noise; every metric below lists the floor it implies). Hash <code>{}</code>.</p>",
+        esc(&r.study_file),
+        r.mode,
+        esc(&r.scene),
+        r.width,
+        r.height,
+        gt.integrator,
+        gt.spp,
+        gt.seconds,
+        if gt.cached { " (cached)" } else { "" },
+        gt.mean_relative_std_error,
+        &gt.hash[..16.min(gt.hash.len())]
+    );
+    let a = &r.adapter;
+    let _ = writeln!(
+        h,
+        "<p>Costs measured on <b>{}</b> ({}, {}), from {}.</p>",
+        esc(&a.name),
+        esc(&a.backend),
+        esc(&a.driver),
+        a.timing_source.replace('_', " ")
+    );
+    if a.is_cpu {
+        h.push_str("<p class=\"note\">This adapter is a CPU rasteriser: its times are CPU time, not GPU speed. Compare methods by the hardware-independent counters (texel fetches and loop iterations per pixel) as well.</p>\n");
+    }
+}
+
+fn thresholds(h: &mut String, r: &StudyResult) {
+    let failed = r.failures().len();
+    let _ = writeln!(
+        h,
+        "<h2>Declared bounds: {} of {} hold</h2><table><thead><tr><th class=l>result</th><th class=l>variant</th><th class=l>metric</th><th class=l>mask</th><th>value</th><th>min</th><th>max</th><th class=l>reason</th></tr></thead><tbody>",
+        r.thresholds.len() - failed,
+        r.thresholds.len()
+    );
+    let mut rows: Vec<_> = r.thresholds.iter().collect();
+    rows.sort_by_key(|t| t.passed);
+    for t in rows {
+        let _ = writeln!(
+            h,
+            "<tr class=\"{}\"><td class=l>{}</td><td class=l>{}</td><td class=l>{}</td><td class=l>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=l>{}</td></tr>",
+            if t.passed { "" } else { "fail" },
+            if t.passed { "<span class=pass>holds</span>" } else { "<span class=failtxt>FAILS</span>" },
+            esc(&t.variant),
+            t.metric,
+            esc(&t.mask),
+            num(t.value),
+            t.min.map_or("".into(), num),
+            t.max.map_or("".into(), num),
+            esc(&t.reason)
+        );
+    }
+    h.push_str("</tbody></table>\n");
+}
+
+/// Whether a variant fails a bound or has NaN/Inf.
+fn failing(r: &StudyResult, v: &VariantResult) -> bool {
+    v.non_finite_pixels > 0 || r.thresholds.iter().any(|t| !t.passed && t.variant == v.label)
+}
+
+fn metric_table(h: &mut String, r: &StudyResult) {
+    h.push_str("<h2>Metrics (mask <code>all</code>; other masks in metrics.json)</h2><table><thead><tr><th class=l onclick=\"sortTable(this)\">variant</th><th onclick=\"sortTable(this)\">ms/frame</th><th onclick=\"sortTable(this)\">texel fetches/px</th><th onclick=\"sortTable(this)\">loop iterations/px</th><th onclick=\"sortTable(this)\">NaN/Inf px</th>");
+    for m in &r.metrics {
+        let _ = write!(h, "<th onclick=\"sortTable(this)\">{m}</th>");
+    }
+    h.push_str("</tr></thead><tbody>\n");
+    let mut rows: Vec<&VariantResult> = r.variants.iter().collect();
+    rows.sort_by_key(|v| !failing(r, v));
+    for v in rows {
+        let opt = |x: Option<f64>| x.map_or("–".into(), num);
+        let _ = write!(
+            h,
+            "<tr class=\"{}\"><td class=l>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>",
+            if failing(r, v) { "fail" } else { "" },
+            esc(&v.label),
+            num(v.cost.frame_ms),
+            opt(v.cost.texel_fetches_per_pixel),
+            opt(v.cost.loop_iterations_per_pixel),
+            v.non_finite_pixels
+        );
+        if let Some(all) = v.metrics.first() {
+            for e in &all.values {
+                let _ = write!(
+                    h,
+                    "<td data-v=\"{}\" title=\"noise floor {}\">{}</td>",
+                    e.value,
+                    num(e.noise_floor),
+                    num(e.value)
+                );
+            }
+        }
+        h.push_str("</tr>\n");
+    }
+    h.push_str("</tbody></table><p>Hover a value for the reference's noise floor of that metric.</p>\n");
+}
+
+fn flicker(h: &mut String, r: &StudyResult) {
+    if r.flicker.is_empty() {
+        return;
+    }
+    h.push_str("<h2>Temporal flicker</h2><table><thead><tr><th class=l>variant</th><th>frames</th><th>flicker</th><th>noise floor</th></tr></thead><tbody>\n");
+    for f in &r.flicker {
+        let _ = writeln!(
+            h,
+            "<tr><td class=l>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+            esc(&f.variant),
+            f.frames,
+            num(f.flicker),
+            num(f.noise_floor)
+        );
+    }
+    h.push_str("</tbody></table>\n");
+}
+
+fn images(h: &mut String, r: &StudyResult) {
+    h.push_str("<h2>Images</h2><p>Ground truth | approximation (hover or click to flip to the ground truth) | error map.</p>\n");
+    for v in &r.variants {
+        let _ = writeln!(
+            h,
+            "<h3>{}</h3><div class=triple><figure><img src=\"ground_truth.png\" alt=\"ground truth\"><figcaption>ground truth (<a href=\"{}\">EXR</a>)</figcaption></figure><figure><img src=\"{}\" data-gt=\"ground_truth.png\" data-approx=\"{}\" onmouseenter=\"flip(this,true)\" onmouseleave=\"flip(this,false)\" onclick=\"flip(this,this.src.endsWith('{}'))\" alt=\"approximation\"><figcaption>{} (<a href=\"{}\">EXR</a>)</figcaption></figure><figure><img class=err src=\"{}\" alt=\"error map\"><figcaption>error map (magma, 0 to the 99th percentile)</figcaption></figure></div>",
+            esc(&v.label),
+            r.ground_truth.exr,
+            v.png,
+            v.png,
+            v.png,
+            esc(&v.label),
+            v.exr,
+            v.error_png
+        );
+    }
+}
+
+/// The error-vs-cost chart of the study's stability metric over `all`.
+pub fn cost_chart(r: &StudyResult, metric: &str) -> String {
+    let points: Vec<CostPoint> = r
+        .variants
+        .iter()
+        .map(|v| CostPoint {
+            label: v.label.clone(),
+            cost_ms: v.cost.frame_ms,
+            error: r.value(&v.label, "all", metric).unwrap_or(f64::NAN),
+        })
+        .collect();
+    let title = format!("{metric} against frame time on {}", r.adapter.name);
+    let cost = format!("ms/frame ({})", r.adapter.timing_source.replace('_', " "));
+    chart::error_vs_cost(&points, metric, &cost, &title)
+}

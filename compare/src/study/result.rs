@@ -1,0 +1,310 @@
+//! What a study run produces, as written to `metrics.json` (schema: compare/README.md,
+//! "metrics.json") and `metrics.csv`. Every number in the report is here.
+
+use std::path::Path;
+
+use serde::Serialize;
+
+use crate::metrics::MetricValue;
+
+/// Version of the metrics.json schema; bumped on any incompatible change.
+pub const SCHEMA_VERSION: u32 = 1;
+
+/// A whole study run.
+#[derive(Clone, Debug, Serialize)]
+pub struct StudyResult {
+    /// [`SCHEMA_VERSION`].
+    pub schema_version: u32,
+    /// Study name.
+    pub study: String,
+    /// Study title.
+    pub title: String,
+    /// Study description.
+    pub description: String,
+    /// Study file.
+    pub study_file: String,
+    /// Scene file.
+    pub scene: String,
+    /// `full` or `quick`.
+    pub mode: String,
+    /// Image size.
+    pub width: u32,
+    /// Image size.
+    pub height: u32,
+    /// The ground truth.
+    pub ground_truth: GroundTruthInfo,
+    /// The adapter every cost was measured on.
+    pub adapter: AdapterInfo,
+    /// Metric names in table order.
+    pub metrics: Vec<String>,
+    /// Mask names (`all` first) with their pixel counts.
+    pub masks: Vec<MaskInfo>,
+    /// One entry per method × parameter point, in study order.
+    pub variants: Vec<VariantResult>,
+    /// Every declared bound, checked.
+    pub thresholds: Vec<ThresholdCheck>,
+    /// Error against each swept parameter, with the break point.
+    pub sweeps: Vec<SweepResult>,
+    /// Temporal flicker per variant, when the study asks for it.
+    pub flicker: Vec<FlickerResult>,
+}
+
+/// How the ground truth was made.
+#[derive(Clone, Debug, Serialize)]
+pub struct GroundTruthInfo {
+    /// Oracle integrator name.
+    pub integrator: String,
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Render seconds (of the run that made the cached file).
+    pub seconds: f64,
+    /// Content hash of scene, settings and oracle version (the cache key).
+    pub hash: String,
+    /// Whether it came from the cache.
+    pub cached: bool,
+    /// The EXR, relative to the report folder.
+    pub exr: String,
+    /// Mean relative standard error of the reference (its own noise).
+    pub mean_relative_std_error: f64,
+}
+
+/// The adapter costs were measured on.
+#[derive(Clone, Debug, Serialize)]
+pub struct AdapterInfo {
+    /// Adapter name.
+    pub name: String,
+    /// Backend.
+    pub backend: String,
+    /// Driver.
+    pub driver: String,
+    /// `gpu_timestamps` or `wall_clock`.
+    pub timing_source: String,
+    /// True for CPU rasterisers (lavapipe, llvmpipe, SwiftShader, WARP): costs are not GPU speed.
+    pub is_cpu: bool,
+}
+
+/// A mask and how many pixels it selects.
+#[derive(Clone, Debug, Serialize)]
+pub struct MaskInfo {
+    /// Name.
+    pub name: String,
+    /// Selected pixels.
+    pub pixels: usize,
+}
+
+/// One method × parameter point.
+#[derive(Clone, Debug, Serialize)]
+pub struct VariantResult {
+    /// File-name-safe id.
+    pub id: String,
+    /// `method(k=v, …)` of the swept parameters.
+    pub label: String,
+    /// Method name.
+    pub method: String,
+    /// Every parameter, as strings.
+    pub params: Vec<(String, String)>,
+    /// The swept parameters at this point.
+    pub swept: Vec<(String, String)>,
+    /// Its cost.
+    pub cost: Cost,
+    /// Metrics per mask.
+    pub metrics: Vec<MaskMetrics>,
+    /// Pixels (whole image) of the approximation that are NaN or ±Inf.
+    pub non_finite_pixels: usize,
+    /// The approximation's EXR (with `error.<metric>.Y` layers), relative to the report folder.
+    pub exr: String,
+    /// Its preview PNG.
+    pub png: String,
+    /// False-colour error map PNG of the study's stability metric over `all`.
+    pub error_png: String,
+}
+
+/// The cost of a variant.
+#[derive(Clone, Debug, Serialize)]
+pub struct Cost {
+    /// Frame time reported as the cost (GPU time if measured, else wall), ms.
+    pub frame_ms: f64,
+    /// GPU timestamp time, ms.
+    pub gpu_ms: Option<f64>,
+    /// Wall time around submit-and-wait, ms.
+    pub wall_ms: f64,
+    /// Texel fetches per pixel (hardware-independent).
+    pub texel_fetches_per_pixel: Option<f64>,
+    /// Shading-loop iterations per pixel (hardware-independent).
+    pub loop_iterations_per_pixel: Option<f64>,
+}
+
+/// The metrics of a variant over one mask.
+#[derive(Clone, Debug, Serialize)]
+pub struct MaskMetrics {
+    /// Mask name.
+    pub mask: String,
+    /// One value per metric, in the study's order.
+    pub values: Vec<MetricEntry>,
+}
+
+/// One metric value with its noise floor.
+#[derive(Clone, Debug, Serialize)]
+pub struct MetricEntry {
+    /// Metric name.
+    pub metric: String,
+    /// Value (null when the image has NaN/Inf pixels in the mask).
+    pub value: f64,
+    /// The reference's noise floor for this metric.
+    pub noise_floor: f64,
+    /// Non-finite test pixels in the mask.
+    pub non_finite: usize,
+}
+
+impl From<&MetricValue> for MetricEntry {
+    fn from(v: &MetricValue) -> Self {
+        MetricEntry {
+            metric: v.metric.name().into(),
+            value: v.value,
+            noise_floor: v.noise_floor,
+            non_finite: v.non_finite,
+        }
+    }
+}
+
+/// A declared bound against a measured value.
+#[derive(Clone, Debug, Serialize)]
+pub struct ThresholdCheck {
+    /// Variant label.
+    pub variant: String,
+    /// Metric.
+    pub metric: String,
+    /// Mask.
+    pub mask: String,
+    /// Measured value.
+    pub value: f64,
+    /// Upper bound.
+    pub max: Option<f64>,
+    /// Lower bound.
+    pub min: Option<f64>,
+    /// Whether the value is finite and within both bounds.
+    pub passed: bool,
+    /// The reason the bound was declared.
+    pub reason: String,
+    /// `file:line` of the declaration.
+    pub location: String,
+}
+
+impl ThresholdCheck {
+    /// `study: method(k=v) metric over mask = value, expected ≤ max / ≥ min (reason) [file:line]`.
+    pub fn message(&self, study: &str) -> String {
+        let mut bounds = Vec::new();
+        if let Some(m) = self.max {
+            bounds.push(format!("≤ {m:e}"));
+        }
+        if let Some(m) = self.min {
+            bounds.push(format!("≥ {m:e}"));
+        }
+        format!(
+            "{study}: {} {} over `{}` = {:.4e}, expected {} ({}) [{}]",
+            self.variant,
+            self.metric,
+            self.mask,
+            self.value,
+            bounds.join(" and "),
+            self.reason,
+            self.location
+        )
+    }
+}
+
+/// Error against one swept parameter of one method (other parameters fixed).
+#[derive(Clone, Debug, Serialize)]
+pub struct SweepResult {
+    /// Method name.
+    pub method: String,
+    /// The swept parameter.
+    pub parameter: String,
+    /// Metric.
+    pub metric: String,
+    /// Values in the order listed (towards the failure regime).
+    pub values: Vec<String>,
+    /// The metric over `all` at each value.
+    pub errors: Vec<f64>,
+    /// Cost at each value, ms.
+    pub frame_ms: Vec<f64>,
+    /// NaN/Inf pixels at each value.
+    pub non_finite: Vec<usize>,
+    /// The best error of the sweep.
+    pub best: f64,
+    /// First value (in listed order) whose error exceeds `factor` × best, or that has NaN/Inf.
+    pub breakpoint: Option<String>,
+    /// The factor used.
+    pub factor: f64,
+}
+
+/// Temporal flicker of one variant.
+#[derive(Clone, Debug, Serialize)]
+pub struct FlickerResult {
+    /// Variant label.
+    pub variant: String,
+    /// Frames rendered.
+    pub frames: u32,
+    /// Mean over frame pairs and pixels of |Δe| / (|r| + 0.01), e = approximation − ground truth.
+    pub flicker: f64,
+    /// The same for the ground truth's own noise (what an exact method would show).
+    pub noise_floor: f64,
+}
+
+impl StudyResult {
+    /// Failed thresholds.
+    pub fn failures(&self) -> Vec<&ThresholdCheck> {
+        self.thresholds.iter().filter(|t| !t.passed).collect()
+    }
+
+    /// metrics.json text.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("plain data serialises")
+    }
+
+    /// metrics.csv: one row per variant × mask × metric.
+    pub fn to_csv(&self) -> String {
+        let mut s = String::from(
+            "variant,method,params,mask,metric,value,noise_floor,non_finite,frame_ms,gpu_ms,wall_ms,\
+             texel_fetches_per_pixel,loop_iterations_per_pixel\n",
+        );
+        let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
+        for v in &self.variants {
+            let params: Vec<String> = v.params.iter().map(|(k, x)| format!("{k}={x}")).collect();
+            for m in &v.metrics {
+                for e in &m.values {
+                    s += &format!(
+                        "\"{}\",{},\"{}\",{},{},{},{},{},{},{},{},{},{}\n",
+                        v.label,
+                        v.method,
+                        params.join(" "),
+                        m.mask,
+                        e.metric,
+                        e.value,
+                        e.noise_floor,
+                        e.non_finite,
+                        v.cost.frame_ms,
+                        opt(v.cost.gpu_ms),
+                        v.cost.wall_ms,
+                        opt(v.cost.texel_fetches_per_pixel),
+                        opt(v.cost.loop_iterations_per_pixel)
+                    );
+                }
+            }
+        }
+        s
+    }
+
+    /// The value of `metric` over `mask` for the variant labelled `label`.
+    pub fn value(&self, label: &str, mask: &str, metric: &str) -> Option<f64> {
+        let v = self.variants.iter().find(|v| v.label == label)?;
+        let m = v.metrics.iter().find(|m| m.mask == mask)?;
+        m.values.iter().find(|e| e.metric == metric).map(|e| e.value)
+    }
+
+    /// Writes metrics.json and metrics.csv into `dir`, atomically.
+    pub fn write_files(&self, dir: &Path) -> std::io::Result<()> {
+        scenes::layered::write_atomic(dir.join("metrics.json"), self.to_json().as_bytes())?;
+        scenes::layered::write_atomic(dir.join("metrics.csv"), self.to_csv().as_bytes())
+    }
+}

@@ -1,0 +1,450 @@
+//! Running a study: the ground truth (cached by content hash), every method × parameter point
+//! rendered and measured over every mask, the thresholds checked, the sweeps and flicker
+//! analysed. The report ([`crate::report`]) is drawn from the [`StudyResult`] alone.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use oracle::{RenderJob, StopRule};
+use realtime::{RasterError, RasterSettings, Renderer};
+use scenes::layered::LayeredImage;
+use scenes::{RenderSettings, Scene};
+use sha2::{Digest, Sha256};
+
+use super::result::*;
+use super::{stability, MaskSpec, Study, Variant};
+use crate::cli::render::integrator_name;
+use crate::metrics::{self, Mask, Metric, MetricValue, RgbImage};
+use crate::progress::{ProgressMode, ProgressReporter};
+use crate::report::colormap;
+
+/// How a study runs.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// Quick mode: the study's `[quick]` resolution and sample count.
+    pub quick: bool,
+    /// The report folder.
+    pub out_dir: PathBuf,
+    /// Where ground truths are cached (`<hash>.exr`).
+    pub cache_dir: PathBuf,
+    /// Progress display.
+    pub progress: ProgressMode,
+}
+
+/// Why a study could not run; decides the CLI's exit status.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum StudyError {
+    /// Bad input: the scene, a mask, an object name (exit 2).
+    Input(String),
+    /// Rendering or writing failed (exit 1).
+    Run(String),
+    /// No GPU adapter (exit 3).
+    Unavailable(String),
+}
+
+impl std::fmt::Display for StudyError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            StudyError::Input(s) | StudyError::Run(s) | StudyError::Unavailable(s) => f.write_str(s),
+        }
+    }
+}
+
+fn io_err(what: &Path) -> impl Fn(std::io::Error) -> StudyError + '_ {
+    move |e| StudyError::Run(format!("{}: {e}", what.display()))
+}
+
+fn raster_err(e: RasterError) -> StudyError {
+    match e {
+        RasterError::NoAdapter(_) => StudyError::Unavailable(e.to_string()),
+        RasterError::Scene(_) | RasterError::Settings(_) => StudyError::Input(e.to_string()),
+        _ => StudyError::Run(e.to_string()),
+    }
+}
+
+/// The study's scene at the run mode's resolution, and the oracle settings of its ground truth.
+pub fn prepare(study: &Study, quick: bool) -> Result<(Scene, RenderSettings), StudyError> {
+    let mut scene = scenes::load(&study.scene).map_err(|e| StudyError::Input(e.to_string()))?;
+    let q = if quick { study.quick } else { study.full };
+    if let Some((w, h)) = q.resolution {
+        scene.film.width = w;
+        scene.film.height = h;
+    }
+    let gt = study.ground_truth;
+    let settings = RenderSettings {
+        spp: q.spp,
+        integrator: gt.integrator,
+        max_depth: gt.max_depth.unwrap_or(scene.render.max_depth),
+        seed: gt.seed,
+        ..scene.render
+    };
+    Ok((scene, settings))
+}
+
+/// Runs `study` on `renderer`, writing images under `opts.out_dir`.
+pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Result<StudyResult, StudyError> {
+    let (scene, settings) = prepare(study, opts.quick)?;
+    let (w, h) = (scene.film.width, scene.film.height);
+    for sub in ["", "methods"] {
+        let d = opts.out_dir.join(sub);
+        fs::create_dir_all(&d).map_err(io_err(&d))?;
+    }
+    let (gt, gt_info) = ground_truth(&scene, settings, opts)?;
+    gt.write_png_preview(opts.out_dir.join("ground_truth.png"), 0.0)
+        .map_err(io_err(&opts.out_dir))?;
+    let reference = RgbImage::from_layered(&gt, "ground truth").map_err(StudyError::Run)?;
+    let masks = build_masks(study, &scene, &gt)?;
+
+    let variants: Vec<Variant> = study.methods.iter().flat_map(|m| m.variants()).collect();
+    let mut results = Vec::new();
+    let mut adapter = None;
+    for (k, variant) in variants.iter().enumerate() {
+        let line = format!("[{}/{}] {}", k + 1, variants.len(), variant.label());
+        let (result, timing) = measure_variant(study, renderer, &scene, variant, &reference, &masks, opts)?;
+        if opts.progress != ProgressMode::Quiet {
+            let v = result.metrics[0]
+                .values
+                .iter()
+                .find(|e| e.metric == study.stability.metric.name());
+            eprintln!(
+                "report: {line}: {} {:.3e}, {:.3} ms/frame",
+                study.stability.metric,
+                v.map_or(f64::NAN, |e| e.value),
+                result.cost.frame_ms
+            );
+        }
+        adapter.get_or_insert(timing);
+        results.push(result);
+    }
+    let timing = adapter.expect("a study has at least one method");
+    let mut out = StudyResult {
+        schema_version: SCHEMA_VERSION,
+        study: study.name.clone(),
+        title: study.title.clone(),
+        description: study.description.clone(),
+        study_file: study.path.display().to_string(),
+        scene: study.scene.display().to_string(),
+        mode: if opts.quick { "quick" } else { "full" }.into(),
+        width: w,
+        height: h,
+        ground_truth: gt_info,
+        adapter: AdapterInfo {
+            is_cpu: is_cpu_adapter(&timing.adapter),
+            name: timing.adapter,
+            backend: timing.backend,
+            driver: timing.driver,
+            timing_source: match timing.source {
+                realtime::TimingSource::GpuTimestamps => "gpu_timestamps",
+                realtime::TimingSource::WallClock => "wall_clock",
+            }
+            .into(),
+        },
+        metrics: study.metrics.iter().map(|m| m.name().into()).collect(),
+        masks: masks
+            .iter()
+            .map(|m| MaskInfo {
+                name: m.name.clone(),
+                pixels: m.count(),
+            })
+            .collect(),
+        thresholds: Vec::new(),
+        sweeps: Vec::new(),
+        flicker: Vec::new(),
+        variants: results,
+    };
+    out.thresholds = check_thresholds(study, &variants, &out);
+    out.sweeps = stability::sweeps(study, &variants, &out);
+    if let Some(f) = study.stability.flicker {
+        out.flicker = stability::flicker(study, renderer, &scene, settings, &variants, f, opts)?;
+    }
+    out.write_files(&opts.out_dir).map_err(io_err(&opts.out_dir))?;
+    Ok(out)
+}
+
+/// Software rasterisers, whose timings are CPU time (never to be shown as GPU speed).
+pub fn is_cpu_adapter(name: &str) -> bool {
+    let n = name.to_ascii_lowercase();
+    [
+        "llvmpipe",
+        "lavapipe",
+        "swiftshader",
+        "softpipe",
+        "warp",
+        "microsoft basic render",
+    ]
+    .iter()
+    .any(|k| n.contains(k))
+}
+
+/// The cache key of a ground truth: SHA-256 of the scene as loaded (geometry, materials,
+/// textures, camera, film), the oracle settings and the oracle's version.
+pub fn ground_truth_hash(scene: &Scene, settings: &RenderSettings) -> String {
+    let mut h = Sha256::new();
+    h.update(format!("{scene:?}\n{settings:?}\noracle {}", oracle::VERSION).as_bytes());
+    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// The ground truth from the cache, or rendered (with progress) and cached; a copy goes into
+/// the report folder as `ground_truth.exr`.
+pub fn ground_truth(
+    scene: &Scene,
+    settings: RenderSettings,
+    opts: &RunOptions,
+) -> Result<(LayeredImage, GroundTruthInfo), StudyError> {
+    let hash = ground_truth_hash(scene, &settings);
+    let cached_path = opts.cache_dir.join(format!("{hash}.exr"));
+    let cached = LayeredImage::read_exr(&cached_path).ok();
+    let was_cached = cached.is_some();
+    let image = match cached {
+        Some(img) => img,
+        None => {
+            let stop = StopRule {
+                spp: settings.spp,
+                time: None,
+                target_rel_err: None,
+            };
+            let mut reporter = ProgressReporter::new(opts.progress, stop, false);
+            reporter.note(&format!(
+                "report: ground truth {}x{}, {} spp, {}",
+                scene.film.width,
+                scene.film.height,
+                settings.spp,
+                integrator_name(settings.integrator)
+            ));
+            let job = RenderJob {
+                scene,
+                settings,
+                stop,
+                checkpoint: None,
+            };
+            let r = oracle::render(&job, &mut |p| {
+                reporter.update(p);
+                true
+            })
+            .map_err(|e| StudyError::Input(e.to_string()))?;
+            reporter.finish();
+            fs::create_dir_all(&opts.cache_dir).map_err(io_err(&opts.cache_dir))?;
+            r.image.write_exr(&cached_path).map_err(io_err(&cached_path))?;
+            r.image
+        }
+    };
+    let exr = "ground_truth.exr".to_string();
+    image
+        .write_exr(opts.out_dir.join(&exr))
+        .map_err(io_err(&opts.out_dir))?;
+    let info = GroundTruthInfo {
+        integrator: integrator_name(settings.integrator).into(),
+        spp: settings.spp,
+        seconds: image
+            .attribute("seconds")
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(f64::NAN),
+        hash,
+        cached: was_cached,
+        exr,
+        mean_relative_std_error: mean_relative_std_error(&image),
+    };
+    Ok((image, info))
+}
+
+/// Mean over pixels and channels of σ/(|r| + 0.01): the reference's own relative noise.
+fn mean_relative_std_error(img: &LayeredImage) -> f64 {
+    let (Some(rgb), Some(var)) = (img.rgb(""), img.rgb("variance")) else {
+        return f64::NAN;
+    };
+    let sum: f64 = rgb
+        .iter()
+        .zip(&var)
+        .map(|(r, v)| {
+            let e =
+                v.max(glam::Vec3::ZERO).powf(0.5) / (r.abs() + glam::Vec3::splat(metrics::RELATIVE_EPSILON));
+            e.element_sum() as f64 / 3.0
+        })
+        .sum();
+    sum / rgb.len() as f64
+}
+
+/// `all` and the study's masks, built on the ground truth.
+fn build_masks(study: &Study, scene: &Scene, gt: &LayeredImage) -> Result<Vec<Mask>, StudyError> {
+    let (w, h) = (gt.width as usize, gt.height as usize);
+    let mut masks = vec![Mask::all(w, h)];
+    let input = |m: String| StudyError::Input(format!("{}: {m}", study.path.display()));
+    for spec in &study.masks {
+        let mask = match spec {
+            MaskSpec::Objects { name, objects } => {
+                let mut ids = Vec::new();
+                for o in objects {
+                    let i = scene.shapes.iter().position(|s| &s.name == o).ok_or_else(|| {
+                        let names: Vec<&str> = scene.shapes.iter().map(|s| s.name.as_str()).collect();
+                        input(format!(
+                            "mask `{name}`: the scene has no shape `{o}`; shapes: {}",
+                            names.join(", ")
+                        ))
+                    })?;
+                    ids.push(i as u32 + 1);
+                }
+                Mask::object_ids(name, gt, &ids).map_err(input)?
+            }
+            MaskSpec::Rectangle { name, rect } => {
+                let px = |f: f32, n: usize| ((f * n as f32).round() as usize).min(n);
+                Mask::rectangle(
+                    name,
+                    w,
+                    h,
+                    [px(rect[0], w), px(rect[1], h), px(rect[2], w), px(rect[3], h)],
+                )
+            }
+            MaskSpec::File { name, path } => {
+                let img = LayeredImage::read_exr(path).map_err(|e| input(format!("mask `{name}`: {e}")))?;
+                if (img.width as usize, img.height as usize) != (w, h) {
+                    return Err(input(format!(
+                        "mask `{name}`: {} is {}x{}, the images are {w}x{h}",
+                        path.display(),
+                        img.width,
+                        img.height
+                    )));
+                }
+                Mask::from_image(name, &img).map_err(input)?
+            }
+            MaskSpec::Interior { name } => Mask {
+                name: name.clone(),
+                ..Mask::interior(gt)
+            },
+        };
+        if mask.count() == 0 {
+            return Err(input(format!(
+                "mask `{}` selects no pixel of the ground truth",
+                spec.name()
+            )));
+        }
+        masks.push(mask);
+    }
+    Ok(masks)
+}
+
+/// The raster settings of `variant` in this study at the scene's resolution.
+pub fn raster_settings(study: &Study, scene: &Scene, variant: &Variant) -> RasterSettings {
+    let r = study.raster;
+    RasterSettings::new(scene.film.width, scene.film.height)
+        .method(variant.raster)
+        .pipeline(r.pipeline)
+        .ssaa(r.ssaa)
+        .frames(r.warmup_frames, r.timed_frames)
+        .counters(true)
+}
+
+/// Renders and measures one variant; writes its EXR (with error layers) and PNGs.
+fn measure_variant(
+    study: &Study,
+    renderer: &Renderer,
+    scene: &Scene,
+    variant: &Variant,
+    reference: &RgbImage,
+    masks: &[Mask],
+    opts: &RunOptions,
+) -> Result<(VariantResult, realtime::Timing), StudyError> {
+    let out = renderer
+        .render(scene, &raster_settings(study, scene, variant))
+        .map_err(raster_err)?;
+    let mut image = out.image;
+    let test = RgbImage::from_layered(&image, &variant.label()).map_err(StudyError::Run)?;
+    let mut per_mask = Vec::new();
+    let mut maps: Vec<MetricValue> = Vec::new();
+    for mask in masks {
+        let values = metrics::evaluate(reference, &test, mask, &study.metrics)
+            .map_err(|e| StudyError::Run(format!("{}: {e}", variant.label())))?;
+        per_mask.push(MaskMetrics {
+            mask: mask.name.clone(),
+            values: values.iter().map(MetricEntry::from).collect(),
+        });
+        if maps.is_empty() {
+            maps = values;
+        }
+    }
+    for v in &maps {
+        if let (Some(name), Some(map)) = (v.metric.map_name(), &v.map) {
+            image.push_channel(format!("error.{name}.Y"), map.clone());
+        }
+    }
+    let id = variant.id();
+    let exr = format!("methods/{id}.exr");
+    let png = format!("methods/{id}.png");
+    let error_png = format!("methods/{id}-error.png");
+    image
+        .write_exr(opts.out_dir.join(&exr))
+        .map_err(io_err(&opts.out_dir))?;
+    image
+        .write_png_preview(opts.out_dir.join(&png), 0.0)
+        .map_err(io_err(&opts.out_dir))?;
+    let stab = error_map_metric(study.stability.metric);
+    if let Some(map) = maps
+        .iter()
+        .find(|v| v.metric == stab)
+        .and_then(|v| v.map.as_ref())
+    {
+        colormap::write_error_png(
+            &opts.out_dir.join(&error_png),
+            scene.film.width,
+            scene.film.height,
+            map,
+        )
+        .map_err(io_err(&opts.out_dir))?;
+    }
+    let non_finite_pixels = test.rgb.iter().filter(|c| !c.is_finite()).count();
+    let result = VariantResult {
+        id,
+        label: variant.label(),
+        method: variant.method.clone(),
+        params: variant.params.clone(),
+        swept: variant.swept.clone(),
+        cost: Cost {
+            frame_ms: out.timing.frame_ms(),
+            gpu_ms: out.timing.gpu_ms,
+            wall_ms: out.timing.wall_ms,
+            texel_fetches_per_pixel: out.counters.map(|c| c.texel_fetches_per_pixel),
+            loop_iterations_per_pixel: out.counters.map(|c| c.loop_iterations_per_pixel),
+        },
+        metrics: per_mask,
+        non_finite_pixels,
+        exr,
+        png,
+        error_png,
+    };
+    Ok((result, out.timing))
+}
+
+/// The metric whose map the false-colour PNG shows: the stability metric when it has a map,
+/// else relMSE.
+fn error_map_metric(m: Metric) -> Metric {
+    if m.map_name().is_some() {
+        m
+    } else {
+        Metric::RelMse
+    }
+}
+
+/// Every threshold against every variant it applies to.
+fn check_thresholds(study: &Study, variants: &[Variant], result: &StudyResult) -> Vec<ThresholdCheck> {
+    let mut checks = Vec::new();
+    for th in &study.thresholds {
+        for v in variants.iter().filter(|v| th.applies_to(v)) {
+            let value = result
+                .value(&v.label(), &th.mask, th.metric.name())
+                .unwrap_or(f64::NAN);
+            let passed =
+                value.is_finite() && th.max.is_none_or(|m| value <= m) && th.min.is_none_or(|m| value >= m);
+            checks.push(ThresholdCheck {
+                variant: v.label(),
+                metric: th.metric.name().into(),
+                mask: th.mask.clone(),
+                value,
+                max: th.max,
+                min: th.min,
+                passed,
+                reason: th.reason.clone(),
+                location: th.location.clone(),
+            });
+        }
+    }
+    checks
+}

@@ -1,0 +1,202 @@
+//! Stability analysis: error against each swept parameter with its break point, and temporal
+//! flicker under a small camera motion.
+//!
+//! - **Break point**: walking a sweep in the order listed (from the method's good regime into
+//!   its failure regime), the first value whose error exceeds `factor` × the sweep's best
+//!   error, or whose image has NaN/Inf pixels.
+//! - **Flicker**: F frames with the camera orbiting the point `orbit_distance` ahead of it by
+//!   `orbit_degrees` per frame about world +Y. With e_k = a_k − r_k the signed error of frame k,
+//!   flicker = mean over k, pixels and channels of |e_{k+1} − e_k| / (|r_k| + 0.01): how much the
+//!   error pattern changes between frames, relative to the signal. Only pixels interior in both
+//!   frames count ([`Mask::interior`]): a moving silhouette changes every method's error, and
+//!   that is the rasteriser's aliasing, not the method's flicker. Its noise floor is what the
+//!   reference's own noise alone gives: E|n_{k+1} − n_k| = √(2/π)·√(σ²_k + σ²_{k+1}) for
+//!   independent normal errors (the mean absolute value of a normal deviate).
+
+use glam::{Affine3A, Quat, Vec3};
+use realtime::Renderer;
+use scenes::{RenderSettings, Scene};
+
+use super::result::{FlickerResult, StudyResult, SweepResult};
+use super::run::{ground_truth, raster_settings, RunOptions, StudyError};
+use super::{Flicker, Study, Variant};
+use crate::metrics::{Mask, RELATIVE_EPSILON};
+
+/// One [`SweepResult`] per method and swept parameter, the other swept parameters at their
+/// first listed value.
+pub fn sweeps(study: &Study, variants: &[Variant], result: &StudyResult) -> Vec<SweepResult> {
+    let metric = study.stability.metric.name();
+    let mut out = Vec::new();
+    for spec in &study.methods {
+        for (key, values) in &spec.sweep {
+            let firsts: Vec<(&String, &String)> = spec
+                .sweep
+                .iter()
+                .filter(|(k, _)| k != key)
+                .map(|(k, v)| (k, &v[0]))
+                .collect();
+            let points: Vec<&Variant> = values
+                .iter()
+                .filter_map(|val| {
+                    variants.iter().find(|v| {
+                        v.method == spec.name
+                            && v.swept.iter().any(|(k, x)| k == key && x == val)
+                            && firsts
+                                .iter()
+                                .all(|(k, x)| v.swept.iter().any(|(k2, x2)| k2 == *k && x2 == *x))
+                    })
+                })
+                .collect();
+            let rows: Vec<_> = points
+                .iter()
+                .map(|v| {
+                    result
+                        .variants
+                        .iter()
+                        .find(|r| r.label == v.label())
+                        .expect("measured")
+                })
+                .collect();
+            let errors: Vec<f64> = rows
+                .iter()
+                .map(|r| result.value(&r.label, "all", metric).unwrap_or(f64::NAN))
+                .collect();
+            let non_finite: Vec<usize> = rows.iter().map(|r| r.non_finite_pixels).collect();
+            let factor = study.stability.breakpoint_factor;
+            let (best, breakpoint) = breakpoint(&errors, &non_finite, factor);
+            out.push(SweepResult {
+                method: spec.name.clone(),
+                parameter: key.clone(),
+                metric: metric.into(),
+                values: values.clone(),
+                frame_ms: rows.iter().map(|r| r.cost.frame_ms).collect(),
+                errors,
+                non_finite,
+                best,
+                breakpoint: breakpoint.map(|i| values[i].clone()),
+                factor,
+            });
+        }
+    }
+    out
+}
+
+/// The best finite error and the index of the first value past `factor` × best (or non-finite).
+pub fn breakpoint(errors: &[f64], non_finite: &[usize], factor: f64) -> (f64, Option<usize>) {
+    let best = errors
+        .iter()
+        .copied()
+        .filter(|e| e.is_finite())
+        .fold(f64::INFINITY, f64::min);
+    let at =
+        (0..errors.len()).find(|&i| non_finite[i] > 0 || !errors[i].is_finite() || errors[i] > factor * best);
+    (best, at)
+}
+
+/// The scene's camera orbited by `degrees` about world +Y through the point `distance` ahead.
+pub fn orbit(scene: &Scene, degrees: f32, distance: f32) -> Scene {
+    let mut s = scene.clone();
+    let pivot = scene.camera.position() + scene.camera.forward() * distance;
+    let turn = Affine3A::from_translation(pivot)
+        * Affine3A::from_quat(Quat::from_rotation_y(degrees.to_radians()))
+        * Affine3A::from_translation(-pivot);
+    s.camera.to_world = turn * scene.camera.to_world;
+    s
+}
+
+/// Flicker of every variant over `f.frames` orbiting frames (ground truths cached like the
+/// study's own).
+pub fn flicker(
+    study: &Study,
+    renderer: &Renderer,
+    scene: &Scene,
+    settings: RenderSettings,
+    variants: &[Variant],
+    f: Flicker,
+    opts: &RunOptions,
+) -> Result<Vec<FlickerResult>, StudyError> {
+    let frame_opts = RunOptions {
+        out_dir: opts.out_dir.join("flicker"),
+        ..opts.clone()
+    };
+    std::fs::create_dir_all(&frame_opts.out_dir)
+        .map_err(|e| StudyError::Run(format!("{}: {e}", frame_opts.out_dir.display())))?;
+    let frames: Vec<Scene> = (0..f.frames)
+        .map(|k| orbit(scene, k as f32 * f.orbit_degrees, f.orbit_distance))
+        .collect();
+    let mut refs = Vec::new();
+    let mut interiors = Vec::new();
+    for s in &frames {
+        let (img, _) = ground_truth(s, settings, &frame_opts)?;
+        let rgb = img
+            .rgb("")
+            .ok_or_else(|| StudyError::Run("ground truth without RGB".into()))?;
+        let var = img.rgb("variance").unwrap_or_else(|| vec![Vec3::ZERO; rgb.len()]);
+        refs.push((rgb, var));
+        interiors.push(Mask::interior(&img));
+    }
+    let noise_floor = mean_over_pairs(&refs, &interiors, |k, i| {
+        let s = (refs[k].1[i] + refs[k + 1].1[i]).max(Vec3::ZERO).powf(0.5);
+        s * (2.0 / std::f32::consts::PI).sqrt()
+    });
+    let mut out = Vec::new();
+    for v in variants {
+        let mut errors = Vec::new();
+        for (s, (r, _)) in frames.iter().zip(&refs) {
+            let img = renderer
+                .render(s, &raster_settings(study, s, v).frames(0, 1).counters(false))
+                .map_err(|e| StudyError::Run(e.to_string()))?
+                .image;
+            let a = img
+                .rgb("")
+                .ok_or_else(|| StudyError::Run("raster image without RGB".into()))?;
+            errors.push(a.iter().zip(r).map(|(a, r)| *a - *r).collect::<Vec<Vec3>>());
+        }
+        let value = mean_over_pairs(&refs, &interiors, |k, i| (errors[k + 1][i] - errors[k][i]).abs());
+        out.push(FlickerResult {
+            variant: v.label(),
+            frames: f.frames,
+            flicker: value,
+            noise_floor,
+        });
+    }
+    Ok(out)
+}
+
+/// Mean over consecutive frame pairs k, pixels i interior in both frames and channels of
+/// `delta(k, i) / (|r_k,i| + ε)`.
+fn mean_over_pairs(
+    refs: &[(Vec<Vec3>, Vec<Vec3>)],
+    interiors: &[Mask],
+    delta: impl Fn(usize, usize) -> Vec3,
+) -> f64 {
+    let mut sum = 0.0f64;
+    let mut n = 0usize;
+    for k in 0..refs.len() - 1 {
+        for i in 0..refs[k].0.len() {
+            if !(interiors[k].selects(i) && interiors[k + 1].selects(i)) {
+                continue;
+            }
+            let rel = delta(k, i) / (refs[k].0[i].abs() + Vec3::splat(RELATIVE_EPSILON));
+            if rel.is_finite() {
+                sum += rel.element_sum() as f64 / 3.0;
+                n += 1;
+            }
+        }
+    }
+    sum / n.max(1) as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn breakpoint_is_the_first_value_past_k_times_best() {
+        let errors = [1e-5, 2e-5, 3e-5, 9e-5, 1e-3];
+        assert_eq!(breakpoint(&errors, &[0; 5], 4.0), (1e-5, Some(3)));
+        assert_eq!(breakpoint(&errors, &[0; 5], 200.0), (1e-5, None));
+        // NaN pixels break at once, whatever the error.
+        assert_eq!(breakpoint(&errors, &[0, 1, 0, 0, 0], 200.0).1, Some(1));
+    }
+}

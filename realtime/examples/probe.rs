@@ -1,5 +1,0 @@
-fn main() {
-    for a in realtime::adapters() {
-        println!("{a}");
-    }
-}

@@ -1,0 +1,195 @@
+// passes.wgsl — entry points of the forward pass, the G-buffer pass, the deferred lighting
+// pass and the background.
+//
+// Technique: forward shading (shade in the fragment stage of the geometry pass) and deferred
+// shading (Saito & Takahashi 1990, "Comprehensible Rendering of 3-D Shapes", SIGGRAPH: the
+// G-buffer; then one full-screen lighting pass), sharing every function below the entry points,
+// so the two give the same image: the G-buffer holds the surface point in f32 exactly as the
+// forward pass computes it (position + object id, shading normal + u, geometric normal + v).
+// Depth is reversed-Z with an infinite far plane (Reed 2015, "Depth Precision Visualized",
+// NVIDIA developer blog), cleared to 0; the background is drawn where the depth is still 0.
+// The lighting entry point is also the counting pass (counters_on.wgsl): it alone flushes the
+// cost counters.
+// Failure mode: none of its own. The G-buffer costs 48 bytes per sample (three Rgba32Float
+// targets); adapters below that colour-attachment budget are refused up front.
+// Inputs: vertex buffers (meshes: de-indexed triangles with per-triangle flat data; analytic
+// proxies: position + shape), group 0 (scene), group 1 (G-buffer, lighting pass only).
+
+struct MeshVertexIn {
+    @location(0) position: vec3<f32>,
+    @location(1) shape: u32,
+    @location(2) normal: vec3<f32>,
+    @location(3) uv: vec2<f32>,
+    @location(4) tangent: vec4<f32>,
+    @location(5) ng: vec3<f32>,
+    @location(6) dpdu: vec3<f32>,
+    @location(7) dpdv: vec3<f32>,
+}
+
+struct MeshVarying {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) @interpolate(flat) shape: u32,
+    @location(2) normal: vec3<f32>,
+    @location(3) uv: vec2<f32>,
+    @location(4) tangent: vec4<f32>,
+    @location(5) @interpolate(flat) ng: vec3<f32>,
+    @location(6) @interpolate(flat) dpdu: vec3<f32>,
+    @location(7) @interpolate(flat) dpdv: vec3<f32>,
+}
+
+struct AnalyticVertexIn {
+    @location(0) position: vec3<f32>,
+    @location(1) shape: u32,
+}
+
+struct AnalyticVarying {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) shape: u32,
+}
+
+// Shaded colour, normal AOV + depth AOV, albedo AOV + object id (shape index + 1).
+struct ShadedOut {
+    @location(0) color: vec4<f32>,
+    @location(1) normal_depth: vec4<f32>,
+    @location(2) albedo_id: vec4<f32>,
+}
+
+struct ShadedDepthOut {
+    @location(0) color: vec4<f32>,
+    @location(1) normal_depth: vec4<f32>,
+    @location(2) albedo_id: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+}
+
+// G-buffer: position + object id, shading normal + u, geometric normal + v.
+struct GBufferOut {
+    @location(0) g0: vec4<f32>,
+    @location(1) g1: vec4<f32>,
+    @location(2) g2: vec4<f32>,
+}
+
+struct GBufferDepthOut {
+    @location(0) g0: vec4<f32>,
+    @location(1) g1: vec4<f32>,
+    @location(2) g2: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+}
+
+@group(1) @binding(0) var gbuffer0: texture_2d<f32>;
+@group(1) @binding(1) var gbuffer1: texture_2d<f32>;
+@group(1) @binding(2) var gbuffer2: texture_2d<f32>;
+
+@vertex
+fn vs_mesh(v: MeshVertexIn) -> MeshVarying {
+    var out: MeshVarying;
+    out.clip = frame.view_proj * vec4<f32>(v.position, 1.0);
+    out.world = v.position;
+    out.shape = v.shape;
+    out.normal = v.normal;
+    out.uv = v.uv;
+    out.tangent = v.tangent;
+    out.ng = v.ng;
+    out.dpdu = v.dpdu;
+    out.dpdv = v.dpdv;
+    return out;
+}
+
+@vertex
+fn vs_analytic(v: AnalyticVertexIn) -> AnalyticVarying {
+    return AnalyticVarying(frame.view_proj * vec4<f32>(v.position, 1.0), v.shape);
+}
+
+// One triangle covering the target, at the far plane (depth 0, reversed-Z).
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    let x = f32(i32(i & 1u) * 4 - 1);
+    let y = f32(i32(i >> 1u) * 4 - 1);
+    return vec4<f32>(x, y, 0.0, 1.0);
+}
+
+// The surface point of a mesh fragment.
+fn mesh_surface(in: MeshVarying, s: Shape) -> SurfacePoint {
+    let d = mesh_differential(in.world, in.normal, in.uv, in.tangent, in.ng, in.dpdu, in.dpdv, s.emission_info.w != 0u);
+    return surface_point(d, s, in.shape);
+}
+
+// Shading and AOVs of a surface point seen through target pixel `frag`.
+fn shaded_output(f: FrameUniforms, sp: SurfacePoint, frag: vec2<f32>) -> ShadedOut {
+    let xy = film_position(f, frag);
+    let wo = -camera_ray_direction(f, xy.x, xy.y);
+    let sh = shade_surface(f, sp, wo);
+    return ShadedOut(
+        vec4<f32>(sh.color, 1.0),
+        vec4<f32>(sp.ns, view_depth(f, sp.p)),
+        vec4<f32>(sh.albedo, f32(sp.shape + 1u)),
+    );
+}
+
+// The background seen through target pixel `frag`: AOVs zero (the oracle's background).
+fn background_output(f: FrameUniforms, frag: vec2<f32>) -> ShadedOut {
+    let xy = film_position(f, frag);
+    let l = distant_radiance(f, camera_ray_direction(f, xy.x, xy.y));
+    return ShadedOut(vec4<f32>(l, 1.0), vec4<f32>(0.0), vec4<f32>(0.0));
+}
+
+fn gbuffer_output(sp: SurfacePoint) -> GBufferOut {
+    return GBufferOut(
+        vec4<f32>(sp.p, f32(sp.shape + 1u)),
+        vec4<f32>(sp.ns, sp.uv.x),
+        vec4<f32>(sp.ng, sp.uv.y),
+    );
+}
+
+@fragment
+fn fs_mesh_forward(in: MeshVarying) -> ShadedOut {
+    return shaded_output(frame, mesh_surface(in, shapes[in.shape]), in.clip.xy);
+}
+
+@fragment
+fn fs_analytic_forward(in: AnalyticVarying) -> ShadedDepthOut {
+    let hit = trace_analytic(frame, shapes[in.shape], in.shape, in.clip.xy);
+    if !hit.hit {
+        discard;
+    }
+    let out = shaded_output(frame, hit.surface, in.clip.xy);
+    return ShadedDepthOut(out.color, out.normal_depth, out.albedo_id, depth_of(frame, hit.surface.p));
+}
+
+@fragment
+fn fs_background(@builtin(position) pos: vec4<f32>) -> ShadedOut {
+    return background_output(frame, pos.xy);
+}
+
+@fragment
+fn fs_mesh_gbuffer(in: MeshVarying) -> GBufferOut {
+    return gbuffer_output(mesh_surface(in, shapes[in.shape]));
+}
+
+@fragment
+fn fs_analytic_gbuffer(in: AnalyticVarying) -> GBufferDepthOut {
+    let hit = trace_analytic(frame, shapes[in.shape], in.shape, in.clip.xy);
+    if !hit.hit {
+        discard;
+    }
+    let out = gbuffer_output(hit.surface);
+    return GBufferDepthOut(out.g0, out.g1, out.g2, depth_of(frame, hit.surface.p));
+}
+
+@fragment
+fn fs_lighting(@builtin(position) pos: vec4<f32>) -> ShadedOut {
+    let px = vec2<i32>(pos.xy);
+    let g0 = textureLoad(gbuffer0, px, 0);
+    var out: ShadedOut;
+    if g0.w < 0.5 {
+        out = background_output(frame, pos.xy);
+    } else {
+        let g1 = textureLoad(gbuffer1, px, 0);
+        let g2 = textureLoad(gbuffer2, px, 0);
+        let sp = SurfacePoint(g0.xyz, g2.xyz, g1.xyz, vec2<f32>(g1.w, g2.w), u32(g0.w) - 1u);
+        count_surface_fetches(shapes[sp.shape]);
+        out = shaded_output(frame, sp, pos.xy);
+    }
+    flush_counters(u32(pos.y));
+    return out;
+}

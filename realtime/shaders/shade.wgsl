@@ -1,0 +1,67 @@
+// shade.wgsl — the shading dispatcher both pipelines call: emission, delta lights, area
+// lights by the pipeline's method, sun disks, the environment.
+//
+// Technique: the direct-light integral with visibility ignored, term by term:
+// Lo = Le + Σ_delta f·|cos θi|·li + Σ_area ∫ f·|cos θi|·Le dω + ∫ f·|cos θi|·L_env dω — exactly
+// what the oracle's `direct-unshadowed` integrator estimates by Monte Carlo
+// (oracle/src/integrator/direct.rs), so that with `area_quadrature` the difference is the
+// quadrature's (vanishing) error and with `area_representative_point` the method's error.
+// The area-light method is the pipeline-overridable constant AREA_METHOD, picked here and
+// nowhere else (one dispatcher, as bevy_pbr's `sample_shadow_map_*`).
+// Failure mode: mirror and dielectric surfaces see only the environment (environment.wgsl);
+// emissive meshes are visible but light nothing (only spheres, rectangles and disks are area
+// lights here); `max_depth` < 2 is not modelled.
+// Inputs: the frame (camera, counts), the scene arrays (this dispatcher and the entry points
+// are the only readers besides the leaf samplers), a surface point and ωo.
+
+// Shaded colour and the albedo AOV of a surface point.
+struct Shaded {
+    color: vec3<f32>,
+    albedo: vec3<f32>,
+}
+
+// Light reaching ωo from the surface point `sp` (ωo = −camera ray direction).
+fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>) -> Shaded {
+    let shape = shapes[sp.shape];
+    let b = resolve_bsdf(materials[shape.material], sp.uv);
+    var color = vec3<f32>(0.0);
+    // Emission seen directly: the front side only unless two-sided (RectangleLight::emitted).
+    if shape.emission_info.x != 0u && (shape.emission_info.y != 0u || dot(sp.ng, wo) > 0.0) {
+        color += emitted_radiance(shape, sp.uv);
+    }
+    // The shading frame's normal: ns turned to the geometric normal's side (integrator `shade`).
+    let n = select(sp.ns, -sp.ns, dot(sp.ns, sp.ng) < 0.0);
+    if bsdf_is_delta(b) {
+        return Shaded(color + delta_environment(f, b, n, wo), bsdf_albedo(b));
+    }
+    let nq = f.counts.z;
+    for (var i = 0u; i < f.counts.x; i++) {
+        count_iteration();
+        let l = lights[i];
+        if is_sun_disk(l) {
+            if AREA_METHOD == AREA_REPRESENTATIVE_POINT {
+                color += sun_representative(l, b, n, wo);
+            } else {
+                color += sun_quadrature(l, b, n, wo, nq);
+            }
+        } else {
+            let inc = punctual_incident(l, sp.p);
+            if any(inc.li > vec3<f32>(0.0)) {
+                color += bsdf_eval(b, n, wo, inc.wi) * inc.li;
+            }
+        }
+    }
+    for (var i = 0u; i < f.counts.y; i++) {
+        count_iteration();
+        let s = shapes[emitters[i]];
+        if AREA_METHOD == AREA_REPRESENTATIVE_POINT {
+            color += area_light_representative(s, b, n, wo, sp.p);
+        } else {
+            color += area_light_quadrature(s, b, n, wo, sp.p, nq);
+        }
+    }
+    if f.env_info.x != ENV_NONE && f.env_info.z > 0u {
+        color += environment_quadrature(f, b, n, wo, f.env_info.z);
+    }
+    return Shaded(color, bsdf_albedo(b));
+}

@@ -1,0 +1,301 @@
+//! One frame's GPU work: the frame uniform and scene bind group, the passes it records (a
+//! labelled render pass per stage, debug groups per draw), and the timestamp queries around
+//! each pass.
+
+use std::sync::{Arc, Mutex};
+
+use glam::{Mat4, Vec3};
+use scenes::Scene;
+use wgpu::util::DeviceExt;
+
+use crate::error::RasterError;
+use crate::gpu::Gpu;
+use crate::gpu_types::{vec4, FrameUniforms};
+use crate::pipelines::Stage;
+use crate::render::RasterSettings;
+use crate::targets::Targets;
+use crate::upload::SceneGpu;
+
+/// Near-plane distance as a fraction of the scene's bounding radius (reversed-Z keeps the
+/// depth precise anyway; only geometry closer than this to the camera is clipped).
+const NEAR_FRACTION: f32 = 1e-4;
+
+/// The per-render uniform, counter buffer and scene bind group.
+pub(crate) struct Frame {
+    pub(crate) bind_group: wgpu::BindGroup,
+    pub(crate) counters: wgpu::Buffer,
+}
+
+impl Frame {
+    /// The frame of a k·W × k·H render of `scene`; `layout` is the scene bind group layout.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        scene: &Scene,
+        sg: &SceneGpu,
+        settings: &RasterSettings,
+        k: u32,
+    ) -> Frame {
+        let uniforms = frame_uniforms(scene, sg, settings, k);
+        let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("frame uniforms"),
+            contents: bytemuck::bytes_of(&uniforms),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let counters = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("cost counters (per target row)"),
+            size: 8 * u64::from(settings.height * k),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let buffers = [
+            &uniform,
+            &sg.shapes,
+            &sg.materials,
+            &sg.lights,
+            &sg.emitters,
+            &sg.texture_infos,
+            &sg.texels,
+            &counters,
+        ];
+        let entries: Vec<_> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("scene bind group"),
+            layout,
+            entries: &entries,
+        });
+        Frame { bind_group, counters }
+    }
+}
+
+/// The camera and counts for a k·W × k·H target (DESIGN.md "Camera": the projection of
+/// `scenes::Camera::ray_direction`; reversed-Z, infinite far plane).
+fn frame_uniforms(scene: &Scene, sg: &SceneGpu, settings: &RasterSettings, k: u32) -> FrameUniforms {
+    let cam = &scene.camera;
+    let (w, h) = (settings.width, settings.height);
+    let aspect = w as f32 / h as f32;
+    let fov = cam.fov_y_deg.to_radians();
+    let (_, radius) = scene.bounding_sphere();
+    let proj = Mat4::perspective_infinite_reverse_rh(fov, aspect, NEAR_FRACTION * radius);
+    let view = Mat4::from(cam.to_world.inverse());
+    let m = cam.to_world.matrix3;
+    let (env_kind, env_tex, env_radiance) = sg.env;
+    FrameUniforms {
+        view_proj: (proj * view).to_cols_array_2d(),
+        cam_pos: vec4(cam.position(), NEAR_FRACTION * radius),
+        cam_x: vec4(Vec3::from(m.x_axis), 0.0),
+        cam_y: vec4(Vec3::from(m.y_axis), 0.0),
+        cam_z: vec4(Vec3::from(m.z_axis), 0.0),
+        cam_forward: vec4(cam.forward(), 0.0),
+        film: [w as f32, h as f32, (fov * 0.5).tan(), aspect],
+        ssaa: [k as f32, 1.0 / k as f32, 0.0, 0.0],
+        env_radiance,
+        env_info: [env_kind as u32, env_tex, settings.method.env_n, 0],
+        counts: [sg.light_count, sg.emitter_count, settings.method.area_n, 0],
+    }
+}
+
+/// Records the frame's render passes: the geometry pass (forward, or G-buffer), then for
+/// the deferred pipeline the lighting pass.
+pub(crate) fn encode_passes(
+    encoder: &mut wgpu::CommandEncoder,
+    frame: &Frame,
+    targets: &Targets,
+    stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
+    sg: &SceneGpu,
+    queries: Option<&Timestamps>,
+) {
+    encode_geometry_pass(encoder, frame, targets, stages, sg, queries);
+    if let Some((_, lighting)) = stages.iter().find(|(s, _)| *s == Stage::Lighting) {
+        encode_lighting_pass(encoder, frame, targets, lighting, queries);
+    }
+}
+
+/// The pass that rasterises the scene: shading into the outputs (forward), or the G-buffer.
+fn encode_geometry_pass(
+    encoder: &mut wgpu::CommandEncoder,
+    frame: &Frame,
+    targets: &Targets,
+    stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
+    sg: &SceneGpu,
+    queries: Option<&Timestamps>,
+) {
+    let depth = wgpu::RenderPassDepthStencilAttachment {
+        view: &targets.depth_view,
+        depth_ops: Some(wgpu::Operations {
+            load: wgpu::LoadOp::Clear(0.0),
+            store: wgpu::StoreOp::Store,
+        }),
+        stencil_ops: None,
+    };
+    let deferred = targets.gbuffer_views.is_some();
+    let color = attachments(targets.gbuffer_views.as_ref().unwrap_or(&targets.output_views));
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(if deferred { "G-buffer pass" } else { "forward pass" }),
+        color_attachments: &color,
+        depth_stencil_attachment: Some(depth),
+        timestamp_writes: queries.map(|q| q.writes(0)),
+        occlusion_query_set: None,
+    });
+    pass.set_bind_group(0, &frame.bind_group, &[]);
+    for (stage, pipeline) in stages {
+        let (group, vertices) = match stage {
+            Stage::ForwardMesh | Stage::GBufferMesh => ("meshes", sg.mesh_vertices.as_ref()),
+            Stage::ForwardAnalytic | Stage::GBufferAnalytic => (
+                "analytic shapes (ray traced on proxies)",
+                sg.analytic_vertices.as_ref(),
+            ),
+            Stage::Background => ("background", None),
+            Stage::Lighting => continue,
+        };
+        if *stage != Stage::Background && vertices.is_none() {
+            continue;
+        }
+        pass.push_debug_group(group);
+        pass.set_pipeline(pipeline);
+        match vertices {
+            Some((vb, n)) => {
+                pass.set_vertex_buffer(0, vb.slice(..));
+                pass.draw(0..*n, 0..1);
+            }
+            None => pass.draw(0..3, 0..1),
+        }
+        pass.pop_debug_group();
+    }
+}
+
+/// The deferred lighting pass: one full-screen triangle reading the G-buffer.
+fn encode_lighting_pass(
+    encoder: &mut wgpu::CommandEncoder,
+    frame: &Frame,
+    targets: &Targets,
+    pipeline: &wgpu::RenderPipeline,
+    queries: Option<&Timestamps>,
+) {
+    let color = attachments(&targets.output_views);
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("lighting pass"),
+        color_attachments: &color,
+        depth_stencil_attachment: None,
+        timestamp_writes: queries.map(|q| q.writes(1)),
+        occlusion_query_set: None,
+    });
+    pass.push_debug_group("full-screen lighting");
+    pass.set_bind_group(0, &frame.bind_group, &[]);
+    if let Some(bg) = &targets.gbuffer_bind_group {
+        pass.set_bind_group(1, bg, &[]);
+    }
+    pass.set_pipeline(pipeline);
+    pass.draw(0..3, 0..1);
+    pass.pop_debug_group();
+}
+
+/// Colour attachments cleared to zero.
+fn attachments(views: &[wgpu::TextureView; 3]) -> Vec<Option<wgpu::RenderPassColorAttachment<'_>>> {
+    let ops = wgpu::Operations {
+        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+        store: wgpu::StoreOp::Store,
+    };
+    views
+        .iter()
+        .map(|view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops,
+            })
+        })
+        .collect()
+}
+
+/// Timestamp queries of one frame: two per pass, resolved and read back after the frame.
+pub(crate) struct Timestamps {
+    set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    count: u32,
+}
+
+impl Timestamps {
+    pub(crate) fn new(device: &wgpu::Device, passes: u32) -> Timestamps {
+        let count = 2 * passes;
+        let size = 8 * u64::from(count);
+        Timestamps {
+            set: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("pass timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count,
+            }),
+            resolve: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamp resolve"),
+                size,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+            readback: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamp read-back"),
+                size,
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                mapped_at_creation: false,
+            }),
+            count,
+        }
+    }
+
+    fn writes(&self, pass: u32) -> wgpu::RenderPassTimestampWrites<'_> {
+        wgpu::RenderPassTimestampWrites {
+            query_set: &self.set,
+            beginning_of_pass_write_index: Some(2 * pass),
+            end_of_pass_write_index: Some(2 * pass + 1),
+        }
+    }
+
+    pub(crate) fn encode_resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.resolve_query_set(&self.set, 0..self.count, &self.resolve, 0);
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, self.resolve.size());
+    }
+
+    /// Milliseconds of each pass of the last frame.
+    pub(crate) fn read(&self, gpu: &Gpu) -> Result<Vec<f64>, RasterError> {
+        let slice = self.readback.slice(..);
+        let status = Arc::new(Mutex::new(None));
+        let s = status.clone();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            *s.lock().unwrap_or_else(|p| p.into_inner()) = Some(r);
+        });
+        gpu.device
+            .poll(wgpu::PollType::Wait)
+            .map_err(|e| RasterError::Gpu {
+                context: "reading timestamps".into(),
+                message: e.to_string(),
+            })?;
+        if !matches!(
+            status.lock().unwrap_or_else(|p| p.into_inner()).take(),
+            Some(Ok(()))
+        ) {
+            return Err(RasterError::Gpu {
+                context: "reading timestamps".into(),
+                message: "the timestamp buffer could not be mapped".into(),
+            });
+        }
+        let ticks: Vec<u64> = slice
+            .get_mapped_range()
+            .chunks_exact(8)
+            .map(|c| u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
+            .collect();
+        self.readback.unmap();
+        let period_ms = f64::from(gpu.queue.get_timestamp_period()) * 1e-6;
+        Ok(ticks
+            .chunks_exact(2)
+            .map(|p| p[1].saturating_sub(p[0]) as f64 * period_ms)
+            .collect())
+    }
+}

@@ -1,0 +1,142 @@
+//! The adapter and device: chosen the way wgpu's own tools choose them, so one environment
+//! variable moves every Verity run to another GPU.
+//!
+//! - `WGPU_BACKEND` (e.g. `vulkan`, `metal`, `dx12`) restricts the backends
+//!   (`wgpu::InstanceDescriptor::from_env_or_default`).
+//! - `WGPU_ADAPTER_NAME` picks the first adapter whose name contains it (case-insensitive), as
+//!   `wgpu::util::initialize_adapter_from_env` does, but with an error listing the adapters
+//!   instead of a panic when none matches.
+//! - `WGPU_POWER_PREF` (`low`/`high`) otherwise steers `request_adapter` (default: high).
+//!
+//! Only what the renderer uses is requested: 48 bytes of colour attachments per sample (three
+//! Rgba32Float targets), fragment-stage storage writes (the cost counters), the adapter's own
+//! texture and buffer size limits, and `TIMESTAMP_QUERY` when the adapter has it (without it,
+//! timings fall back to wall time around submit-and-wait).
+
+use crate::error::{RasterError, INSTALL_HINT};
+
+/// Colour-attachment bytes per sample the passes write (three Rgba32Float targets).
+pub const COLOR_BYTES_PER_SAMPLE: u32 = 48;
+
+/// A device on one adapter.
+pub struct Gpu {
+    pub(crate) device: wgpu::Device,
+    pub(crate) queue: wgpu::Queue,
+    info: wgpu::AdapterInfo,
+    timestamps: bool,
+    limits: wgpu::Limits,
+}
+
+impl Gpu {
+    /// Picks the adapter (see the module documentation) and creates the device. Without any
+    /// adapter the error says what to install.
+    pub fn new() -> Result<Gpu, RasterError> {
+        let instance = wgpu::Instance::new(&wgpu::InstanceDescriptor::from_env_or_default());
+        let adapter = pick_adapter(&instance)?;
+        let info = adapter.get_info();
+        let supported = adapter.limits();
+        let unsupported = |message: String| RasterError::Unsupported {
+            adapter: info.name.clone(),
+            message,
+        };
+        if supported.max_color_attachment_bytes_per_sample < COLOR_BYTES_PER_SAMPLE {
+            return Err(unsupported(format!(
+                "needs {COLOR_BYTES_PER_SAMPLE} bytes of colour attachments per sample, has {}",
+                supported.max_color_attachment_bytes_per_sample
+            )));
+        }
+        let downlevel = adapter.get_downlevel_capabilities();
+        if !downlevel
+            .flags
+            .contains(wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE)
+        {
+            return Err(unsupported(
+                "needs storage-buffer writes in fragment shaders".into(),
+            ));
+        }
+        let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let limits = wgpu::Limits {
+            max_color_attachment_bytes_per_sample: COLOR_BYTES_PER_SAMPLE,
+            max_texture_dimension_2d: supported.max_texture_dimension_2d,
+            max_storage_buffer_binding_size: supported.max_storage_buffer_binding_size,
+            max_buffer_size: supported.max_buffer_size,
+            ..wgpu::Limits::default()
+        };
+        let desc = wgpu::DeviceDescriptor {
+            label: Some("verity realtime device"),
+            required_features: if timestamps {
+                wgpu::Features::TIMESTAMP_QUERY
+            } else {
+                wgpu::Features::empty()
+            },
+            required_limits: limits.clone(),
+            memory_hints: wgpu::MemoryHints::Performance,
+            trace: wgpu::Trace::Off,
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&desc))
+            .map_err(|e| unsupported(format!("device creation failed: {e}")))?;
+        Ok(Gpu {
+            device,
+            queue,
+            info,
+            timestamps,
+            limits,
+        })
+    }
+
+    /// The adapter's name as the driver reports it.
+    pub fn adapter_name(&self) -> &str {
+        &self.info.name
+    }
+
+    /// The backend in lower case (`vulkan`, `metal`, `dx12`, …).
+    pub fn backend(&self) -> String {
+        format!("{:?}", self.info.backend).to_lowercase()
+    }
+
+    /// Driver name and version.
+    pub fn driver(&self) -> String {
+        format!("{} {}", self.info.driver, self.info.driver_info)
+            .trim()
+            .to_string()
+    }
+
+    /// Whether per-pass GPU timestamps are available.
+    pub fn has_timestamps(&self) -> bool {
+        self.timestamps
+    }
+
+    /// The device's limits.
+    pub fn limits(&self) -> &wgpu::Limits {
+        &self.limits
+    }
+}
+
+/// WGPU_ADAPTER_NAME's adapter, or wgpu's default choice.
+fn pick_adapter(instance: &wgpu::Instance) -> Result<wgpu::Adapter, RasterError> {
+    if let Ok(name) = std::env::var("WGPU_ADAPTER_NAME") {
+        let want = name.to_lowercase();
+        let adapters = instance.enumerate_adapters(wgpu::Backends::all());
+        let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
+        return adapters
+            .into_iter()
+            .find(|a| a.get_info().name.to_lowercase().contains(&want))
+            .ok_or_else(|| {
+                if names.is_empty() {
+                    RasterError::NoAdapter(INSTALL_HINT.to_string())
+                } else {
+                    RasterError::NoAdapter(format!(
+                        "WGPU_ADAPTER_NAME={name} matches none of the adapters: {}",
+                        names.join("; ")
+                    ))
+                }
+            });
+    }
+    let options = wgpu::RequestAdapterOptions {
+        power_preference: wgpu::PowerPreference::from_env().unwrap_or(wgpu::PowerPreference::HighPerformance),
+        force_fallback_adapter: false,
+        compatible_surface: None,
+    };
+    pollster::block_on(instance.request_adapter(&options))
+        .map_err(|e| RasterError::NoAdapter(format!("{INSTALL_HINT} (wgpu: {e})")))
+}

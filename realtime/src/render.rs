@@ -1,0 +1,556 @@
+//! Rendering a scene: settings, the frame loop (warm-up, timed frames, read-back), the
+//! optional counting frame and the object-id pass at pixel centres.
+//!
+//! One frame is one command buffer: the forward pass, or the G-buffer pass and the lighting
+//! pass, each a labelled render pass with debug groups and, when the adapter has them,
+//! timestamp writes at its start and end. Frames are submitted one at a time and waited for,
+//! so wall time around submit-and-wait is one frame's latency.
+
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use scenes::layered::LayeredImage;
+use scenes::Scene;
+
+use crate::error::RasterError;
+use crate::frame::{encode_passes, Frame, Timestamps};
+use crate::gpu::Gpu;
+use crate::image::{assemble, Readback};
+use crate::method::{Method, PipelineKind, MAX_QUADRATURE_N};
+use crate::pipelines::{Pipelines, Stage};
+use crate::targets::Targets;
+use crate::timing::{median, Counters, PassTime, Timing, TimingSource};
+use crate::upload::SceneGpu;
+
+/// Largest supersampling factor accepted (k×k samples per pixel).
+pub const MAX_SSAA: u32 = 16;
+
+/// How to render.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RasterSettings {
+    /// Area-light method and its parameters.
+    pub method: Method,
+    /// Forward or deferred.
+    pub pipeline: PipelineKind,
+    /// Output width in pixels.
+    pub width: u32,
+    /// Output height in pixels.
+    pub height: u32,
+    /// Supersampling: k×k samples per pixel on a regular grid (box filter over the pixel).
+    pub ssaa: u32,
+    /// Frames rendered before timing.
+    pub warmup_frames: u32,
+    /// Frames timed (the reported time is their median).
+    pub timed_frames: u32,
+    /// Run one extra frame with the hardware-independent counters compiled in.
+    pub counters: bool,
+}
+
+impl RasterSettings {
+    /// `width`×`height`, default method, forward, no supersampling, 2 warm-up + 5 timed
+    /// frames, no counters.
+    pub fn new(width: u32, height: u32) -> Self {
+        RasterSettings {
+            method: Method::default(),
+            pipeline: PipelineKind::Forward,
+            width,
+            height,
+            ssaa: 1,
+            warmup_frames: 2,
+            timed_frames: 5,
+            counters: false,
+        }
+    }
+
+    /// With `method`.
+    pub fn method(self, method: Method) -> Self {
+        RasterSettings { method, ..self }
+    }
+
+    /// With `pipeline`.
+    pub fn pipeline(self, pipeline: PipelineKind) -> Self {
+        RasterSettings { pipeline, ..self }
+    }
+
+    /// With k×k supersampling.
+    pub fn ssaa(self, k: u32) -> Self {
+        RasterSettings { ssaa: k, ..self }
+    }
+
+    /// With `warmup` untimed and `timed` timed frames.
+    pub fn frames(self, warmup: u32, timed: u32) -> Self {
+        RasterSettings {
+            warmup_frames: warmup,
+            timed_frames: timed,
+            ..self
+        }
+    }
+
+    /// With or without the counting frame.
+    pub fn counters(self, counters: bool) -> Self {
+        RasterSettings { counters, ..self }
+    }
+
+    fn check(&self, max_dimension: u32) -> Result<(), RasterError> {
+        let bad = |m: String| Err(RasterError::Settings(m));
+        if self.width == 0 || self.height == 0 {
+            return bad(format!("resolution {}x{} is empty", self.width, self.height));
+        }
+        if !(1..=MAX_SSAA).contains(&self.ssaa) {
+            return bad(format!("ssaa = {} must be in 1..={MAX_SSAA}", self.ssaa));
+        }
+        let m = &self.method;
+        if !(1..=MAX_QUADRATURE_N).contains(&m.area_n) || m.env_n > MAX_QUADRATURE_N {
+            return bad(format!(
+                "method {m}: n must be in 1..={MAX_QUADRATURE_N} and env_n in 0..={MAX_QUADRATURE_N}"
+            ));
+        }
+        if self.timed_frames == 0 {
+            return bad("at least one timed frame is needed".into());
+        }
+        let (w, h) = (
+            u64::from(self.width) * u64::from(self.ssaa),
+            u64::from(self.height) * u64::from(self.ssaa),
+        );
+        if w > u64::from(max_dimension) || h > u64::from(max_dimension) {
+            return bad(format!(
+                "{}x{} with ssaa {} needs a {w}x{h} target; the adapter allows at most {max_dimension} per side",
+                self.width, self.height, self.ssaa
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// A finished raster render.
+#[derive(Clone, Debug)]
+pub struct RasterOutput {
+    /// R, G, B, depth.Z, normal.X/Y/Z, albedo.R/G/B, coverage.Y, object_id.Y and the header.
+    pub image: LayeredImage,
+    /// Cost.
+    pub timing: Timing,
+    /// Hardware-independent counters, when requested.
+    pub counters: Option<Counters>,
+}
+
+/// The renderer: one device, the compiled shaders, and a lock that keeps renders (and so
+/// their timings) from overlapping.
+pub struct Renderer {
+    gpu: Gpu,
+    pipelines: Pipelines,
+    errors: Arc<Mutex<Vec<String>>>,
+    lock: Mutex<()>,
+}
+
+impl Renderer {
+    /// Picks the adapter (WGPU_BACKEND / WGPU_ADAPTER_NAME honoured), creates the device and
+    /// compiles the shader module.
+    pub fn new() -> Result<Renderer, RasterError> {
+        let gpu = Gpu::new()?;
+        let errors = Arc::new(Mutex::new(Vec::new()));
+        let sink = errors.clone();
+        gpu.device.on_uncaptured_error(Box::new(move |e| {
+            sink.lock().unwrap_or_else(|p| p.into_inner()).push(e.to_string());
+        }));
+        let pipelines = Pipelines::new(&gpu.device);
+        let r = Renderer {
+            gpu,
+            pipelines,
+            errors,
+            lock: Mutex::new(()),
+        };
+        r.check_errors("compiling the shaders")?;
+        Ok(r)
+    }
+
+    /// The device and its adapter.
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
+    }
+
+    /// wgpu errors reported since the last check, as one error.
+    fn check_errors(&self, context: &str) -> Result<(), RasterError> {
+        let mut errors = self.errors.lock().unwrap_or_else(|p| p.into_inner());
+        if errors.is_empty() {
+            return Ok(());
+        }
+        let message = errors.join("\n");
+        errors.clear();
+        Err(RasterError::Gpu {
+            context: context.to_string(),
+            message,
+        })
+    }
+
+    /// Renders `scene` (its camera; the settings' resolution) and reads the image back.
+    pub fn render(&self, scene: &Scene, settings: &RasterSettings) -> Result<RasterOutput, RasterError> {
+        let _guard = self.lock.lock().unwrap_or_else(|p| p.into_inner());
+        let device = &self.gpu.device;
+        settings.check(self.gpu.limits().max_texture_dimension_2d)?;
+        let max_binding = u64::from(self.gpu.limits().max_storage_buffer_binding_size);
+        let scene_gpu = SceneGpu::new(device, scene, max_binding).map_err(RasterError::Scene)?;
+        let k = settings.ssaa;
+        let (tw, th) = (settings.width * k, settings.height * k);
+        let frame = Frame::new(
+            device,
+            &self.pipelines.scene_layout,
+            scene,
+            &scene_gpu,
+            settings,
+            k,
+        );
+        let targets = Targets::new(device, settings.pipeline, tw, th, &self.pipelines.gbuffer_layout);
+        let stages = self.stages(settings, false);
+        self.check_errors("creating the scene buffers and pipelines")?;
+
+        let timing = self.timed_frames(&frame, &targets, &stages, &scene_gpu, settings)?;
+        let main = self.read_back(&targets)?;
+        let counters = if settings.counters {
+            Some(self.counting_frame(&frame, &targets, &scene_gpu, settings)?)
+        } else {
+            None
+        };
+        // Object ids at pixel centres: the centre subsample for odd k, else a 1× render.
+        let ids = if k % 2 == 1 {
+            None
+        } else {
+            let one = Frame::new(
+                device,
+                &self.pipelines.scene_layout,
+                scene,
+                &scene_gpu,
+                settings,
+                1,
+            );
+            let t1 = Targets::new(
+                device,
+                settings.pipeline,
+                settings.width,
+                settings.height,
+                &self.pipelines.gbuffer_layout,
+            );
+            self.run_frame(&one, &t1, &stages, &scene_gpu, None)?;
+            Some(self.read_back(&t1)?.albedo_id.iter().map(|t| t[3]).collect())
+        };
+        let mut image = assemble(&main, settings.width, settings.height, k, ids);
+        add_header(
+            &mut image,
+            scene,
+            settings,
+            &self.gpu,
+            &timing,
+            counters.as_ref(),
+            &scene_gpu,
+        );
+        Ok(RasterOutput {
+            image,
+            timing,
+            counters,
+        })
+    }
+
+    /// The pipelines one frame of `settings` draws with, in pass order.
+    fn stages(&self, settings: &RasterSettings, counters: bool) -> Vec<(Stage, Arc<wgpu::RenderPipeline>)> {
+        let list: &[Stage] = match settings.pipeline {
+            PipelineKind::Forward => &[Stage::ForwardMesh, Stage::ForwardAnalytic, Stage::Background],
+            PipelineKind::Deferred => &[Stage::GBufferMesh, Stage::GBufferAnalytic, Stage::Lighting],
+        };
+        list.iter()
+            .map(|&s| {
+                (
+                    s,
+                    self.pipelines
+                        .get(&self.gpu.device, s, settings.method.area, counters),
+                )
+            })
+            .collect()
+    }
+
+    /// Warm-up and timed frames; the last one's image stays in `targets`.
+    fn timed_frames(
+        &self,
+        frame: &Frame,
+        targets: &Targets,
+        stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
+        scene_gpu: &SceneGpu,
+        settings: &RasterSettings,
+    ) -> Result<Timing, RasterError> {
+        let passes = pass_names(settings.pipeline);
+        let queries = self
+            .gpu
+            .has_timestamps()
+            .then(|| Timestamps::new(&self.gpu.device, passes.len() as u32));
+        let mut wall = Vec::new();
+        let mut per_pass: Vec<Vec<f64>> = vec![Vec::new(); passes.len()];
+        let mut gpu_total = Vec::new();
+        for i in 0..settings.warmup_frames + settings.timed_frames {
+            let t0 = Instant::now();
+            self.run_frame(frame, targets, stages, scene_gpu, queries.as_ref())?;
+            let dt = t0.elapsed().as_secs_f64() * 1e3;
+            let ticks = match &queries {
+                Some(q) => Some(q.read(&self.gpu)?),
+                None => None,
+            };
+            if i < settings.warmup_frames {
+                continue;
+            }
+            wall.push(dt);
+            if let Some(ms) = ticks {
+                for (p, v) in per_pass.iter_mut().zip(&ms) {
+                    p.push(*v);
+                }
+                gpu_total.push(ms.iter().sum());
+            }
+        }
+        // Timestamps that did not advance (some drivers report zeros) fall back to wall time.
+        let gpu_ms = (!gpu_total.is_empty())
+            .then(|| median(&gpu_total))
+            .filter(|t| *t > 0.0);
+        Ok(Timing {
+            adapter: self.gpu.adapter_name().to_string(),
+            backend: self.gpu.backend(),
+            driver: self.gpu.driver(),
+            source: if gpu_ms.is_some() {
+                TimingSource::GpuTimestamps
+            } else {
+                TimingSource::WallClock
+            },
+            passes: if gpu_ms.is_some() {
+                passes
+                    .iter()
+                    .zip(&per_pass)
+                    .map(|(n, v)| PassTime {
+                        name: n.to_string(),
+                        ms: median(v),
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            },
+            gpu_ms,
+            wall_ms: median(&wall),
+            warmup_frames: settings.warmup_frames,
+            timed_frames: settings.timed_frames,
+        })
+    }
+
+    /// Encodes, submits and waits for one frame.
+    fn run_frame(
+        &self,
+        frame: &Frame,
+        targets: &Targets,
+        stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
+        scene_gpu: &SceneGpu,
+        queries: Option<&Timestamps>,
+    ) -> Result<(), RasterError> {
+        let device = &self.gpu.device;
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("frame encoder"),
+        });
+        encode_passes(&mut encoder, frame, targets, stages, scene_gpu, queries);
+        if let Some(q) = queries {
+            q.encode_resolve(&mut encoder);
+        }
+        self.gpu.queue.submit([encoder.finish()]);
+        self.wait()?;
+        self.check_errors("rendering a frame")
+    }
+
+    fn wait(&self) -> Result<(), RasterError> {
+        self.gpu
+            .device
+            .poll(wgpu::PollType::Wait)
+            .map(|_| ())
+            .map_err(|e| RasterError::Gpu {
+                context: "waiting for the GPU".into(),
+                message: e.to_string(),
+            })
+    }
+
+    /// Copies the outputs back and maps them.
+    fn read_back(&self, targets: &Targets) -> Result<Readback, RasterError> {
+        let device = &self.gpu.device;
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("read-back encoder"),
+        });
+        let buffers = targets.encode_readback(device, &mut encoder);
+        self.gpu.queue.submit([encoder.finish()]);
+        let mut out = Vec::with_capacity(3);
+        for b in &buffers {
+            let bytes = self.map(b)?;
+            out.push(targets.unpad(&bytes));
+        }
+        let albedo_id = out.pop().unwrap_or_default();
+        let normal_depth = out.pop().unwrap_or_default();
+        let color = out.pop().unwrap_or_default();
+        Ok(Readback {
+            width: targets.width,
+            height: targets.height,
+            color,
+            normal_depth,
+            albedo_id,
+        })
+    }
+
+    /// Maps `buffer` for reading and copies its contents out.
+    fn map(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, RasterError> {
+        let slice = buffer.slice(..);
+        let status = Arc::new(Mutex::new(None));
+        let s = status.clone();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            *s.lock().unwrap_or_else(|p| p.into_inner()) = Some(r);
+        });
+        self.wait()?;
+        let result = status.lock().unwrap_or_else(|p| p.into_inner()).take();
+        match result {
+            Some(Ok(())) => {
+                let bytes = slice.get_mapped_range().to_vec();
+                buffer.unmap();
+                Ok(bytes)
+            }
+            other => Err(RasterError::Gpu {
+                context: "reading back a buffer".into(),
+                message: format!("{other:?}"),
+            }),
+        }
+    }
+
+    /// The counting frame: a G-buffer pass, then the lighting pass compiled with the counters,
+    /// so each visible sample is shaded (and counted) once whatever the pipeline; sums the rows.
+    fn counting_frame(
+        &self,
+        frame: &Frame,
+        targets: &Targets,
+        scene_gpu: &SceneGpu,
+        settings: &RasterSettings,
+    ) -> Result<Counters, RasterError> {
+        let device = &self.gpu.device;
+        let deferred;
+        let targets = if targets.gbuffer_views.is_some() {
+            targets
+        } else {
+            deferred = Targets::new(
+                device,
+                PipelineKind::Deferred,
+                targets.width,
+                targets.height,
+                &self.pipelines.gbuffer_layout,
+            );
+            &deferred
+        };
+        let area = settings.method.area;
+        let stages: Vec<_> = [
+            (Stage::GBufferMesh, false),
+            (Stage::GBufferAnalytic, false),
+            (Stage::Lighting, true),
+        ]
+        .into_iter()
+        .map(|(s, counting)| (s, self.pipelines.get(device, s, area, counting)))
+        .collect();
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("counting frame encoder"),
+        });
+        encoder.clear_buffer(&frame.counters, 0, None);
+        encode_passes(&mut encoder, frame, targets, &stages, scene_gpu, None);
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("counters read-back"),
+            size: frame.counters.size(),
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        encoder.copy_buffer_to_buffer(&frame.counters, 0, &readback, 0, frame.counters.size());
+        self.gpu.queue.submit([encoder.finish()]);
+        self.wait()?;
+        self.check_errors("the counting frame")?;
+        let bytes = self.map(&readback)?;
+        let mut sums = [0u64; 2];
+        for (i, c) in bytes.chunks_exact(4).enumerate() {
+            sums[i % 2] += u64::from(u32::from_le_bytes([c[0], c[1], c[2], c[3]]));
+        }
+        let pixels = f64::from(settings.width) * f64::from(settings.height);
+        Ok(Counters {
+            texel_fetches_per_pixel: sums[0] as f64 / pixels,
+            loop_iterations_per_pixel: sums[1] as f64 / pixels,
+        })
+    }
+}
+
+/// Labels of the render passes of a frame.
+fn pass_names(kind: PipelineKind) -> Vec<&'static str> {
+    match kind {
+        PipelineKind::Forward => vec!["forward pass"],
+        PipelineKind::Deferred => vec!["G-buffer pass", "lighting pass"],
+    }
+}
+
+/// Header attributes: renderer, adapter, backend, method, parameters, timing, counters.
+fn add_header(
+    image: &mut LayeredImage,
+    scene: &Scene,
+    s: &RasterSettings,
+    gpu: &Gpu,
+    timing: &Timing,
+    counters: Option<&Counters>,
+    sg: &SceneGpu,
+) {
+    let params: Vec<String> = s
+        .method
+        .params()
+        .iter()
+        .map(|(k, v)| format!("{k}={v}"))
+        .collect();
+    let mut attrs = vec![
+        (
+            "renderer",
+            format!("verity realtime {}", env!("CARGO_PKG_VERSION")),
+        ),
+        ("scene", scene.source.display().to_string()),
+        ("adapter", gpu.adapter_name().to_string()),
+        ("backend", gpu.backend()),
+        ("driver", gpu.driver()),
+        ("method", s.method.name().to_string()),
+        ("parameters", params.join(" ")),
+        ("pipeline", s.pipeline.name().to_string()),
+        ("ssaa", s.ssaa.to_string()),
+        ("frame_ms", format!("{:.6}", timing.frame_ms())),
+        ("wall_ms", format!("{:.6}", timing.wall_ms)),
+        (
+            "timing",
+            match timing.source {
+                TimingSource::GpuTimestamps => "gpu timestamps".to_string(),
+                TimingSource::WallClock => "wall clock".to_string(),
+            },
+        ),
+        ("timing_summary", timing.summary()),
+    ];
+    if !timing.passes.is_empty() {
+        let passes: Vec<String> = timing
+            .passes
+            .iter()
+            .map(|p| format!("{}: {:.6}", p.name, p.ms))
+            .collect();
+        attrs.push(("pass_ms", passes.join("; ")));
+    }
+    if let Some(c) = counters {
+        attrs.push((
+            "texel_fetches_per_pixel",
+            format!("{:.4}", c.texel_fetches_per_pixel),
+        ));
+        attrs.push((
+            "loop_iterations_per_pixel",
+            format!("{:.4}", c.loop_iterations_per_pixel),
+        ));
+    }
+    if !sg.unlit_emitters.is_empty() {
+        attrs.push((
+            "unlit_emitters",
+            format!(
+                "emissive meshes light nothing in realtime: {}",
+                sg.unlit_emitters.join(", ")
+            ),
+        ));
+    }
+    for (k, v) in attrs {
+        image.set_attribute(k, v);
+    }
+}

@@ -1,0 +1,192 @@
+//! Render targets of one resolution and their read-back to f32.
+//!
+//! The three outputs (colour, normal + depth, albedo + object id) are Rgba32Float, so the HDR
+//! image comes back as the shader wrote it, bit for bit. The deferred pipeline adds a G-buffer
+//! of three more Rgba32Float layers; both share one Depth32Float buffer.
+
+use crate::method::PipelineKind;
+use crate::pipelines::{COLOR_FORMAT, DEPTH_FORMAT};
+
+/// Bytes of one Rgba32Float texel.
+const TEXEL_BYTES: u32 = 16;
+
+/// Targets of a `width`×`height` render.
+pub struct Targets {
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+    /// Colour, normal + depth, albedo + id.
+    pub(crate) outputs: [wgpu::Texture; 3],
+    pub(crate) output_views: [wgpu::TextureView; 3],
+    pub(crate) depth_view: wgpu::TextureView,
+    /// G-buffer (deferred only) and its bind group.
+    pub(crate) gbuffer_views: Option<[wgpu::TextureView; 3]>,
+    pub(crate) gbuffer_bind_group: Option<wgpu::BindGroup>,
+}
+
+fn color_texture(
+    device: &wgpu::Device,
+    label: &str,
+    w: u32,
+    h: u32,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: COLOR_FORMAT,
+        usage,
+        view_formats: &[],
+    })
+}
+
+/// A view of the whole texture, labelled.
+fn labelled_view(texture: &wgpu::Texture, label: &str) -> wgpu::TextureView {
+    texture.create_view(&wgpu::TextureViewDescriptor {
+        label: Some(label),
+        ..Default::default()
+    })
+}
+
+impl Targets {
+    /// Targets for `kind` at `width`×`height`; `gbuffer_layout` describes the lighting pass's
+    /// G-buffer bindings.
+    pub fn new(
+        device: &wgpu::Device,
+        kind: PipelineKind,
+        width: u32,
+        height: u32,
+        gbuffer_layout: &wgpu::BindGroupLayout,
+    ) -> Targets {
+        let out_usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        let outputs = [
+            "colour target (HDR)",
+            "normal + depth target",
+            "albedo + object id target",
+        ]
+        .map(|label| color_texture(device, label, width, height, out_usage));
+        let output_views = [0, 1, 2].map(|i| outputs[i].create_view(&wgpu::TextureViewDescriptor::default()));
+        let depth = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("depth buffer (reversed-Z)"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        });
+        let depth_view = labelled_view(&depth, "depth view");
+        let (gbuffer_views, gbuffer_bind_group) = if kind == PipelineKind::Deferred {
+            let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+            let layers = [
+                "G-buffer 0 (position, object id)",
+                "G-buffer 1 (shading normal, u)",
+                "G-buffer 2 (geometric normal, v)",
+            ]
+            .map(|label| color_texture(device, label, width, height, usage));
+            let views = [0, 1, 2].map(|i| labelled_view(&layers[i], "G-buffer view"));
+            let entries: Vec<_> = (0..3)
+                .map(|i| wgpu::BindGroupEntry {
+                    binding: i as u32,
+                    resource: wgpu::BindingResource::TextureView(&views[i]),
+                })
+                .collect();
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("G-buffer bind group"),
+                layout: gbuffer_layout,
+                entries: &entries,
+            });
+            (Some(views), Some(bind_group))
+        } else {
+            (None, None)
+        };
+        Targets {
+            width,
+            height,
+            outputs,
+            output_views,
+            depth_view,
+            gbuffer_views,
+            gbuffer_bind_group,
+        }
+    }
+
+    /// Bytes per row of a read-back copy (padded to wgpu's 256-byte alignment).
+    fn padded_row(&self) -> u32 {
+        let row = self.width * TEXEL_BYTES;
+        row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT
+    }
+
+    /// Copies the three outputs into mappable buffers (encoded into `encoder`).
+    pub fn encode_readback(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> [wgpu::Buffer; 3] {
+        let row = self.padded_row();
+        let size = u64::from(row) * u64::from(self.height);
+        let buffers = [
+            "colour read-back",
+            "normal + depth read-back",
+            "albedo + id read-back",
+        ]
+        .map(|label| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                mapped_at_creation: false,
+            })
+        });
+        for (texture, buffer) in self.outputs.iter().zip(&buffers) {
+            encoder.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo {
+                    texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(row),
+                        rows_per_image: Some(self.height),
+                    },
+                },
+                wgpu::Extent3d {
+                    width: self.width,
+                    height: self.height,
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
+        buffers
+    }
+
+    /// The texels of a mapped read-back buffer, row 0 at the top, padding removed.
+    pub fn unpad(&self, bytes: &[u8]) -> Vec<[f32; 4]> {
+        let row = self.padded_row() as usize;
+        let used = (self.width * TEXEL_BYTES) as usize;
+        let mut out = Vec::with_capacity((self.width * self.height) as usize);
+        for r in 0..self.height as usize {
+            let line = &bytes[r * row..r * row + used];
+            out.extend(line.chunks_exact(16).map(|t| {
+                let f = |k: usize| f32::from_le_bytes([t[4 * k], t[4 * k + 1], t[4 * k + 2], t[4 * k + 3]]);
+                [f(0), f(1), f(2), f(3)]
+            }));
+        }
+        out
+    }
+}

@@ -1,0 +1,619 @@
+//! The scene on the GPU: `scenes::Scene` turned into the buffers `shaders/common.wgsl` reads.
+//!
+//! - Meshes are de-indexed: each triangle gets three vertices of its own carrying its flat data
+//!   (geometric normal, ∂p/∂u, ∂p/∂v) and, where the oracle shades the triangle flat (a vertex
+//!   normal missing, NaN or zero), the geometric normal as every vertex normal — so per-pixel
+//!   interpolation reproduces oracle/src/geometry/triangle.rs exactly.
+//! - Spheres, rectangles and disks become proxies ray traced per fragment (`surface.wgsl`):
+//!   a sphere's bounding box (enlarged by [`SPHERE_PROXY_MARGIN`]) with inward-facing
+//!   triangles, so back-face culling keeps exactly its far side; a rectangle itself and a
+//!   disk's circumscribed parallelogram, each in both windings so one survives culling from
+//!   either side.
+//! - Textures are concatenated into one texel buffer (RGBA f32) read by `texture.wgsl`.
+//!
+//! Checks mirror the oracle's: non-finite geometry, zero-area planar shapes, out-of-range
+//! indices, bad light parameters are errors naming the shape or light.
+
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3, Vec4};
+use scenes::texture::Texture;
+use scenes::{
+    Emission, Environment, Geometry, Light, Masking, Material, Mesh, Scene, TexRgb, TexScalar, WrapMode,
+};
+use wgpu::util::DeviceExt;
+
+use crate::gpu_types::*;
+
+/// Relative enlargement of a sphere's bounding box proxy, so rasterisation never clips its
+/// silhouette (the box touches the sphere at its face centres).
+pub const SPHERE_PROXY_MARGIN: f32 = 0.01;
+
+/// Everything the passes bind, built once per scene.
+pub struct SceneGpu {
+    pub(crate) shapes: wgpu::Buffer,
+    pub(crate) materials: wgpu::Buffer,
+    pub(crate) lights: wgpu::Buffer,
+    pub(crate) emitters: wgpu::Buffer,
+    pub(crate) texture_infos: wgpu::Buffer,
+    pub(crate) texels: wgpu::Buffer,
+    pub(crate) mesh_vertices: Option<(wgpu::Buffer, u32)>,
+    pub(crate) analytic_vertices: Option<(wgpu::Buffer, u32)>,
+    pub(crate) light_count: u32,
+    pub(crate) emitter_count: u32,
+    pub(crate) env: (EnvKind, u32, [f32; 4]),
+    /// Shapes that emit but light nothing here (emissive meshes).
+    pub(crate) unlit_emitters: Vec<String>,
+}
+
+/// CPU-side arrays before upload.
+#[derive(Default)]
+struct Arrays {
+    shapes: Vec<GpuShape>,
+    materials: Vec<GpuMaterial>,
+    lights: Vec<GpuLight>,
+    emitters: Vec<u32>,
+    texture_infos: Vec<GpuTextureInfo>,
+    texels: Vec<[f32; 4]>,
+    mesh: Vec<MeshVertex>,
+    analytic: Vec<AnalyticVertex>,
+    unlit_emitters: Vec<String>,
+}
+
+impl SceneGpu {
+    /// Checks and uploads `scene`; `max_binding` is the device's storage-binding limit.
+    pub fn new(device: &wgpu::Device, scene: &Scene, max_binding: u64) -> Result<SceneGpu, String> {
+        let src = scene.source.display().to_string();
+        let mut a = Arrays::default();
+        for (i, t) in scene.textures.iter().enumerate() {
+            add_texture(&mut a, t).map_err(|e| format!("{src}: textures[{i}]: {e}"))?;
+        }
+        for (i, m) in scene.materials.iter().enumerate() {
+            a.materials
+                .push(material(m, scene.textures.len()).map_err(|e| format!("{src}: materials[{i}]: {e}"))?);
+        }
+        for (i, s) in scene.shapes.iter().enumerate() {
+            add_shape(&mut a, scene, i)
+                .map_err(|e| format!("{src}: shape '{}' (shapes[{i}]): {e}", s.name))?;
+        }
+        for (i, l) in scene.lights.iter().enumerate() {
+            a.lights
+                .push(light(l).map_err(|e| format!("{src}: light '{}' (lights[{i}]): {e}", l.name()))?);
+        }
+        let env = environment(scene).map_err(|e| format!("{src}: environment: {e}"))?;
+        let bytes = (a.texels.len() * 16) as u64;
+        if bytes > max_binding {
+            return Err(format!(
+                "{src}: the textures need {bytes} bytes, more than the adapter's storage binding limit of {max_binding}"
+            ));
+        }
+        Ok(upload(device, a, env))
+    }
+}
+
+fn upload(device: &wgpu::Device, a: Arrays, env: (EnvKind, u32, [f32; 4])) -> SceneGpu {
+    fn storage<T: bytemuck::Pod + bytemuck::Zeroable>(
+        device: &wgpu::Device,
+        label: &str,
+        data: &[T],
+    ) -> wgpu::Buffer {
+        // Empty bindings are invalid: one zeroed element stands in.
+        let zero = [T::zeroed()];
+        let contents: &[T] = if data.is_empty() { &zero } else { data };
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytemuck::cast_slice(contents),
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+    }
+    fn vertices<T: bytemuck::Pod>(
+        device: &wgpu::Device,
+        label: &str,
+        data: &[T],
+    ) -> Option<(wgpu::Buffer, u32)> {
+        (!data.is_empty()).then(|| {
+            let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytemuck::cast_slice(data),
+                usage: wgpu::BufferUsages::VERTEX,
+            });
+            (buffer, data.len() as u32)
+        })
+    }
+    SceneGpu {
+        shapes: storage(device, "scene shapes", &a.shapes),
+        materials: storage(device, "scene materials", &a.materials),
+        lights: storage(device, "scene lights", &a.lights),
+        emitters: storage(device, "scene area emitters", &a.emitters),
+        texture_infos: storage(device, "scene texture infos", &a.texture_infos),
+        texels: storage(device, "scene texels", &a.texels),
+        mesh_vertices: vertices(device, "mesh vertices (de-indexed)", &a.mesh),
+        analytic_vertices: vertices(device, "analytic shape proxies", &a.analytic),
+        light_count: a.lights.len() as u32,
+        emitter_count: a.emitters.len() as u32,
+        env,
+        unlit_emitters: a.unlit_emitters,
+    }
+}
+
+fn wrap_code(w: WrapMode) -> u32 {
+    match w {
+        WrapMode::Repeat => 0,
+        WrapMode::Clamp => 1,
+        WrapMode::Mirror => 2,
+    }
+}
+
+fn add_texture(a: &mut Arrays, t: &Arc<Texture>) -> Result<(), String> {
+    let n = t.width as usize * t.height as usize;
+    if n == 0 || t.texels.len() != n {
+        return Err(format!(
+            "{}x{} texture holds {} texels",
+            t.width,
+            t.height,
+            t.texels.len()
+        ));
+    }
+    let offset = u32::try_from(a.texels.len()).map_err(|_| "too many texels in total".to_string())?;
+    a.texture_infos.push(GpuTextureInfo {
+        offset,
+        width: t.width,
+        height: t.height,
+        wrap: wrap_code(t.wrap[0]) | (wrap_code(t.wrap[1]) << 4),
+    });
+    a.texels.extend(t.texels.iter().map(|v| v.to_array()));
+    Ok(())
+}
+
+/// (texture or NONE, constant/factor) of a TexRgb.
+fn tex_rgb(t: &TexRgb, textures: usize, field: &str) -> Result<(u32, [f32; 4]), String> {
+    match t {
+        TexRgb::Constant(c) => Ok((NONE, vec4(*c, 0.0))),
+        TexRgb::Image { texture, factor } => {
+            check_texture(*texture, textures, field)?;
+            Ok((*texture as u32, vec4(*factor, 0.0)))
+        }
+    }
+}
+
+/// (texture or NONE, channel, constant/factor) of a TexScalar.
+fn tex_scalar(t: &TexScalar, textures: usize, field: &str) -> Result<(u32, u32, f32), String> {
+    match t {
+        TexScalar::Constant(c) => Ok((NONE, 0, *c)),
+        TexScalar::Image {
+            texture,
+            channel,
+            factor,
+        } => {
+            check_texture(*texture, textures, field)?;
+            if *channel > 3 {
+                return Err(format!("{field}.channel = {channel} must be 0..=3"));
+            }
+            Ok((*texture as u32, *channel as u32, *factor))
+        }
+    }
+}
+
+fn check_texture(index: usize, textures: usize, field: &str) -> Result<(), String> {
+    if index >= textures {
+        return Err(format!(
+            "{field}.texture = {index} is out of range (the scene has {textures} textures)"
+        ));
+    }
+    Ok(())
+}
+
+fn material(m: &Material, textures: usize) -> Result<GpuMaterial, String> {
+    let mut g = GpuMaterial {
+        kind: 0,
+        masking: 0,
+        color_tex: NONE,
+        roughness_tex: NONE,
+        roughness_channel: 0,
+        metallic_tex: NONE,
+        metallic_channel: 0,
+        pad: 0,
+        color: [0.0; 4],
+        f0: [0.0; 4],
+        scalars: [0.0, 0.0, 1.0, 1.0],
+    };
+    match m {
+        Material::Diffuse { albedo } => {
+            g.kind = MaterialKind::Diffuse as u32;
+            (g.color_tex, g.color) = tex_rgb(albedo, textures, "albedo")?;
+        }
+        Material::Phong {
+            reflectance,
+            exponent,
+        } => {
+            g.kind = MaterialKind::Phong as u32;
+            (g.color_tex, g.color) = tex_rgb(reflectance, textures, "reflectance")?;
+            g.scalars[0] = *exponent;
+        }
+        Material::Ggx {
+            reflectance,
+            f0,
+            roughness,
+            masking,
+        } => {
+            g.kind = MaterialKind::Ggx as u32;
+            g.masking = match masking {
+                Masking::HeightCorrelated => 0,
+                Masking::Separable => 1,
+            };
+            (g.color_tex, g.color) = tex_rgb(reflectance, textures, "reflectance")?;
+            g.f0 = vec4(*f0, 0.0);
+            (g.roughness_tex, g.roughness_channel, g.scalars[0]) =
+                tex_scalar(roughness, textures, "roughness")?;
+        }
+        Material::MetalRough {
+            base_color,
+            metallic,
+            roughness,
+        } => {
+            g.kind = MaterialKind::MetalRough as u32;
+            (g.color_tex, g.color) = tex_rgb(base_color, textures, "base_color")?;
+            (g.roughness_tex, g.roughness_channel, g.scalars[0]) =
+                tex_scalar(roughness, textures, "roughness")?;
+            (g.metallic_tex, g.metallic_channel, g.scalars[1]) = tex_scalar(metallic, textures, "metallic")?;
+        }
+        Material::Mirror { reflectance } => {
+            g.kind = MaterialKind::Mirror as u32;
+            g.color = vec4(*reflectance, 0.0);
+        }
+        Material::Dielectric { int_ior, ext_ior } => {
+            g.kind = MaterialKind::Dielectric as u32;
+            g.scalars[2] = *int_ior;
+            g.scalars[3] = *ext_ior;
+        }
+    }
+    Ok(g)
+}
+
+fn finite(name: &str, v: Vec3) -> Result<Vec3, String> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("{name} = {v} is not finite"))
+    }
+}
+
+/// A shape with every field zero but its kind and material.
+fn blank_shape(kind: ShapeKind, material: u32) -> GpuShape {
+    GpuShape {
+        kind: kind as u32,
+        material,
+        normal_map: NONE,
+        normal_scale: 1.0,
+        center: [0.0; 4],
+        half_u: [0.0; 4],
+        half_v: [0.0; 4],
+        normal: [0.0; 4],
+        dual_u: [0.0; 4],
+        dual_v: [0.0; 4],
+        emission: [0.0; 4],
+        emission_info: [0, 0, NONE, 0],
+    }
+}
+
+fn add_shape(a: &mut Arrays, scene: &Scene, index: usize) -> Result<(), String> {
+    let shape = &scene.shapes[index];
+    if shape.material >= scene.materials.len() {
+        return Err(format!(
+            "material = {} is out of range (the scene has {} materials)",
+            shape.material,
+            scene.materials.len()
+        ));
+    }
+    let id = index as u32;
+    let mut g = match &shape.geometry {
+        Geometry::Sphere { center, radius } => {
+            let c = finite("center", *center)?;
+            if !(*radius > 0.0 && radius.is_finite()) {
+                return Err(format!("radius = {radius} must be finite and > 0"));
+            }
+            let mut g = blank_shape(ShapeKind::Sphere, shape.material as u32);
+            g.center = vec4(c, *radius);
+            g.normal[3] = 4.0 * std::f32::consts::PI * radius * radius;
+            push_box(
+                &mut a.analytic,
+                c,
+                Vec3::splat(radius * (1.0 + SPHERE_PROXY_MARGIN)),
+                id,
+            );
+            g
+        }
+        Geometry::Rectangle {
+            center,
+            half_u,
+            half_v,
+        } => planar(
+            a,
+            ShapeKind::Rectangle,
+            shape.material,
+            id,
+            *center,
+            *half_u,
+            *half_v,
+        )?,
+        Geometry::Disk {
+            center,
+            half_u,
+            half_v,
+        } => planar(a, ShapeKind::Disk, shape.material, id, *center, *half_u, *half_v)?,
+        Geometry::Mesh(mesh) => {
+            push_mesh(&mut a.mesh, mesh, id)?;
+            let mut g = blank_shape(ShapeKind::Mesh, shape.material as u32);
+            g.emission_info[3] = u32::from(!mesh.tangents.is_empty());
+            g
+        }
+    };
+    if let Some(map) = &shape.normal_map {
+        check_texture(map.texture, scene.textures.len(), "normal_map")?;
+        g.normal_map = map.texture as u32;
+        g.normal_scale = map.scale;
+    }
+    if let Some(Emission { radiance, two_sided }) = &shape.emission {
+        let (tex, value) = tex_rgb(radiance, scene.textures.len(), "emission.radiance")?;
+        if !value.iter().all(|v| v.is_finite() && *v >= 0.0) {
+            return Err(format!("emission.radiance {value:?} must be finite and ≥ 0"));
+        }
+        g.emission = value;
+        g.emission_info[0] = 1;
+        g.emission_info[1] = u32::from(*two_sided);
+        g.emission_info[2] = tex;
+        if matches!(shape.geometry, Geometry::Mesh(_)) {
+            a.unlit_emitters.push(shape.name.clone());
+        } else {
+            a.emitters.push(id);
+        }
+    }
+    a.shapes.push(g);
+    Ok(())
+}
+
+/// A rectangle or disk: plane frame with its dual basis (oracle plane.rs) and the proxy quad.
+fn planar(
+    a: &mut Arrays,
+    kind: ShapeKind,
+    material: usize,
+    id: u32,
+    center: Vec3,
+    half_u: Vec3,
+    half_v: Vec3,
+) -> Result<GpuShape, String> {
+    let c = finite("center", center)?;
+    let hu = finite("half_u", half_u)?;
+    let hv = finite("half_v", half_v)?;
+    let cross = hu.cross(hv);
+    let n = cross.normalize_or_zero();
+    if n == Vec3::ZERO {
+        return Err(format!(
+            "zero area: half_u {hu} and half_v {hv} are parallel or zero"
+        ));
+    }
+    let dual_u = hv.cross(n) / hu.dot(hv.cross(n));
+    let dual_v = n.cross(hu) / hv.dot(n.cross(hu));
+    let area = match kind {
+        ShapeKind::Disk => std::f32::consts::PI * cross.length(),
+        _ => 4.0 * cross.length(),
+    };
+    let mut g = blank_shape(kind, material as u32);
+    g.center = vec4(c, 0.0);
+    g.half_u = vec4(hu, 0.0);
+    g.half_v = vec4(hv, 0.0);
+    g.normal = vec4(n, area);
+    g.dual_u = vec4(dual_u, 0.0);
+    g.dual_v = vec4(dual_v, 0.0);
+    let q = [c - hu - hv, c + hu - hv, c + hu + hv, c - hu + hv];
+    for tri in [[0, 1, 2], [0, 2, 3], [0, 2, 1], [0, 3, 2]] {
+        for k in tri {
+            a.analytic.push(AnalyticVertex {
+                position: q[k].to_array(),
+                shape: id,
+            });
+        }
+    }
+    Ok(g)
+}
+
+/// The 12 triangles of the box centre ± extent, wound to face inwards.
+fn push_box(out: &mut Vec<AnalyticVertex>, c: Vec3, e: Vec3, id: u32) {
+    for axis in 0..3 {
+        for sign in [1.0f32, -1.0] {
+            let mut u = Vec3::ZERO;
+            let mut v = Vec3::ZERO;
+            let mut n = Vec3::ZERO;
+            n[axis] = sign * e[axis];
+            u[(axis + 1) % 3] = e[(axis + 1) % 3];
+            v[(axis + 2) % 3] = e[(axis + 2) % 3];
+            if sign < 0.0 {
+                std::mem::swap(&mut u, &mut v);
+            }
+            // Counter-clockwise seen from outside is (−u−v, u−v, u+v, −u+v); reversed here.
+            let q = [c + n - u - v, c + n + u - v, c + n + u + v, c + n - u + v];
+            for k in [0, 2, 1, 0, 3, 2] {
+                out.push(AnalyticVertex {
+                    position: q[k].to_array(),
+                    shape: id,
+                });
+            }
+        }
+    }
+}
+
+/// A vertex attribute the oracle uses: finite and not the zero vector.
+fn usable(v: Vec3) -> bool {
+    v.is_finite() && v.length_squared() > 0.0
+}
+
+fn push_mesh(out: &mut Vec<MeshVertex>, mesh: &Mesh, id: u32) -> Result<(), String> {
+    let nv = mesh.positions.len();
+    for (name, len) in [
+        ("normals", mesh.normals.len()),
+        ("uvs", mesh.uvs.len()),
+        ("tangents", mesh.tangents.len()),
+    ] {
+        if len != 0 && len != nv {
+            return Err(format!("mesh has {nv} positions but {len} {name}"));
+        }
+    }
+    for (t, tri) in mesh.indices.iter().enumerate() {
+        if let Some(&bad) = tri.iter().find(|&&i| i as usize >= nv) {
+            return Err(format!(
+                "mesh indices[{t}] = {bad} is out of range ({nv} positions)"
+            ));
+        }
+        let idx = tri.map(|i| i as usize);
+        let p = idx.map(|i| mesh.positions[i]);
+        if !p.iter().all(|q| q.is_finite()) {
+            return Err(format!("mesh triangle {t} has a non-finite position"));
+        }
+        let ng = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or(Vec3::Z);
+        let normals = if !mesh.normals.is_empty() && idx.iter().all(|&i| usable(mesh.normals[i])) {
+            idx.map(|i| mesh.normals[i])
+        } else {
+            [ng; 3]
+        };
+        let (uvs, dpdu, dpdv) = if mesh.uvs.is_empty() {
+            ([Vec2::ZERO, Vec2::X, Vec2::Y], p[1] - p[0], p[2] - p[0])
+        } else {
+            let uv = idx.map(|i| mesh.uvs[i]);
+            let (du, dv) = uv_derivatives(p, uv).unwrap_or((p[1] - p[0], p[2] - p[0]));
+            (uv, du, dv)
+        };
+        let tangents = if mesh.tangents.is_empty() {
+            [Vec4::ZERO; 3]
+        } else {
+            idx.map(|i| mesh.tangents[i])
+        };
+        for k in 0..3 {
+            out.push(MeshVertex {
+                position: p[k].to_array(),
+                shape: id,
+                normal: normals[k].to_array(),
+                uv: uvs[k].to_array(),
+                tangent: tangents[k].to_array(),
+                ng: ng.to_array(),
+                dpdu: dpdu.to_array(),
+                dpdv: dpdv.to_array(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// ∂p/∂u and ∂p/∂v from the vertex uvs (pbrt-v4 §6.5.3; oracle triangle.rs), or None when
+/// the uv mapping is degenerate.
+fn uv_derivatives(p: [Vec3; 3], uv: [Vec2; 3]) -> Option<(Vec3, Vec3)> {
+    let (duv02, duv12) = (uv[0] - uv[2], uv[1] - uv[2]);
+    let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
+    let det = duv02.x * duv12.y - duv02.y * duv12.x;
+    let inv = 1.0 / det;
+    if !(det != 0.0 && inv.is_finite()) {
+        return None;
+    }
+    let dpdu = (dp02 * duv12.y - dp12 * duv02.y) * inv;
+    let dpdv = (dp12 * duv02.x - dp02 * duv12.x) * inv;
+    let c = dpdu.cross(dpdv);
+    (c.is_finite() && c.length_squared() > 0.0).then_some((dpdu, dpdv))
+}
+
+fn check_rgb(name: &str, c: Vec3) -> Result<(), String> {
+    if c.is_finite() && c.min_element() >= 0.0 {
+        Ok(())
+    } else {
+        Err(format!("{name} = {c} must be finite and ≥ 0"))
+    }
+}
+
+fn unit(name: &str, v: Vec3) -> Result<Vec3, String> {
+    let n = finite(name, v)?.normalize_or_zero();
+    if n == Vec3::ZERO {
+        return Err(format!("{name} = {v} must be a non-zero direction"));
+    }
+    Ok(n)
+}
+
+fn light(l: &Light) -> Result<GpuLight, String> {
+    let mut g = GpuLight {
+        kind: 0,
+        pad: [0; 3],
+        position: [0.0; 4],
+        direction: [0.0; 4],
+        intensity: [0.0; 4],
+        params: [0.0; 4],
+    };
+    match l {
+        Light::Point {
+            position, intensity, ..
+        } => {
+            g.kind = LightKind::Point as u32;
+            g.position = vec4(finite("position", *position)?, 1.0);
+            check_rgb("intensity", *intensity)?;
+            g.intensity = vec4(*intensity, 0.0);
+        }
+        Light::Spot {
+            position,
+            direction,
+            intensity,
+            cutoff_deg,
+            beam_width_deg,
+            ..
+        } => {
+            g.kind = LightKind::Spot as u32;
+            g.position = vec4(finite("position", *position)?, 1.0);
+            g.direction = vec4(unit("direction", *direction)?, 0.0);
+            check_rgb("intensity", *intensity)?;
+            g.intensity = vec4(*intensity, 0.0);
+            if !(*cutoff_deg > 0.0 && *cutoff_deg <= 90.0) {
+                return Err(format!("cutoff_deg = {cutoff_deg} must be in (0, 90]"));
+            }
+            if !(*beam_width_deg >= 0.0 && beam_width_deg <= cutoff_deg) {
+                return Err(format!(
+                    "beam_width_deg = {beam_width_deg} must be in [0, cutoff_deg = {cutoff_deg}]"
+                ));
+            }
+            let (c, b) = (cutoff_deg.to_radians(), beam_width_deg.to_radians());
+            g.params = [c.cos(), b.cos(), c, b];
+        }
+        Light::Directional {
+            direction,
+            irradiance,
+            angular_diameter_deg,
+            ..
+        } => {
+            g.kind = LightKind::Directional as u32;
+            g.direction = vec4(-unit("direction", *direction)?, 0.0);
+            check_rgb("irradiance", *irradiance)?;
+            g.intensity = vec4(*irradiance, 0.0);
+            if !(0.0..180.0).contains(angular_diameter_deg) {
+                return Err(format!(
+                    "angular_diameter_deg = {angular_diameter_deg} must be in [0, 180)"
+                ));
+            }
+            // h = 1 − cos θmax = 2 sin²(θmax/2), sin²θmax = h(2 − h) (oracle directional.rs).
+            let half = 0.5 * angular_diameter_deg.to_radians();
+            let h = 2.0 * (0.5 * half).sin().powi(2);
+            g.params = [h, h * (2.0 - h), 0.0, 0.0];
+        }
+    }
+    Ok(g)
+}
+
+fn environment(scene: &Scene) -> Result<(EnvKind, u32, [f32; 4]), String> {
+    match &scene.environment {
+        None => Ok((EnvKind::None, 0, [0.0; 4])),
+        Some(Environment::Constant { radiance }) => {
+            check_rgb("radiance", *radiance)?;
+            Ok((EnvKind::Constant, 0, vec4(*radiance, 0.0)))
+        }
+        Some(Environment::Map { texture, scale }) => {
+            check_texture(*texture, scene.textures.len(), "map")?;
+            if !(scale.is_finite() && *scale >= 0.0) {
+                return Err(format!("scale = {scale} must be finite and ≥ 0"));
+            }
+            Ok((EnvKind::Map, *texture as u32, [*scale; 4]))
+        }
+    }
+}

@@ -1,0 +1,120 @@
+//! Study thresholds: every study under scenes/studies runs in quick mode and each declared
+//! bound — upper bounds where a method holds, lower bounds where it is known to fail — is
+//! asserted, naming the study, method, parameters and metric on failure. A method broken on
+//! purpose must make the bounds fail with that message.
+
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use compare::progress::ProgressMode;
+use compare::study::result::StudyResult;
+use compare::study::run::{run_study, RunOptions};
+use compare::study::{self, Study};
+use realtime::Renderer;
+
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn renderer() -> &'static Renderer {
+    static R: OnceLock<Renderer> = OnceLock::new();
+    R.get_or_init(|| {
+        Renderer::new().unwrap_or_else(|e| panic!("no GPU adapter: {e} (run ./scripts/setup.sh)"))
+    })
+}
+
+/// Runs `study` in quick mode into target/study-tests/<name>.
+fn run_quick(study: &Study, tag: &str) -> StudyResult {
+    let out = workspace()
+        .join("target/study-tests")
+        .join(format!("{}{tag}", study.name));
+    let opts = RunOptions {
+        quick: true,
+        out_dir: out.clone(),
+        cache_dir: workspace().join("target/study-tests/cache"),
+        progress: ProgressMode::Quiet,
+    };
+    let r = run_study(study, renderer(), &opts).unwrap_or_else(|e| panic!("{}: {e}", study.path.display()));
+    compare::report::write(&r, study.stability.metric.name(), &out).expect("report written");
+    r
+}
+
+fn studies() -> Vec<PathBuf> {
+    let dir = workspace().join("scenes/studies");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn every_study_holds_its_declared_bounds_in_quick_mode() {
+    let paths = studies();
+    assert!(!paths.is_empty(), "no study under scenes/studies");
+    let mut failures = Vec::new();
+    for path in &paths {
+        let s = study::load(path).unwrap_or_else(|e| panic!("{e}"));
+        assert!(
+            !s.thresholds.is_empty(),
+            "{}: a study without thresholds tests nothing",
+            path.display()
+        );
+        assert!(
+            s.thresholds.iter().any(|t| t.min.is_some()),
+            "{}: needs at least one lower bound where a method is known to fail",
+            path.display()
+        );
+        let r = run_quick(&s, "");
+        for t in &r.thresholds {
+            println!(
+                "{} {}",
+                if t.passed { "holds" } else { "FAILS" },
+                t.message(&s.name)
+            );
+        }
+        assert!(
+            r.thresholds.len() >= s.thresholds.len(),
+            "every declared bound applies to a variant"
+        );
+        failures.extend(r.failures().iter().map(|t| t.message(&s.name)));
+    }
+    assert!(
+        failures.is_empty(),
+        "declared bounds fail:\n{}",
+        failures.join("\n")
+    );
+}
+
+#[test]
+fn a_method_broken_on_purpose_fails_its_bound_with_a_clear_message() {
+    // Hold N = 1 quadrature (a point light at the light's centre) to the converged N = 16
+    // bound: it must fail, and say which study, variant, metric and declaration.
+    let path = workspace().join(compare::study::DEFAULT_STUDY);
+    let mut s = study::load(&path).unwrap();
+    s.name = "area-lights-broken".into();
+    s.stability.flicker = None;
+    let converged = s
+        .thresholds
+        .iter()
+        .position(|t| {
+            t.max.is_some()
+                && t.params == [("n".to_string(), "16".to_string())]
+                && t.metric.name() == "relmse"
+        })
+        .expect("the default study bounds quadrature n = 16 from above");
+    s.thresholds = vec![s.thresholds[converged].clone()];
+    s.thresholds[0].params = vec![("n".into(), "1".into())];
+    let r = run_quick(&s, "");
+    let failures = r.failures();
+    assert_eq!(failures.len(), 1, "the broken method must fail its bound");
+    let msg = failures[0].message(&s.name);
+    assert!(
+        msg.starts_with("area-lights-broken: area_quadrature(n=1) relmse over `interior` = ")
+            && msg.contains("expected ≤ 1e-3")
+            && msg.contains("area-lights.toml:"),
+        "{msg}"
+    );
+}
