@@ -28,7 +28,7 @@ fn the_example_notebook_runs_on_a_quick_report() {
         progress: ProgressMode::Quiet,
     };
     let r = run_study(&study, &renderer, &opts).unwrap_or_else(|e| panic!("{e}"));
-    compare::report::write(&r, "relmse", &out).unwrap();
+    compare::report::write(&r, &out).unwrap();
     let python = std::env::var_os("VERITY_PYTHON").map_or(ws.join(".venv/bin/python"), PathBuf::from);
     let run = Command::new(&python)
         .arg(ws.join("notebooks/run_notebook.py"))

@@ -30,8 +30,13 @@ fn zoo_with_delta_lights() -> Scene {
 
 /// The Cornell box (built-in scene) with its area light replaced by a point light under the
 /// ceiling.
-fn cornell_with_point_light() -> Scene {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell-box.toml");
+/// Built-in scene `file` with its emitters and environment removed and `lights` added: the
+/// built-in geometry and materials under delta lights only. Perfectly specular shapes (mirror,
+/// glass) are dropped: the raster does not follow specular chains (README, "Not modelled").
+fn builtin_with_lights(file: &str, lights: Vec<Light>) -> Scene {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenes")
+        .join(file);
     let mut s = scenes::load(&path).unwrap_or_else(|e| panic!("{e}"));
     s.film = scenes::Film {
         width: SIZE,
@@ -40,12 +45,24 @@ fn cornell_with_point_light() -> Scene {
     for shape in &mut s.shapes {
         shape.emission = None;
     }
-    s.lights.push(Light::Point {
-        name: "bulb".into(),
-        position: Vec3::new(0.278, 0.5, 0.28),
-        intensity: Vec3::new(0.5, 0.45, 0.4),
+    s.environment = None;
+    s.lights = lights;
+    let materials = s.materials.clone();
+    s.shapes.retain(|shape| {
+        !matches!(
+            materials[shape.material],
+            scenes::Material::Mirror { .. } | scenes::Material::Dielectric { .. }
+        )
     });
     s
+}
+
+fn point(position: Vec3, intensity: Vec3) -> Light {
+    Light::Point {
+        name: "bulb".into(),
+        position,
+        intensity,
+    }
 }
 
 fn check_interior(name: &str, scene: &Scene) {
@@ -72,7 +89,33 @@ fn check_interior(name: &str, scene: &Scene) {
 #[test]
 fn parity_delta_lights_interior_pixels() {
     check_interior("zoo-delta", &zoo_with_delta_lights());
-    check_interior("cornell-point", &cornell_with_point_light());
+    let cornell = vec![point(Vec3::new(0.278, 0.5, 0.28), Vec3::new(0.5, 0.45, 0.4))];
+    check_interior("cornell-point", &builtin_with_lights("cornell-box.toml", cornell));
+    let soft_shadow = vec![
+        Light::Spot {
+            name: "spot".into(),
+            position: Vec3::new(-0.6, 1.6, 0.4),
+            direction: Vec3::new(0.4, -1.0, -0.2),
+            intensity: Vec3::new(6.0, 6.0, 7.0),
+            cutoff_deg: 45.0,
+            beam_width_deg: 30.0,
+        },
+        Light::Directional {
+            name: "sun".into(),
+            direction: Vec3::new(-0.3, -1.0, -0.4),
+            irradiance: Vec3::new(1.0, 0.9, 0.8),
+            angular_diameter_deg: 0.0,
+        },
+    ];
+    check_interior(
+        "soft-shadow-spot-sun",
+        &builtin_with_lights("soft-shadow.toml", soft_shadow),
+    );
+    let mirror = vec![point(Vec3::new(0.5, 2.0, 1.5), Vec3::new(4.0, 4.0, 4.0))];
+    check_interior(
+        "mirror-sphere-point",
+        &builtin_with_lights("mirror-sphere.toml", mirror),
+    );
 }
 
 #[test]
@@ -167,12 +210,9 @@ fn parity_aovs_interior_pixels() {
         a.rgb("albedo").unwrap_or_default(),
         r.rgb("albedo").unwrap_or_default(),
     );
+    // Object ids: the interior mask already requires them equal; the whole-image agreement
+    // is asserted below.
     for i in (0..n).filter(|&i| mask[i]) {
-        assert_eq!(
-            ch(&a, "object_id.Y")[i],
-            ch(&r, "object_id.Y")[i],
-            "object id at pixel {i}"
-        );
         worst_depth = worst_depth.max((da[i] - dr[i]).abs() / dr[i].abs().max(1e-3));
         worst_normal = worst_normal.max((na[i] - nr[i]).length());
         // A textured albedo varies inside a pixel (bilinear kinks): compared untextured only.

@@ -35,7 +35,7 @@ fn run_quick(study: &Study, tag: &str) -> StudyResult {
         progress: ProgressMode::Quiet,
     };
     let r = run_study(study, renderer(), &opts).unwrap_or_else(|e| panic!("{}: {e}", study.path.display()));
-    compare::report::write(&r, study.stability.metric.name(), &out).expect("report written");
+    compare::report::write(&r, &out).expect("report written");
     r
 }
 

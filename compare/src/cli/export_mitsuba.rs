@@ -8,11 +8,9 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use scenes::{Film, Scene};
 
+use super::args::{load_scene, parse_resolution};
 use super::CliError;
 use crate::mitsuba::export::{self, Export};
-
-/// Largest width or height `--resolution` accepts (as `verity render`).
-pub const MAX_RESOLUTION: u32 = 16384;
 
 /// The scene and the settings that go into the export.
 #[derive(Args, Clone, Debug)]
@@ -106,19 +104,6 @@ pub fn default_dir(scene: &Path, suffix: &str) -> PathBuf {
     Path::new("out").join(format!("{stem}-{suffix}"))
 }
 
-/// Loads a scene file; a missing or malformed file is bad input (exit 2).
-pub fn load_scene(path: &Path) -> Result<Scene, CliError> {
-    if !path.is_file() {
-        let why = if path.exists() {
-            "is not a file"
-        } else {
-            "no such file"
-        };
-        return Err(CliError::input(format!("{}: {why}", path.display())));
-    }
-    scenes::load(path).map_err(|e| CliError::input(e.to_string()))
-}
-
 /// A whole number ≥ 1.
 pub fn parse_spp(s: &str) -> Result<u32, String> {
     match s.parse::<u32>() {
@@ -134,38 +119,12 @@ fn parse_max_depth(s: &str) -> Result<i32, String> {
     }
 }
 
-/// `WxH` (also `W×H`), each side in 1..=[`MAX_RESOLUTION`].
-pub fn parse_resolution(s: &str) -> Result<Film, String> {
-    let usage = || format!("expected WIDTHxHEIGHT such as 64x64, each in 1..={MAX_RESOLUTION}");
-    let (w, h) = s.split_once(['x', 'X', '×']).ok_or_else(usage)?;
-    let side = |v: &str| {
-        v.trim()
-            .parse::<u32>()
-            .ok()
-            .filter(|n| (1..=MAX_RESOLUTION).contains(n))
-    };
-    match (side(w), side(h)) {
-        (Some(width), Some(height)) => Ok(Film { width, height }),
-        _ => Err(usage()),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn flag_values_are_checked() {
-        assert_eq!(
-            parse_resolution("64×32"),
-            Ok(Film {
-                width: 64,
-                height: 32
-            })
-        );
-        for bad in ["0x4", "64", "16385x2", "ax3"] {
-            assert!(parse_resolution(bad).is_err(), "{bad} was accepted");
-        }
         assert_eq!(parse_spp("3"), Ok(3));
         assert!(parse_spp("0").is_err() && parse_spp("-1").is_err());
         assert_eq!(parse_max_depth("-1"), Ok(-1));

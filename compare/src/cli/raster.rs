@@ -11,12 +11,10 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
 use realtime::{Method, PipelineKind, RasterError, RasterOutput, RasterSettings, Renderer};
-use scenes::Scene;
+use scenes::Film;
 
+use super::args::{exr_output, load_scene, parse_resolution};
 use super::CliError;
-
-/// Largest width or height `--resolution` accepts.
-pub const MAX_RESOLUTION: u32 = 16384;
 
 /// Flags of `verity raster`.
 #[derive(Args, Clone, Debug)]
@@ -41,7 +39,7 @@ pub struct RasterArgs {
 
     /// Image size, e.g. 640x480, each side in 1..=16384 [default: the scene's].
     #[arg(long, value_name = "WxH", value_parser = parse_resolution)]
-    pub resolution: Option<(u32, u32)>,
+    pub resolution: Option<Film>,
 
     /// Supersampling: K×K samples per pixel (box filter), K in 1..=16.
     #[arg(long, value_name = "K", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=16))]
@@ -94,7 +92,7 @@ pub fn run(args: &RasterArgs, command_line: &str) -> Result<(), CliError> {
         Method::parse(&args.method, &args.params).map_err(|e| CliError::input(format!("--method: {e}")))?;
     let scene = load_scene(&args.scene)?;
     let out = output_path(args)?;
-    let (width, height) = args.resolution.unwrap_or((scene.film.width, scene.film.height));
+    let Film { width, height } = args.resolution.unwrap_or(scene.film);
     let settings = RasterSettings::new(width, height)
         .method(method)
         .pipeline(args.pipeline.into())
@@ -159,41 +157,7 @@ fn output_path(args: &RasterArgs) -> Result<PathBuf, CliError> {
             Path::new("out").join(name)
         }
     };
-    let is_exr = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-    if !is_exr || out.file_stem().is_none() {
-        return Err(CliError::input(format!(
-            "--out {}: the output must be a .exr file (the PNG preview is written beside it)",
-            out.display()
-        )));
-    }
-    if out.is_dir() {
-        return Err(CliError::input(format!(
-            "--out {}: is a directory",
-            out.display()
-        )));
-    }
-    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| {
-            CliError::input(format!(
-                "--out {}: cannot create directory {}: {e}",
-                out.display(),
-                dir.display()
-            ))
-        })?;
-    }
-    Ok(out)
-}
-
-fn load_scene(path: &Path) -> Result<Scene, CliError> {
-    if !path.is_file() {
-        let why = if path.exists() {
-            "is not a file"
-        } else {
-            "no such file"
-        };
-        return Err(CliError::input(format!("{}: {why}", path.display())));
-    }
-    scenes::load(path).map_err(|e| CliError::input(e.to_string()))
+    exr_output(out)
 }
 
 /// `K=V` with a non-empty key.
@@ -211,34 +175,14 @@ fn parse_exposure(s: &str) -> Result<f32, String> {
     }
 }
 
-/// `WxH` (also `W×H`), each side in 1..=[`MAX_RESOLUTION`].
-fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
-    let usage = || format!("expected WIDTHxHEIGHT such as 640x480, each in 1..={MAX_RESOLUTION}");
-    let (w, h) = s.split_once(['x', 'X', '×']).ok_or_else(usage)?;
-    let side = |v: &str| {
-        v.trim()
-            .parse::<u32>()
-            .ok()
-            .filter(|n| (1..=MAX_RESOLUTION).contains(n))
-    };
-    match (side(w), side(h)) {
-        (Some(w), Some(h)) => Ok((w, h)),
-        _ => Err(usage()),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn params_and_resolutions_parse() {
+    fn params_and_exposures_parse() {
         assert_eq!(parse_param("n=16"), Ok(("n".into(), "16".into())));
         assert!(parse_param("n").is_err() && parse_param("=3").is_err());
-        assert_eq!(parse_resolution("64x48"), Ok((64, 48)));
-        for bad in ["0x5", "16385x1", "64", "axb"] {
-            assert!(parse_resolution(bad).is_err(), "{bad} was accepted");
-        }
         assert!(parse_exposure("nan").is_err() && parse_exposure("-1") == Ok(-1.0));
     }
 

@@ -13,11 +13,9 @@ use clap::{Args, ValueEnum};
 use oracle::{CheckpointConfig, Progress, RenderJob, RenderResult, StopRule};
 use scenes::{Film, IntegratorKind, RenderSettings, SamplerKind, Scene};
 
+use super::args::{exr_output, load_scene, parse_resolution};
 use super::CliError;
 use crate::progress::{format_duration, format_sig3, rate, ProgressMode, ProgressReporter};
-
-/// Largest width or height `--resolution` accepts.
-pub const MAX_RESOLUTION: u32 = 16384;
 
 /// The spp bound of renders limited only by `--time` or `--target-error`.
 pub const SPP_CAP: u32 = 1 << 24;
@@ -207,29 +205,7 @@ fn output_path(args: &RenderArgs) -> Result<PathBuf, CliError> {
             Path::new("out").join(stem).with_extension("exr")
         }
     };
-    let is_exr = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-    if !is_exr || out.file_stem().is_none() {
-        return Err(CliError::input(format!(
-            "--out {}: the output must be a .exr file (the PNG preview is written beside it)",
-            out.display()
-        )));
-    }
-    if out.is_dir() {
-        return Err(CliError::input(format!(
-            "--out {}: is a directory",
-            out.display()
-        )));
-    }
-    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| {
-            CliError::input(format!(
-                "--out {}: cannot create directory {}: {e}",
-                out.display(),
-                dir.display()
-            ))
-        })?;
-    }
-    Ok(out)
+    exr_output(out)
 }
 
 /// `<out>.checkpoint` at the chosen interval, or none with `--checkpoint-every 0`.
@@ -250,18 +226,6 @@ fn checkpoint_config(args: &RenderArgs, out: &Path) -> Result<Option<CheckpointC
         interval,
         resume: args.resume,
     }))
-}
-
-fn load_scene(path: &Path) -> Result<Scene, CliError> {
-    if !path.is_file() {
-        let why = if path.exists() {
-            "is not a file"
-        } else {
-            "no such file"
-        };
-        return Err(CliError::input(format!("{}: {why}", path.display())));
-    }
-    scenes::load(path).map_err(|e| CliError::input(e.to_string()))
 }
 
 /// Applies the flags to the scene's film and render settings; returns the stopping rule and
@@ -426,53 +390,9 @@ fn parse_max_depth(s: &str) -> Result<i32, String> {
     }
 }
 
-/// `WxH` (also `W×H`), each side in 1..=[`MAX_RESOLUTION`].
-fn parse_resolution(s: &str) -> Result<Film, String> {
-    let usage = || format!("expected WIDTHxHEIGHT such as 640x480, each in 1..={MAX_RESOLUTION}");
-    let (w, h) = s.split_once(['x', 'X', '×']).ok_or_else(usage)?;
-    let side = |v: &str| {
-        v.trim()
-            .parse::<u32>()
-            .ok()
-            .filter(|n| (1..=MAX_RESOLUTION).contains(n))
-    };
-    match (side(w), side(h)) {
-        (Some(width), Some(height)) => Ok(Film { width, height }),
-        _ => Err(usage()),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn resolution_parsing() {
-        assert_eq!(
-            parse_resolution("640x480"),
-            Ok(Film {
-                width: 640,
-                height: 480
-            })
-        );
-        assert_eq!(
-            parse_resolution("16×16"),
-            Ok(Film {
-                width: 16,
-                height: 16
-            })
-        );
-        assert_eq!(
-            parse_resolution("16384x1"),
-            Ok(Film {
-                width: 16384,
-                height: 1
-            })
-        );
-        for bad in ["0x5", "5x0", "16385x1", "640", "x480", "-1x4", "axb", "1.5x2"] {
-            assert!(parse_resolution(bad).is_err(), "{bad} was accepted");
-        }
-    }
 
     #[test]
     fn number_flags_reject_nonsense() {

@@ -75,7 +75,7 @@ pub fn run(args: &ReportArgs) -> Result<u8, CliError> {
         StudyError::Run(m) => CliError::run(m),
         StudyError::Unavailable(m) => CliError::unavailable(m),
     })?;
-    crate::report::write(&result, study.stability.metric.name(), &out_dir)
+    crate::report::write(&result, &out_dir)
         .map_err(|e| CliError::run(format!("{}: {e}", out_dir.display())))?;
     let failures = result.failures();
     println!(

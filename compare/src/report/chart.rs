@@ -47,6 +47,8 @@ struct Axis {
     log: bool,
     from: f64,
     to: f64,
+    /// Tick values to use instead of the automatic ones (a sweep's parameter values).
+    fixed_ticks: Option<Vec<f64>>,
 }
 
 impl Axis {
@@ -59,7 +61,7 @@ impl Axis {
         if !lo.is_finite() {
             (lo, hi) = (1.0, 10.0);
         }
-        let log = lo > 0.0 && hi / lo > 20.0;
+        let log = lo > 0.0 && hi / lo >= 8.0;
         if log {
             (lo, hi) = (lo / 1.5, hi * 1.5);
         } else {
@@ -72,6 +74,7 @@ impl Axis {
             log,
             from,
             to,
+            fixed_ticks: None,
         }
     }
 
@@ -84,16 +87,30 @@ impl Axis {
         self.from + t * (self.to - self.from)
     }
 
-    /// Tick values: decades on a log axis, 5 steps on a linear one.
+    /// Tick values: the fixed ones if given; else decades on a log axis (with 2 and 5 between
+    /// when it spans less than two), and 1-2-5 steps on a linear one.
     fn ticks(&self) -> Vec<f64> {
-        if self.log {
-            let (a, b) = (self.lo.log10().ceil() as i32, self.hi.log10().floor() as i32);
-            (a..=b).map(|e| 10f64.powi(e)).collect()
-        } else {
-            (0..=5)
-                .map(|k| self.lo + (self.hi - self.lo) * k as f64 / 5.0)
-                .collect()
+        if let Some(t) = &self.fixed_ticks {
+            return t.clone();
         }
+        if self.log {
+            let (a, b) = (self.lo.log10().floor() as i32, self.hi.log10().ceil() as i32);
+            let mantissas: &[f64] = if b - a <= 2 { &[1.0, 2.0, 5.0] } else { &[1.0] };
+            return (a..=b)
+                .flat_map(|e| mantissas.iter().map(move |m| m * 10f64.powi(e)))
+                .filter(|t| (self.lo..=self.hi).contains(t))
+                .collect();
+        }
+        let raw = (self.hi - self.lo) / 5.0;
+        let mag = 10f64.powf(raw.log10().floor());
+        let step = [1.0, 2.0, 5.0, 10.0]
+            .iter()
+            .map(|m| m * mag)
+            .find(|s| *s >= raw)
+            .unwrap_or(mag * 10.0);
+        let first = (self.lo / step).ceil() as i64;
+        let last = (self.hi / step).floor() as i64;
+        (first..=last).map(|k| k as f64 * step).collect()
     }
 }
 
@@ -180,9 +197,11 @@ pub fn error_vs_cost(points: &[CostPoint], metric: &str, cost_title: &str, title
             continue;
         }
         let on = front.contains(&i);
+        // Labels of points in the right half go to their left, so they stay inside the chart.
+        let right_half = x.px(p.cost_ms) > (LEFT + W - RIGHT) / 2.0;
         let _ = writeln!(
             svg,
-            r##"<g><title>{} — {:.4} ms, {metric} {:.3e}{}</title><circle cx="{:.1}" cy="{:.1}" r="4.5" fill="{}" stroke="#d33"/><text x="{:.1}" y="{:.1}" font-size="9">{}</text></g>"##,
+            r##"<g><title>{} — {:.4} ms, {metric} {:.3e}{}</title><circle cx="{:.1}" cy="{:.1}" r="4.5" fill="{}" stroke="#d33"/><text x="{:.1}" y="{:.1}" font-size="9" text-anchor="{}">{}</text></g>"##,
             esc(&p.label),
             p.cost_ms,
             p.error,
@@ -190,8 +209,9 @@ pub fn error_vs_cost(points: &[CostPoint], metric: &str, cost_title: &str, title
             x.px(p.cost_ms),
             y.px(p.error),
             if on { "#d33" } else { "white" },
-            x.px(p.cost_ms) + 6.0,
+            x.px(p.cost_ms) + if right_half { -6.0 } else { 6.0 },
             y.px(p.error) - 6.0,
+            if right_half { "end" } else { "start" },
             esc(&p.label)
         );
     }
@@ -215,7 +235,10 @@ pub fn error_vs_parameter(
         Some(v) => v.clone(),
         None => (0..values.len()).map(|i| i as f64).collect(),
     };
-    let x = Axis::fit(xs.iter().copied(), LEFT, W - RIGHT);
+    let mut x = Axis::fit(xs.iter().copied(), LEFT, W - RIGHT);
+    if numeric.is_some() {
+        x.fixed_ticks = Some(xs.clone());
+    }
     let y = Axis::fit(
         errors.iter().copied().chain(noise_floor.filter(|f| *f > 0.0)),
         H - BOTTOM,

@@ -35,7 +35,8 @@ fn num(v: f64) -> String {
 const STYLE: &str = r#"
 body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1200px; color: #222; }
 table { border-collapse: collapse; font-size: 13px; }
-th, td { border: 1px solid #ccc; padding: 3px 7px; text-align: right; }
+th, td { border: 1px solid #ccc; padding: 3px 7px; text-align: right; white-space: nowrap; }
+td.reason { white-space: normal; text-align: left; }
 th { background: #f3f3f3; cursor: pointer; }
 td.l, th.l { text-align: left; }
 tr.fail td { background: #fde2e2; }
@@ -131,7 +132,7 @@ fn thresholds(h: &mut String, r: &StudyResult) {
     for t in rows {
         let _ = writeln!(
             h,
-            "<tr class=\"{}\"><td class=l>{}</td><td class=l>{}</td><td class=l>{}</td><td class=l>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=l>{}</td></tr>",
+            "<tr class=\"{}\"><td class=l>{}</td><td class=l>{}</td><td class=l>{}</td><td class=l>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=reason>{}</td></tr>",
             if t.passed { "" } else { "fail" },
             if t.passed { "<span class=pass>holds</span>" } else { "<span class=failtxt>FAILS</span>" },
             esc(&t.variant),
@@ -223,18 +224,19 @@ fn images(h: &mut String, r: &StudyResult) {
     }
 }
 
-/// The error-vs-cost chart of the study's stability metric over `all`.
-pub fn cost_chart(r: &StudyResult, metric: &str) -> String {
+/// The error-vs-cost chart of the study's chart metric over its chart mask.
+pub fn cost_chart(r: &StudyResult) -> String {
+    let (metric, mask) = (r.chart.metric.as_str(), r.chart.mask.as_str());
     let points: Vec<CostPoint> = r
         .variants
         .iter()
         .map(|v| CostPoint {
             label: v.label.clone(),
             cost_ms: v.cost.frame_ms,
-            error: r.value(&v.label, "all", metric).unwrap_or(f64::NAN),
+            error: r.value(&v.label, mask, metric).unwrap_or(f64::NAN),
         })
         .collect();
-    let title = format!("{metric} against frame time on {}", r.adapter.name);
+    let title = format!("{metric} over `{mask}` against frame time on {}", r.adapter.name);
     let cost = format!("ms/frame ({})", r.adapter.timing_source.replace('_', " "));
     chart::error_vs_cost(&points, metric, &cost, &title)
 }

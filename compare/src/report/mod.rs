@@ -21,10 +21,10 @@ use scenes::layered::write_atomic;
 
 use crate::study::result::StudyResult;
 
-/// Writes the charts and `index.html` for `result` into `dir`; `metric` is the charted metric.
-pub fn write(result: &StudyResult, metric: &str, dir: &Path) -> io::Result<()> {
+/// Writes the charts and `index.html` for `result` into `dir`.
+pub fn write(result: &StudyResult, dir: &Path) -> io::Result<()> {
     std::fs::create_dir_all(dir.join("charts"))?;
-    let cost = html::cost_chart(result, metric);
+    let cost = html::cost_chart(result);
     write_atomic(dir.join("charts/error-vs-cost.svg"), cost.as_bytes())?;
     let mut sweeps = Vec::new();
     for s in &result.sweeps {
@@ -33,10 +33,16 @@ pub fn write(result: &StudyResult, metric: &str, dir: &Path) -> io::Result<()> {
             .variants
             .iter()
             .filter(|v| v.method == s.method)
-            .filter_map(|v| v.metrics.first()?.values.iter().find(|e| e.metric == s.metric))
+            .filter_map(|v| {
+                let m = v.metrics.iter().find(|m| m.mask == s.mask)?;
+                m.values.iter().find(|e| e.metric == s.metric)
+            })
             .map(|e| e.noise_floor)
             .next();
-        let title = format!("{}: {} against {}", s.method, s.metric, s.parameter);
+        let title = format!(
+            "{}: {} over `{}` against {}",
+            s.method, s.metric, s.mask, s.parameter
+        );
         let svg = chart::error_vs_parameter(
             &s.parameter,
             &s.values,

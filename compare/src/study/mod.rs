@@ -244,12 +244,15 @@ impl Threshold {
 }
 
 /// Stability analysis settings.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Stability {
     /// Break point: the first swept value whose error exceeds this factor times the sweep's best.
     pub breakpoint_factor: f64,
-    /// The metric break points and flicker are computed on.
+    /// The metric break points, the sweep and cost charts and flicker are computed on.
     pub metric: Metric,
+    /// The mask the sweeps and the cost chart use (`all` by default; `interior` leaves out
+    /// edge aliasing that is the rasteriser's, not the method's).
+    pub mask: String,
     /// Temporal flicker under a small camera orbit, if asked for.
     pub flicker: Option<Flicker>,
 }
@@ -326,6 +329,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
         None => Stability {
             breakpoint_factor: 4.0,
             metric: Metric::RelMse,
+            mask: "all".into(),
             flicker: None,
         },
     };
@@ -603,7 +607,7 @@ fn threshold(t: &Table) -> Result<Threshold, SceneError> {
 }
 
 fn stability(t: &Table) -> Result<Stability, SceneError> {
-    t.only(&["breakpoint_factor", "metric", "flicker"], "[stability]")?;
+    t.only(&["breakpoint_factor", "metric", "mask", "flicker"], "[stability]")?;
     let breakpoint_factor = t.f32_or("breakpoint_factor", 4.0)? as f64;
     if breakpoint_factor <= 1.0 {
         return Err(t
@@ -632,6 +636,7 @@ fn stability(t: &Table) -> Result<Stability, SceneError> {
             .map(|f| metric(&f))
             .transpose()?
             .unwrap_or(Metric::RelMse),
+        mask: opt_str(t, "mask")?.unwrap_or_else(|| "all".into()),
         flicker,
     })
 }
@@ -666,6 +671,16 @@ fn check_references(study: &Study, doc: &Table) -> Result<(), SceneError> {
                 .req("metric")?
                 .err(format!("`{}` is not in the study's `metrics`", th.metric)));
         }
+    }
+    let m = &study.stability.mask;
+    if m != "all" && !study.masks.iter().any(|k| k.name() == m) {
+        return Err(doc.err(format!("stability.mask: no [[mask]] named `{m}`")));
+    }
+    if study.stability.metric.higher_is_better() {
+        return Err(doc.err(format!(
+            "stability.metric `{}`: break points need an error metric (lower is better), not psnr or ssim",
+            study.stability.metric
+        )));
     }
     if !study.metrics.contains(&study.stability.metric) {
         return Err(doc.err(format!(

@@ -47,6 +47,17 @@ pub struct StudyResult {
     pub sweeps: Vec<SweepResult>,
     /// Temporal flicker per variant, when the study asks for it.
     pub flicker: Vec<FlickerResult>,
+    /// The metric and mask of the sweeps, break points and the cost chart.
+    pub chart: ChartInfo,
+}
+
+/// What the charts and break points measure.
+#[derive(Clone, Debug, Serialize)]
+pub struct ChartInfo {
+    /// Metric name.
+    pub metric: String,
+    /// Mask name.
+    pub mask: String,
 }
 
 /// How the ground truth was made.
@@ -222,9 +233,11 @@ pub struct SweepResult {
     pub parameter: String,
     /// Metric.
     pub metric: String,
+    /// Mask the errors are measured over.
+    pub mask: String,
     /// Values in the order listed (towards the failure regime).
     pub values: Vec<String>,
-    /// The metric over `all` at each value.
+    /// The metric over `mask` at each value.
     pub errors: Vec<f64>,
     /// Cost at each value, ms.
     pub frame_ms: Vec<f64>,

@@ -102,13 +102,14 @@ pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Resul
         let line = format!("[{}/{}] {}", k + 1, variants.len(), variant.label());
         let (result, timing) = measure_variant(study, renderer, &scene, variant, &reference, &masks, opts)?;
         if opts.progress != ProgressMode::Quiet {
-            let v = result.metrics[0]
-                .values
+            let (metric, mask) = (study.stability.metric.name(), study.stability.mask.as_str());
+            let v = result
+                .metrics
                 .iter()
-                .find(|e| e.metric == study.stability.metric.name());
+                .find(|m| m.mask == mask)
+                .and_then(|m| m.values.iter().find(|e| e.metric == metric));
             eprintln!(
-                "report: {line}: {} {:.3e}, {:.3} ms/frame",
-                study.stability.metric,
+                "report: {line}: {metric} over {mask} {:.3e}, {:.3} ms/frame",
                 v.map_or(f64::NAN, |e| e.value),
                 result.cost.frame_ms
             );
@@ -150,6 +151,10 @@ pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Resul
         thresholds: Vec::new(),
         sweeps: Vec::new(),
         flicker: Vec::new(),
+        chart: ChartInfo {
+            metric: study.stability.metric.name().into(),
+            mask: study.stability.mask.clone(),
+        },
         variants: results,
     };
     out.thresholds = check_thresholds(study, &variants, &out);
@@ -177,10 +182,13 @@ pub fn is_cpu_adapter(name: &str) -> bool {
 }
 
 /// The cache key of a ground truth: SHA-256 of the scene as loaded (geometry, materials,
-/// textures, camera, film), the oracle settings and the oracle's version.
+/// textures, camera, film), the oracle settings, the oracle's version and a fingerprint of
+/// the oracle's and scene model's sources (compare/build.rs), so a code change never reuses a
+/// stale ground truth.
 pub fn ground_truth_hash(scene: &Scene, settings: &RenderSettings) -> String {
     let mut h = Sha256::new();
-    h.update(format!("{scene:?}\n{settings:?}\noracle {}", oracle::VERSION).as_bytes());
+    let code = env!("VERITY_ORACLE_SOURCE_HASH");
+    h.update(format!("{scene:?}\n{settings:?}\noracle {} {code}", oracle::VERSION).as_bytes());
     h.finalize().iter().map(|b| format!("{b:02x}")).collect()
 }
 

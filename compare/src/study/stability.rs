@@ -26,6 +26,7 @@ use crate::metrics::{Mask, RELATIVE_EPSILON};
 /// first listed value.
 pub fn sweeps(study: &Study, variants: &[Variant], result: &StudyResult) -> Vec<SweepResult> {
     let metric = study.stability.metric.name();
+    let mask = study.stability.mask.as_str();
     let mut out = Vec::new();
     for spec in &study.methods {
         for (key, values) in &spec.sweep {
@@ -59,7 +60,7 @@ pub fn sweeps(study: &Study, variants: &[Variant], result: &StudyResult) -> Vec<
                 .collect();
             let errors: Vec<f64> = rows
                 .iter()
-                .map(|r| result.value(&r.label, "all", metric).unwrap_or(f64::NAN))
+                .map(|r| result.value(&r.label, mask, metric).unwrap_or(f64::NAN))
                 .collect();
             let non_finite: Vec<usize> = rows.iter().map(|r| r.non_finite_pixels).collect();
             let factor = study.stability.breakpoint_factor;
@@ -68,6 +69,7 @@ pub fn sweeps(study: &Study, variants: &[Variant], result: &StudyResult) -> Vec<
                 method: spec.name.clone(),
                 parameter: key.clone(),
                 metric: metric.into(),
+                mask: mask.into(),
                 values: values.clone(),
                 frame_ms: rows.iter().map(|r| r.cost.frame_ms).collect(),
                 errors,
@@ -96,6 +98,10 @@ pub fn breakpoint(errors: &[f64], non_finite: &[usize], factor: f64) -> (f64, Op
 /// The scene's camera orbited by `degrees` about world +Y through the point `distance` ahead.
 pub fn orbit(scene: &Scene, degrees: f32, distance: f32) -> Scene {
     let mut s = scene.clone();
+    if degrees == 0.0 {
+        // Frame 0 is the study's own view, bit for bit: its ground truth is a cache hit.
+        return s;
+    }
     let pivot = scene.camera.position() + scene.camera.forward() * distance;
     let turn = Affine3A::from_translation(pivot)
         * Affine3A::from_quat(Quat::from_rotation_y(degrees.to_radians()))

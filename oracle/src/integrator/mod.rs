@@ -157,9 +157,14 @@ pub(crate) fn sample_light(
     if bsdf.is_delta() {
         return (Rgb::ZERO, 0);
     }
-    let Some((_, ls)) = ctx.lights.sample(hit.p, u_select, u) else {
+    let Some((index, ls)) = ctx.lights.sample(hit.p, u_select, u) else {
         return (Rgb::ZERO, 0);
     };
+    // A convex emitter does not light its own surface (its contribution there is exactly 0;
+    // sampling it from a point on its own plane is degenerate and returned noise).
+    if ctx.lights.is_own_convex_emitter(hit.shape as usize, index) {
+        return (Rgb::ZERO, 0);
+    }
     if ls.pdf.is_nan() || ls.pdf <= 0.0 || ls.li == Rgb::ZERO {
         return (Rgb::ZERO, 0);
     }

@@ -82,6 +82,17 @@ pub enum Emitter {
 }
 
 impl Emitter {
+    /// True for emitters on a convex shape (rectangle, disk, sphere): no point of the shape
+    /// receives light from the shape itself (every chord leaves a convex surface on its back
+    /// side, and a planar emitter's integrand vanishes in its plane), so the light is never
+    /// sampled from its own surface, where solid-angle sampling is degenerate.
+    pub fn is_convex_shape(&self) -> bool {
+        matches!(
+            self,
+            Emitter::Rectangle(_) | Emitter::Disk(_) | Emitter::Sphere(_)
+        )
+    }
+
     /// Sample a direction towards the light from `p` with the 2D sample `u`.
     pub fn sample_li(&self, p: Vec3, u: Vec2) -> Option<LightSample> {
         match self {

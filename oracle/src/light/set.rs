@@ -97,6 +97,12 @@ impl LightSet {
         self.shape_to_emitter.get(shape).copied().flatten()
     }
 
+    /// Whether emitter `i` is the convex emitter of `scene.shapes[shape]` itself: it lights no
+    /// point of its own surface ([`Emitter::is_convex_shape`]).
+    pub fn is_own_convex_emitter(&self, shape: usize, i: usize) -> bool {
+        self.emitter_of_shape(shape) == Some(i) && self.emitters[i].is_convex_shape()
+    }
+
     /// Index of the environment emitter, if the scene has one.
     pub fn environment(&self) -> Option<usize> {
         self.environment

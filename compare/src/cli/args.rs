@@ -1,0 +1,110 @@
+//! Argument helpers the subcommands share: scene loading, `--resolution`, `--out FILE.exr`.
+
+use std::path::{Path, PathBuf};
+
+use scenes::{Film, Scene};
+
+use super::CliError;
+
+/// Largest width or height `--resolution` accepts.
+pub const MAX_RESOLUTION: u32 = 16384;
+
+/// Loads a scene file; a missing or malformed file is bad input (exit 2).
+pub fn load_scene(path: &Path) -> Result<Scene, CliError> {
+    if !path.is_file() {
+        let why = if path.exists() {
+            "is not a file"
+        } else {
+            "no such file"
+        };
+        return Err(CliError::input(format!("{}: {why}", path.display())));
+    }
+    scenes::load(path).map_err(|e| CliError::input(e.to_string()))
+}
+
+/// `WxH` (also `W×H`), each side in 1..=[`MAX_RESOLUTION`].
+pub fn parse_resolution(s: &str) -> Result<Film, String> {
+    let usage = || format!("expected WIDTHxHEIGHT such as 640x480, each in 1..={MAX_RESOLUTION}");
+    let (w, h) = s.split_once(['x', 'X', '×']).ok_or_else(usage)?;
+    let side = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|n| (1..=MAX_RESOLUTION).contains(n))
+    };
+    match (side(w), side(h)) {
+        (Some(width), Some(height)) => Ok(Film { width, height }),
+        _ => Err(usage()),
+    }
+}
+
+/// Checks an `--out` EXR path (a `.exr` file, not a directory) and creates its directory.
+pub fn exr_output(out: PathBuf) -> Result<PathBuf, CliError> {
+    let is_exr = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    if !is_exr || out.file_stem().is_none() {
+        return Err(CliError::input(format!(
+            "--out {}: the output must be a .exr file (the PNG preview is written beside it)",
+            out.display()
+        )));
+    }
+    if out.is_dir() {
+        return Err(CliError::input(format!(
+            "--out {}: is a directory",
+            out.display()
+        )));
+    }
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            CliError::input(format!(
+                "--out {}: cannot create directory {}: {e}",
+                out.display(),
+                dir.display()
+            ))
+        })?;
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn resolutions_parse_and_bad_ones_are_refused() {
+        assert_eq!(
+            parse_resolution("640x480"),
+            Ok(Film {
+                width: 640,
+                height: 480
+            })
+        );
+        assert_eq!(
+            parse_resolution("16×16"),
+            Ok(Film {
+                width: 16,
+                height: 16
+            })
+        );
+        assert_eq!(
+            parse_resolution("16384x1"),
+            Ok(Film {
+                width: 16384,
+                height: 1
+            })
+        );
+        for bad in ["", "64", "0x64", "64x0", "16385x1", "-1x4", "axb", "64x64x64"] {
+            assert!(parse_resolution(bad).is_err(), "{bad} was accepted");
+        }
+    }
+
+    #[test]
+    fn exr_outputs_must_be_exr_files() {
+        assert!(exr_output(PathBuf::from("a.png"))
+            .unwrap_err()
+            .message
+            .contains("must be a .exr file"));
+        let dir = std::env::temp_dir().join("verity-args-test.exr");
+        std::fs::create_dir_all(&dir).unwrap();
+        assert!(exr_output(dir).unwrap_err().message.contains("is a directory"));
+    }
+}
