@@ -325,3 +325,109 @@ fn cli_render_resumes_from_checkpoint_bit_exactly() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Renders `scene` (a path relative to the repository root) at 32×32 and 4 spp through the
+/// CLI and checks the image of its glTF mesh: finite RGB, the mesh covering a good part of
+/// the frame by `object_id`, and the mesh lit (its mean radiance 5 standard errors above 0).
+/// Returns the mesh pixels' mean luminance, its standard error, and the CLI's stderr.
+fn render_gltf_mesh(name: &str, scene: &str) -> (f64, f64, String) {
+    let dir = test_dir(name);
+    let scene_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(scene);
+    let scene_arg = scene_path.display().to_string();
+    let out_path = dir.join(format!("{name}.exr"));
+    let out_arg = out_path.display().to_string();
+    let args = [
+        "render",
+        &scene_arg,
+        "--resolution",
+        "32x32",
+        "--spp",
+        "4",
+        "--out",
+        &out_arg,
+    ];
+    let out = verity_in(&dir, &args);
+    assert_success(&out, scene);
+
+    // Object ids are shape index + 1 (oracle/src/render.rs, `object_id_pass`).
+    let loaded = scenes::load(&scene_path).unwrap();
+    let mesh_ids: Vec<f32> = (0..loaded.shapes.len())
+        .filter(|&i| matches!(loaded.shapes[i].geometry, scenes::Geometry::Mesh(_)))
+        .map(|i| (i + 1) as f32)
+        .collect();
+    assert!(!mesh_ids.is_empty(), "{scene}: no mesh shape");
+
+    let img = LayeredImage::read_exr(&out_path).unwrap();
+    assert_eq!((img.width, img.height), (32, 32));
+    assert_eq!(img.attribute("nonfinite_samples"), Some("0"), "{scene}");
+    let rgb = img.rgb("").expect("R, G, B channels");
+    assert!(
+        rgb.iter().all(|c| c.is_finite() && c.min_element() >= 0.0),
+        "{scene}: RGB must be finite and ≥ 0"
+    );
+    let var = img.rgb("variance").expect("variance channels");
+    let ids = img.channel("object_id.Y").expect("object_id.Y");
+    let on_mesh: Vec<usize> = (0..ids.len()).filter(|&i| mesh_ids.contains(&ids[i])).collect();
+    let fraction = on_mesh.len() as f64 / ids.len() as f64;
+    println!(
+        "{scene}: mesh (ids {mesh_ids:?}) at {:.1} % of the pixel centres",
+        100.0 * fraction
+    );
+    assert!(
+        fraction >= 0.10,
+        "{scene}: the mesh should cover ≥ 10 % of the pixel centres, covers {:.1} %",
+        100.0 * fraction
+    );
+    // Mean luminance ((R+G+B)/3) over the mesh pixels; its variance is Σ var/(9·n²) with the
+    // channels treated as independent (an upper bound would add covariances, all ≥ 0 here).
+    let n = on_mesh.len() as f64;
+    let mean = on_mesh
+        .iter()
+        .map(|&i| f64::from(rgb[i].element_sum()) / 3.0)
+        .sum::<f64>()
+        / n;
+    let se = (on_mesh
+        .iter()
+        .map(|&i| f64::from(var[i].element_sum()))
+        .sum::<f64>()
+        / 9.0)
+        .sqrt()
+        / n;
+    let lit = on_mesh.iter().filter(|&&i| rgb[i].max_element() > 0.0).count() as f64 / n;
+    println!(
+        "{scene}: mesh mean luminance {mean:.4} ± {se:.4}, {:.1} % of its pixels non-black",
+        100.0 * lit
+    );
+    assert!(
+        mean > 5.0 * se && mean > 0.0,
+        "{scene}: the mesh is black: mean luminance {mean} ± {se}"
+    );
+    assert!(
+        lit >= 0.95,
+        "{scene}: only {:.1} % of the mesh pixels are non-black",
+        100.0 * lit
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+    (mean, se, text(&out.stderr))
+}
+
+#[test]
+fn cli_render_gltf_asset_directly() {
+    let (mean, se, stderr) = render_gltf_mesh("suzanne-glb", "scenes/assets/suzanne.glb");
+    assert!(
+        stderr.contains("lit by a uniform sky"),
+        "the light-less asset must be lit by the default sky:\n{stderr}"
+    );
+    // Lit only by the default uniform sky (scenes::DEFAULT_SKY_RADIANCE), a passive surface
+    // with an energy-conserving BSDF cannot outshine it (the white-furnace bound L ≤ max Lᵢ).
+    let sky = f64::from(scenes::DEFAULT_SKY_RADIANCE);
+    assert!(
+        mean + 5.0 * se < sky,
+        "the mesh ({mean} ± {se}) cannot be brighter than the sky ({sky}) lighting it"
+    );
+}
+
+#[test]
+fn cli_render_gltf_scene_file() {
+    render_gltf_mesh("suzanne-toml", "scenes/suzanne.toml");
+}

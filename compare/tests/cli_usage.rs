@@ -52,7 +52,21 @@ fn cli_help_lists_every_subcommand() {
     let out = verity(&["--help"]);
     assert_eq!(out.status.code(), Some(0));
     let stdout = text(&out.stdout);
-    assert!(stdout.contains("render"), "--help must list `render`:\n{stdout}");
+    // Each subcommand is listed on a line of its own, its name first (clap's layout).
+    for sub in [
+        "render",
+        "export-mitsuba",
+        "crosscheck",
+        "bench",
+        "raster",
+        "report",
+        "diff",
+    ] {
+        assert!(
+            stdout.lines().any(|l| l.split_whitespace().next() == Some(sub)),
+            "--help must list the `{sub}` subcommand:\n{stdout}"
+        );
+    }
     assert!(
         stdout.contains("Exit status"),
         "--help must document exit statuses:\n{stdout}"

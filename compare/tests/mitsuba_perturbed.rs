@@ -72,3 +72,16 @@ fn environment_rotated_fails() {
     perturbed.textures[texture] = std::sync::Arc::new(tex);
     must_fail("mirror-sphere-env-rotated", &scene, &perturbed, 1.0);
 }
+
+/// The bounded-depth cross-checks (`mitsuba_crosscheck.rs`, Cornell box at `max_depth` 2 and
+/// 3) can see an off-by-one in the depth convention: the oracle one bounce deeper than
+/// Mitsuba must fail, although at depth 2 Mitsuba's variance floor blunts the test in the
+/// many dark pixel-channels.
+#[test]
+fn depth_off_by_one_fails() {
+    let mut scene = at(builtin("cornell-box"), 64, 64);
+    scene.render.max_depth = 2;
+    let mut perturbed = scene.clone();
+    perturbed.render.max_depth = 3;
+    must_fail("cornell-box-depth-off-by-one", &scene, &perturbed, 1.0);
+}

@@ -168,6 +168,62 @@ fn time_budget_and_target_error_stop_early() {
         },
         ..job
     };
-    let r = oracle::render(&job, &mut |_| true).expect("render");
+    let target = 0.2;
+    let mut history = Vec::new();
+    let r = oracle::render(&job, &mut |p| {
+        history.push((p.spp_done, p.rel_err));
+        true
+    })
+    .expect("render");
     assert!(r.spp >= 16 && r.spp < 1 << 20, "spp {}", r.spp);
+    // The last progress report is made on the final film, just before the rule stops it;
+    // every earlier one had the error above the target or fewer than 16 spp (render.rs
+    // `stop_now`), else the render went on past the rule.
+    let (last_spp, reported) = *history.last().unwrap();
+    let measured = mean_relative_error(&r.image);
+    println!(
+        "target relative error {target}: stopped at {} spp, error {measured:.4}; progress {history:?}",
+        r.spp
+    );
+    assert_eq!(last_spp, r.spp, "the last progress report is of the final film");
+    assert!(
+        f64::from(reported) <= target,
+        "stopped with a reported error {reported} above the target {target}"
+    );
+    for &(spp, err) in &history[..history.len() - 1] {
+        assert!(
+            spp < 16 || f64::from(err) > target,
+            "at {spp} spp the error {err} already met the target {target}, yet the render went on"
+        );
+    }
+    // Recomputed from the f32 image: equal to the f64 film's value up to rounding.
+    assert!(
+        (measured - f64::from(reported)).abs() <= 1e-4 * f64::from(reported),
+        "image's mean relative error {measured} vs the film's {reported}"
+    );
+    assert!(
+        measured <= target * (1.0 + 1e-4),
+        "final mean relative error {measured} above the target {target}"
+    );
+}
+
+/// `Film::mean_relative_error` (oracle/src/film.rs) from an image: mean over pixels of
+/// σ̄/(|μ̄| + 0.01), σ̄² the variance of the pixel mean and μ̄ the mean, both averaged over
+/// R, G, B (`variance.*` is that variance of the mean, sample variance / n).
+fn mean_relative_error(img: &scenes::layered::LayeredImage) -> f64 {
+    let (r, g, b) = (channel(img, "R"), channel(img, "G"), channel(img, "B"));
+    let (vr, vg, vb) = (
+        channel(img, "variance.R"),
+        channel(img, "variance.G"),
+        channel(img, "variance.B"),
+    );
+    let n = r.len();
+    let sum: f64 = (0..n)
+        .map(|i| {
+            let var = (f64::from(vr[i]) + f64::from(vg[i]) + f64::from(vb[i])) / 3.0;
+            let mean = (f64::from(r[i]) + f64::from(g[i]) + f64::from(b[i])) / 3.0;
+            var.sqrt() / (mean.abs() + 0.01)
+        })
+        .sum();
+    sum / n as f64
 }

@@ -207,19 +207,27 @@ fn flicker(h: &mut String, r: &StudyResult) {
 }
 
 fn images(h: &mut String, r: &StudyResult) {
-    h.push_str("<h2>Images</h2><p>Ground truth | approximation (hover or click to flip to the ground truth) | error map.</p>\n");
+    h.push_str("<h2>Images</h2><p>Ground truth | approximation (hover or click to flip to the ground truth) | error map of the chart metric; the other metrics' maps are linked below each.</p>\n");
     for v in &r.variants {
+        let shown = v
+            .error_pngs
+            .iter()
+            .find(|(m, _)| *m == r.chart.metric)
+            .or(v.error_pngs.first());
+        let (metric, file) = shown.map_or(("", ""), |(m, f)| (m.as_str(), f.as_str()));
+        let others: Vec<String> = v
+            .error_pngs
+            .iter()
+            .map(|(m, f)| format!("<a href=\"{f}\">{m}</a>"))
+            .collect();
         let _ = writeln!(
             h,
-            "<h3>{}</h3><div class=triple><figure><img src=\"ground_truth.png\" alt=\"ground truth\"><figcaption>ground truth (<a href=\"{}\">EXR</a>)</figcaption></figure><figure><img src=\"{}\" data-gt=\"ground_truth.png\" data-approx=\"{}\" onmouseenter=\"flip(this,true)\" onmouseleave=\"flip(this,false)\" onclick=\"flip(this,this.src.endsWith('{}'))\" alt=\"approximation\"><figcaption>{} (<a href=\"{}\">EXR</a>)</figcaption></figure><figure><img class=err src=\"{}\" alt=\"error map\"><figcaption>error map (magma, 0 to the 99th percentile)</figcaption></figure></div>",
-            esc(&v.label),
-            r.ground_truth.exr,
-            v.png,
-            v.png,
-            v.png,
-            esc(&v.label),
-            v.exr,
-            v.error_png
+            "<h3>{label}</h3><div class=triple><figure><img src=\"ground_truth.png\" alt=\"ground truth\"><figcaption>ground truth (<a href=\"{gt}\">EXR</a>)</figcaption></figure><figure><img src=\"{png}\" data-gt=\"ground_truth.png\" data-approx=\"{png}\" onmouseenter=\"flip(this,true)\" onmouseleave=\"flip(this,false)\" onclick=\"flip(this,this.src.endsWith('{png}'))\" alt=\"approximation\"><figcaption>{label} (<a href=\"{exr}\">EXR</a>)</figcaption></figure><figure><img class=err src=\"{file}\" alt=\"{metric} error map\"><figcaption>{metric} error (magma, 0 to the 99th percentile); maps: {links}</figcaption></figure></div>",
+            label = esc(&v.label),
+            gt = r.ground_truth.exr,
+            png = v.png,
+            exr = v.exr,
+            links = others.join(", ")
         );
     }
 }

@@ -7,7 +7,7 @@
 //! | `metrics.json`, `metrics.csv` | every number (schema: compare/README.md) |
 //! | `ground_truth.exr/.png` | the oracle's image, variance and AOVs |
 //! | `methods/<id>.exr/.png` | each approximation, with `error.<metric>.Y` layers |
-//! | `methods/<id>-error.png` | false-colour error map with its colour bar ([`colormap`]) |
+//! | `methods/<id>-error-<metric>.png` | false-colour error maps with their colour bar ([`colormap`]) |
 //! | `charts/error-vs-cost.svg`, `charts/sweep-<method>-<parameter>.svg` | the charts ([`chart`]) |
 
 pub mod chart;

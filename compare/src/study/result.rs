@@ -126,8 +126,8 @@ pub struct VariantResult {
     pub exr: String,
     /// Its preview PNG.
     pub png: String,
-    /// False-colour error map PNG of the study's stability metric over `all`.
-    pub error_png: String,
+    /// False-colour error map PNGs (metric name, file), one per metric with a per-pixel map.
+    pub error_pngs: Vec<(String, String)>,
 }
 
 /// The cost of a variant.

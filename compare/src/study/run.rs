@@ -14,7 +14,7 @@ use sha2::{Digest, Sha256};
 use super::result::*;
 use super::{stability, MaskSpec, Study, Variant};
 use crate::cli::render::integrator_name;
-use crate::metrics::{self, Mask, Metric, MetricValue, RgbImage};
+use crate::metrics::{self, Mask, MetricValue, RgbImage};
 use crate::progress::{ProgressMode, ProgressReporter};
 use crate::report::colormap;
 
@@ -377,26 +377,20 @@ fn measure_variant(
     let id = variant.id();
     let exr = format!("methods/{id}.exr");
     let png = format!("methods/{id}.png");
-    let error_png = format!("methods/{id}-error.png");
     image
         .write_exr(opts.out_dir.join(&exr))
         .map_err(io_err(&opts.out_dir))?;
     image
         .write_png_preview(opts.out_dir.join(&png), 0.0)
         .map_err(io_err(&opts.out_dir))?;
-    let stab = error_map_metric(study.stability.metric);
-    if let Some(map) = maps
-        .iter()
-        .find(|v| v.metric == stab)
-        .and_then(|v| v.map.as_ref())
-    {
-        colormap::write_error_png(
-            &opts.out_dir.join(&error_png),
-            scene.film.width,
-            scene.film.height,
-            map,
-        )
-        .map_err(io_err(&opts.out_dir))?;
+    let mut error_pngs = Vec::new();
+    for v in &maps {
+        if let (Some(name), Some(map)) = (v.metric.map_name(), &v.map) {
+            let file = format!("methods/{id}-error-{name}.png");
+            let (w, h) = (scene.film.width, scene.film.height);
+            colormap::write_error_png(&opts.out_dir.join(&file), w, h, map).map_err(io_err(&opts.out_dir))?;
+            error_pngs.push((name.to_string(), file));
+        }
     }
     let non_finite_pixels = test.rgb.iter().filter(|c| !c.is_finite()).count();
     let result = VariantResult {
@@ -416,19 +410,9 @@ fn measure_variant(
         non_finite_pixels,
         exr,
         png,
-        error_png,
+        error_pngs,
     };
     Ok((result, out.timing))
-}
-
-/// The metric whose map the false-colour PNG shows: the stability metric when it has a map,
-/// else relMSE.
-fn error_map_metric(m: Metric) -> Metric {
-    if m.map_name().is_some() {
-        m
-    } else {
-        Metric::RelMse
-    }
 }
 
 /// Every threshold against every variant it applies to.
