@@ -105,6 +105,12 @@ fn study_files_are_checked_whole_with_located_errors() {
     let s = compare::study::load_str(GOOD, &path).unwrap();
     assert_eq!(s.methods[0].variants().len(), 2);
     assert_eq!(s.thresholds[0].max, Some(1.0));
+    let with_vis = GOOD
+        .replace("spp = 16", "spp = 16\nvisibility_of = \"light\"")
+        .replace("max = 1.0", "max = 1.0\non = \"visibility\"");
+    let v = compare::study::load_str(&with_vis, &path).unwrap();
+    assert_eq!(v.visibility_of.as_deref(), Some("light"));
+    assert_eq!(v.thresholds[0].on, compare::study::Target::Visibility);
     let cases = [
         (
             GOOD.replace("spp = 16", "spp = 16\nsamples = 4"),
@@ -143,6 +149,14 @@ fn study_files_are_checked_whole_with_located_errors() {
             "a mask needs one of",
         ),
         (GOOD.replace("spp = 16", "spp = 0"), "field `ground_truth.spp`"),
+        (
+            GOOD.replace("max = 1.0", "max = 1.0\non = \"visibility\""),
+            "measuring `visibility` needs `visibility_of",
+        ),
+        (
+            GOOD.replace("max = 1.0", "max = 1.0\non = \"shadow\""),
+            "field `threshold[0].on`",
+        ),
     ];
     for (text, want) in cases {
         let e = study_error(&text);

@@ -82,6 +82,7 @@ pub fn page(r: &StudyResult, cost_svg: &str, sweep_svgs: &[(String, String)]) ->
         }
     }
     metric_table(&mut h, r);
+    visibility_table(&mut h, r);
     flicker(&mut h, r);
     images(&mut h, r);
     h += "<p>All numbers: <a href=\"metrics.json\">metrics.json</a>, <a href=\"metrics.csv\">metrics.csv</a>; all images as EXR beside the PNGs.</p></body></html>\n";
@@ -136,7 +137,7 @@ fn thresholds(h: &mut String, r: &StudyResult) {
             if t.passed { "" } else { "fail" },
             if t.passed { "<span class=pass>holds</span>" } else { "<span class=failtxt>FAILS</span>" },
             esc(&t.variant),
-            t.metric,
+            if t.on == "image" { t.metric.clone() } else { format!("{} of the {}", t.metric, t.on) },
             esc(&t.mask),
             num(t.value),
             t.min.map_or("".into(), num),
@@ -186,6 +187,26 @@ fn metric_table(h: &mut String, r: &StudyResult) {
         h.push_str("</tr>\n");
     }
     h.push_str("</tbody></table><p>Hover a value for the reference's noise floor of that metric.</p>\n");
+}
+
+/// The visibility-factor metrics over `all`, when the study measures them.
+fn visibility_table(h: &mut String, r: &StudyResult) {
+    if r.variants.iter().all(|v| v.visibility.is_empty()) {
+        return;
+    }
+    h.push_str("<h2>Visibility factor against the oracle's visible fraction (mask <code>all</code>)</h2><table><thead><tr><th class=l onclick=\"sortTable(this)\">variant</th>");
+    for m in &r.metrics {
+        let _ = write!(h, "<th onclick=\"sortTable(this)\">{m}</th>");
+    }
+    h.push_str("</tr></thead><tbody>\n");
+    for v in &r.variants {
+        let _ = write!(h, "<tr><td class=l>{}</td>", esc(&v.label));
+        for e in v.visibility.first().map_or(&[][..], |m| &m.values[..]) {
+            let _ = write!(h, "<td data-v=\"{}\">{}</td>", e.value, num(e.value));
+        }
+        h.push_str("</tr>\n");
+    }
+    h.push_str("</tbody></table>\n");
 }
 
 fn flicker(h: &mut String, r: &StudyResult) {

@@ -36,6 +36,8 @@ pub struct Study {
     pub scene: PathBuf,
     /// How the oracle renders the ground truth.
     pub ground_truth: GroundTruth,
+    /// The light whose visibility factor is also measured (`[ground_truth] visibility_of`).
+    pub visibility_of: Option<String>,
     /// Resolution and sample count of a full run.
     pub full: Quality,
     /// Resolution and sample count of a `--quick` run (tests use it).
@@ -215,6 +217,26 @@ impl MethodSpec {
     }
 }
 
+/// What a metric is measured on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Target {
+    /// The final image against the ground truth's radiance.
+    Image,
+    /// The method's visibility factor of the study's `visibility_of` light against the
+    /// oracle's visible fraction of it (`visibility.<light>.Y`).
+    Visibility,
+}
+
+impl Target {
+    /// `image` or `visibility`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Target::Image => "image",
+            Target::Visibility => "visibility",
+        }
+    }
+}
+
 /// A declared bound on one metric of the matching variants.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Threshold {
@@ -224,6 +246,8 @@ pub struct Threshold {
     pub params: Vec<(String, String)>,
     /// The metric bounded.
     pub metric: Metric,
+    /// What is measured: the image, or the light's visibility factor.
+    pub on: Target,
     /// The mask it is measured over (`all` by default).
     pub mask: String,
     /// Upper bound: the method holds.
@@ -310,7 +334,9 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
             .err(format!("scene file {} does not exist", scene.display()))
             .hint("the path is relative to the study file"));
     }
-    let (ground_truth, full) = ground_truth(&doc.req("ground_truth")?.table()?)?;
+    let gt_table = doc.req("ground_truth")?.table()?;
+    let (ground_truth, full) = ground_truth(&gt_table)?;
+    let visibility_of = opt_str(&gt_table, "visibility_of")?;
     let quick = match doc.get("quick") {
         Some(f) => quality(&f.table()?, full)?,
         None => full,
@@ -341,6 +367,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
         description: opt_str(&doc, "description")?.unwrap_or_default(),
         scene,
         ground_truth,
+        visibility_of,
         full,
         quick,
         raster: raster_options(doc.get("raster").map(|f| f.table()).transpose()?)?,
@@ -372,7 +399,14 @@ fn list<T>(
 
 fn ground_truth(t: &Table) -> Result<(GroundTruth, Quality), SceneError> {
     t.only(
-        &["integrator", "spp", "resolution", "max_depth", "seed"],
+        &[
+            "integrator",
+            "spp",
+            "resolution",
+            "max_depth",
+            "seed",
+            "visibility_of",
+        ],
         "[ground_truth]",
     )?;
     let integrator = match t
@@ -579,7 +613,7 @@ fn method(t: &Table) -> Result<MethodSpec, SceneError> {
 
 fn threshold(t: &Table) -> Result<Threshold, SceneError> {
     t.only(
-        &["method", "params", "metric", "mask", "max", "min", "reason"],
+        &["method", "params", "metric", "on", "mask", "max", "min", "reason"],
         "a [[threshold]]",
     )?;
     let bound = |key: &str| t.get(key).map(|f| number(&f)).transpose();
@@ -598,6 +632,13 @@ fn threshold(t: &Table) -> Result<Threshold, SceneError> {
         method: t.req("method")?.str()?.to_string(),
         params: params(t.get("params").map(|f| f.table()).transpose()?)?,
         metric: metric(&t.req("metric")?)?,
+        on: match t.get("on") {
+            Some(f) => match f.keyword(&["image", "visibility"])? {
+                "image" => Target::Image,
+                _ => Target::Visibility,
+            },
+            None => Target::Image,
+        },
         mask: opt_str(t, "mask")?.unwrap_or_else(|| "all".into()),
         max,
         min,
@@ -662,6 +703,11 @@ fn check_references(study: &Study, doc: &Table) -> Result<(), SceneError> {
                 "no variant of `{}` has these parameter values",
                 th.method
             )));
+        }
+        if th.on == Target::Visibility && study.visibility_of.is_none() {
+            return Err(t
+                .req("on")?
+                .err("measuring `visibility` needs `visibility_of = \"<light>\"` in [ground_truth]"));
         }
         if th.mask != "all" && !study.masks.iter().any(|k| k.name() == th.mask) {
             return Err(t.req("mask")?.err(format!("no [[mask]] named `{}`", th.mask)));

@@ -118,8 +118,10 @@ pub struct VariantResult {
     pub swept: Vec<(String, String)>,
     /// Its cost.
     pub cost: Cost,
-    /// Metrics per mask.
+    /// Metrics of the image per mask.
     pub metrics: Vec<MaskMetrics>,
+    /// Metrics of the visibility factor per mask (empty unless the study has `visibility_of`).
+    pub visibility: Vec<MaskMetrics>,
     /// Pixels (whole image) of the approximation that are NaN or ±Inf.
     pub non_finite_pixels: usize,
     /// The approximation's EXR (with `error.<metric>.Y` layers), relative to the report folder.
@@ -185,6 +187,8 @@ pub struct ThresholdCheck {
     pub variant: String,
     /// Metric.
     pub metric: String,
+    /// `image` or `visibility`.
+    pub on: String,
     /// Mask.
     pub mask: String,
     /// Measured value.
@@ -211,8 +215,13 @@ impl ThresholdCheck {
         if let Some(m) = self.min {
             bounds.push(format!("≥ {m:e}"));
         }
+        let on = if self.on == "image" {
+            String::new()
+        } else {
+            format!(" of the {}", self.on)
+        };
         format!(
-            "{study}: {} {} over `{}` = {:.4e}, expected {} ({}) [{}]",
+            "{study}: {} {}{on} over `{}` = {:.4e}, expected {} ({}) [{}]",
             self.variant,
             self.metric,
             self.mask,
@@ -278,16 +287,21 @@ impl StudyResult {
     /// metrics.csv: one row per variant × mask × metric.
     pub fn to_csv(&self) -> String {
         let mut s = String::from(
-            "variant,method,params,mask,metric,value,noise_floor,non_finite,frame_ms,gpu_ms,wall_ms,\
+            "variant,method,params,on,mask,metric,value,noise_floor,non_finite,frame_ms,gpu_ms,wall_ms,\
              texel_fetches_per_pixel,loop_iterations_per_pixel\n",
         );
         let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
         for v in &self.variants {
             let params: Vec<String> = v.params.iter().map(|(k, x)| format!("{k}={x}")).collect();
-            for m in &v.metrics {
+            let tagged = v
+                .metrics
+                .iter()
+                .map(|m| ("image", m))
+                .chain(v.visibility.iter().map(|m| ("visibility", m)));
+            for (on, m) in tagged {
                 for e in &m.values {
                     s += &format!(
-                        "\"{}\",{},\"{}\",{},{},{},{},{},{},{},{},{},{}\n",
+                        "\"{}\",{},\"{}\",{on},{},{},{},{},{},{},{},{},{},{}\n",
                         v.label,
                         v.method,
                         params.join(" "),
@@ -308,10 +322,20 @@ impl StudyResult {
         s
     }
 
-    /// The value of `metric` over `mask` for the variant labelled `label`.
+    /// The value of `metric` of the image over `mask` for the variant labelled `label`.
     pub fn value(&self, label: &str, mask: &str, metric: &str) -> Option<f64> {
+        self.value_on(label, "image", mask, metric)
+    }
+
+    /// The value of `metric` of the image or the visibility (`on`) over `mask`.
+    pub fn value_on(&self, label: &str, on: &str, mask: &str, metric: &str) -> Option<f64> {
         let v = self.variants.iter().find(|v| v.label == label)?;
-        let m = v.metrics.iter().find(|m| m.mask == mask)?;
+        let list = if on == "visibility" {
+            &v.visibility
+        } else {
+            &v.metrics
+        };
+        let m = list.iter().find(|m| m.mask == mask)?;
         m.values.iter().find(|e| e.metric == metric).map(|e| e.value)
     }
 

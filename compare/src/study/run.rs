@@ -100,7 +100,8 @@ pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Resul
     let mut adapter = None;
     for (k, variant) in variants.iter().enumerate() {
         let line = format!("[{}/{}] {}", k + 1, variants.len(), variant.label());
-        let (result, timing) = measure_variant(study, renderer, &scene, variant, &reference, &masks, opts)?;
+        let (result, timing) =
+            measure_variant(study, renderer, &scene, variant, (&reference, &gt), &masks, opts)?;
         if opts.progress != ProgressMode::Quiet {
             let (metric, mask) = (study.stability.metric.name(), study.stability.mask.as_str());
             let v = result
@@ -347,7 +348,7 @@ fn measure_variant(
     renderer: &Renderer,
     scene: &Scene,
     variant: &Variant,
-    reference: &RgbImage,
+    (reference, reference_image): (&RgbImage, &LayeredImage),
     masks: &[Mask],
     opts: &RunOptions,
 ) -> Result<(VariantResult, realtime::Timing), StudyError> {
@@ -407,6 +408,7 @@ fn measure_variant(
             loop_iterations_per_pixel: out.counters.map(|c| c.loop_iterations_per_pixel),
         },
         metrics: per_mask,
+        visibility: visibility_metrics(study, &reference_image, &image, masks, &variant.label())?,
         non_finite_pixels,
         exr,
         png,
@@ -415,19 +417,67 @@ fn measure_variant(
     Ok((result, out.timing))
 }
 
+/// The study's metrics of the method's visibility factor of its `visibility_of` light
+/// against the oracle's visible fraction (`visibility.<light>.Y` in both images, as grey).
+fn visibility_metrics(
+    study: &Study,
+    reference: &LayeredImage,
+    test: &LayeredImage,
+    masks: &[Mask],
+    label: &str,
+) -> Result<Vec<MaskMetrics>, StudyError> {
+    let Some(light) = &study.visibility_of else {
+        return Ok(Vec::new());
+    };
+    let channel = format!("visibility.{light}.Y");
+    let grey = |img: &LayeredImage, what: &str| -> Result<RgbImage, StudyError> {
+        let v = img.channel(&channel).ok_or_else(|| {
+            let have: Vec<&str> = img
+                .channels
+                .iter()
+                .filter_map(|(n, _)| n.strip_prefix("visibility.")?.strip_suffix(".Y"))
+                .collect();
+            StudyError::Input(format!(
+                "{}: visibility_of = \"{light}\": {what} has no {channel} (its lights: {})",
+                study.path.display(),
+                if have.is_empty() {
+                    "none".to_string()
+                } else {
+                    have.join(", ")
+                }
+            ))
+        })?;
+        let rgb = v.iter().map(|&x| glam::Vec3::splat(x)).collect();
+        Ok(RgbImage::new(img.width as usize, img.height as usize, rgb))
+    };
+    let (r, t) = (grey(reference, "the ground truth")?, grey(test, label)?);
+    masks
+        .iter()
+        .map(|mask| {
+            let values = metrics::evaluate(&r, &t, mask, &study.metrics)
+                .map_err(|e| StudyError::Run(format!("{label} visibility: {e}")))?;
+            Ok(MaskMetrics {
+                mask: mask.name.clone(),
+                values: values.iter().map(MetricEntry::from).collect(),
+            })
+        })
+        .collect()
+}
+
 /// Every threshold against every variant it applies to.
 fn check_thresholds(study: &Study, variants: &[Variant], result: &StudyResult) -> Vec<ThresholdCheck> {
     let mut checks = Vec::new();
     for th in &study.thresholds {
         for v in variants.iter().filter(|v| th.applies_to(v)) {
             let value = result
-                .value(&v.label(), &th.mask, th.metric.name())
+                .value_on(&v.label(), th.on.name(), &th.mask, th.metric.name())
                 .unwrap_or(f64::NAN);
             let passed =
                 value.is_finite() && th.max.is_none_or(|m| value <= m) && th.min.is_none_or(|m| value >= m);
             checks.push(ThresholdCheck {
                 variant: v.label(),
                 metric: th.metric.name().into(),
+                on: th.on.name().into(),
                 mask: th.mask.clone(),
                 value,
                 max: th.max,
