@@ -408,7 +408,7 @@ fn measure_variant(
             loop_iterations_per_pixel: out.counters.map(|c| c.loop_iterations_per_pixel),
         },
         metrics: per_mask,
-        visibility: visibility_metrics(study, &reference_image, &image, masks, &variant.label())?,
+        visibility: visibility_metrics(study, reference_image, &image, masks, &variant.label())?,
         non_finite_pixels,
         exr,
         png,
