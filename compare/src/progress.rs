@@ -119,6 +119,54 @@ impl Drop for ProgressReporter {
 /// Resolution of the bar's position.
 const BAR_STEPS: u64 = 1000;
 
+/// Progress over a counted list of steps (a study's variants): a bar on a terminal, one
+/// line per finished step elsewhere, nothing when quiet.
+pub struct StepProgress {
+    mode: ProgressMode,
+    bar: Option<ProgressBar>,
+}
+
+impl StepProgress {
+    /// Progress over `total` steps.
+    pub fn new(mode: ProgressMode, total: usize) -> Self {
+        let bar = (mode == ProgressMode::Bar).then(|| {
+            let bar = ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stderr());
+            let style = ProgressStyle::with_template("[{bar:30}] {pos}/{len} {msg} (ETA {eta})")
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> ");
+            bar.set_style(style);
+            bar
+        });
+        StepProgress { mode, bar }
+    }
+
+    /// Shows that step `what` has begun.
+    pub fn start(&self, what: &str) {
+        if let Some(bar) = &self.bar {
+            bar.set_message(what.to_string());
+        }
+    }
+
+    /// Marks a step done with its result line (printed above the bar, or as a plain line).
+    pub fn done(&self, line: &str) {
+        match (&self.bar, self.mode) {
+            (Some(bar), _) => {
+                bar.suspend(|| eprintln!("{line}"));
+                bar.inc(1);
+            }
+            (None, ProgressMode::Quiet) => {}
+            (None, _) => eprintln!("{line}"),
+        }
+    }
+
+    /// Removes the bar.
+    pub fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+    }
+}
+
 /// The progress text: `64/256 spp, 12.3 s, 1.23 Mpaths/s, ETA 36 s`, with
 /// `, rel. error 0.031 (target 0.01)` when a target error is set.
 pub fn status(stop: &StopRule, p: &Progress, spp_is_cap: bool) -> String {

@@ -15,7 +15,7 @@ use super::result::*;
 use super::{stability, MaskSpec, Study, Variant};
 use crate::cli::render::integrator_name;
 use crate::metrics::{self, Mask, MetricValue, RgbImage};
-use crate::progress::{ProgressMode, ProgressReporter};
+use crate::progress::{ProgressMode, ProgressReporter, StepProgress};
 use crate::report::colormap;
 
 /// How a study runs.
@@ -98,26 +98,27 @@ pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Resul
     let variants: Vec<Variant> = study.methods.iter().flat_map(|m| m.variants()).collect();
     let mut results = Vec::new();
     let mut adapter = None;
+    let steps = StepProgress::new(opts.progress, variants.len());
     for (k, variant) in variants.iter().enumerate() {
         let line = format!("[{}/{}] {}", k + 1, variants.len(), variant.label());
+        steps.start(&variant.label());
         let (result, timing) =
             measure_variant(study, renderer, &scene, variant, (&reference, &gt), &masks, opts)?;
-        if opts.progress != ProgressMode::Quiet {
-            let (metric, mask) = (study.stability.metric.name(), study.stability.mask.as_str());
-            let v = result
-                .metrics
-                .iter()
-                .find(|m| m.mask == mask)
-                .and_then(|m| m.values.iter().find(|e| e.metric == metric));
-            eprintln!(
-                "report: {line}: {metric} over {mask} {:.3e}, {:.3} ms/frame",
-                v.map_or(f64::NAN, |e| e.value),
-                result.cost.frame_ms
-            );
-        }
+        let (metric, mask) = (study.stability.metric.name(), study.stability.mask.as_str());
+        let v = result
+            .metrics
+            .iter()
+            .find(|m| m.mask == mask)
+            .and_then(|m| m.values.iter().find(|e| e.metric == metric));
+        steps.done(&format!(
+            "report: {line}: {metric} over {mask} {:.3e}, {:.3} ms/frame",
+            v.map_or(f64::NAN, |e| e.value),
+            result.cost.frame_ms
+        ));
         adapter.get_or_insert(timing);
         results.push(result);
     }
+    steps.finish();
     let timing = adapter.expect("a study has at least one method");
     let mut out = StudyResult {
         schema_version: SCHEMA_VERSION,
