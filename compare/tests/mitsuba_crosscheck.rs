@@ -13,7 +13,13 @@ use compare::mitsuba::runner::Variant;
 use mitsuba_support::{at, builtin, check};
 
 /// Built-in scenes cross-checked below.
-const CROSSCHECKED: &[&str] = &["cornell-box", "mirror-sphere", "soft-shadow"];
+const CROSSCHECKED: &[&str] = &[
+    "cornell-box",
+    "mirror-sphere",
+    "soft-shadow",
+    "studies/scenes/contact-hardening",
+    "studies/scenes/overlapping-blockers",
+];
 
 /// Built-in scenes Mitsuba cannot express, with a phrase of the refusal (README.md lists them).
 const NOT_EXPRESSIBLE: &[(&str, &str)] = &[
@@ -21,6 +27,10 @@ const NOT_EXPRESSIBLE: &[(&str, &str)] = &[
     (
         "studies/scenes/glossy-area-light",
         "Schlick Fresnel with f0 = [0.6, 0.6, 0.6]",
+    ),
+    (
+        "studies/scenes/grazing-sun",
+        "angular diameter of 2° (a sun disk)",
     ),
 ];
 
@@ -126,4 +136,12 @@ fn every_builtin_scene_is_crosschecked_or_listed() {
             "CROSSCHECKED names scenes/{n}.toml, which does not exist"
         );
     }
+}
+
+/// The shadow studies' scenes (their ground truth is the oracle's `direct` with exact
+/// visibility, which Mitsuba computes as `path` with max_depth 2).
+#[test]
+fn shadow_study_scenes_agree() {
+    agrees("studies/scenes/contact-hardening", Variant::LlvmAdRgb, 64, 256);
+    agrees("studies/scenes/overlapping-blockers", Variant::LlvmAdRgb, 64, 256);
 }
