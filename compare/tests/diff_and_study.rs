@@ -117,8 +117,8 @@ fn study_files_are_checked_whole_with_located_errors() {
             "test-bad.toml:5: field `ground_truth.samples`: unknown field",
         ),
         (
-            GOOD.replace("name = \"area_quadrature\"\n", "name = \"pcss\"\n"),
-            "field `method[0].name`: unknown method `pcss`",
+            GOOD.replace("name = \"area_quadrature\"\n", "name = \"vsm\"\n"),
+            "field `method[0].name`: unknown method `vsm`",
         ),
         (
             GOOD.replace("[4, 2]", "[4, 0]"),

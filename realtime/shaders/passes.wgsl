@@ -12,8 +12,13 @@
 // cost counters.
 // Failure mode: none of its own. The G-buffer costs 48 bytes per sample (three Rgba32Float
 // targets); adapters below that colour-attachment budget are refused up front.
+// The shadow pass (Williams 1978, shadow_map_common.wgsl) renders depth only, one render pass
+// per light: meshes rasterised, analytic shapes ray traced per texel on the same proxies with
+// the same `intersect_analytic` as the camera passes, writing frag_depth. The visibility AOV
+// pass is a full-screen pass over a G-buffer, untimed, that stores every light's V.
 // Inputs: vertex buffers (meshes: de-indexed triangles with per-triangle flat data; analytic
-// proxies: position + shape), group 0 (scene), group 1 (G-buffer, lighting pass only).
+// proxies: position + shape), group 0 (scene, shadow uniforms), group 1 (G-buffer: lighting
+// and visibility AOV passes), group 2 (shadow maps: every shading pass).
 
 struct MeshVertexIn {
     @location(0) position: vec3<f32>,
@@ -100,12 +105,16 @@ fn vs_analytic(v: AnalyticVertexIn) -> AnalyticVarying {
     return AnalyticVarying(frame.view_proj * vec4<f32>(v.position, 1.0), v.shape);
 }
 
-// One triangle covering the target, at the far plane (depth 0, reversed-Z).
-@vertex
-fn vs_fullscreen(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+// Vertex i of one triangle covering the target, at the far plane (depth 0, reversed-Z).
+fn fullscreen_vertex(i: u32) -> vec4<f32> {
     let x = f32(i32(i & 1u) * 4 - 1);
     let y = f32(i32(i >> 1u) * 4 - 1);
     return vec4<f32>(x, y, 0.0, 1.0);
+}
+
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    return fullscreen_vertex(i);
 }
 
 // The surface point of a mesh fragment.
@@ -192,4 +201,89 @@ fn fs_lighting(@builtin(position) pos: vec4<f32>) -> ShadedOut {
     }
     flush_counters(u32(pos.y));
     return out;
+}
+
+// ---- The shadow pass: depth from each light, one render pass per map layer ----
+// The layer (light slot) is the instance index: each draw is `draw(0..n, slot..slot + 1)`.
+
+struct ShadowVarying {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) shape: u32,
+    @location(1) @interpolate(flat) slot: u32,
+}
+
+@vertex
+fn vs_shadow_mesh(@location(0) position: vec3<f32>, @builtin(instance_index) slot: u32) -> @builtin(position) vec4<f32> {
+    return shadow.lights[slot].view_proj * vec4<f32>(position, 1.0);
+}
+
+// Analytic proxies; the light's own shape collapses to a point outside the clip volume, so an
+// emitter never shadows its own light (meshes are never lights here).
+@vertex
+fn vs_shadow_analytic(v: AnalyticVertexIn, @builtin(instance_index) slot: u32) -> ShadowVarying {
+    let sl = shadow.lights[slot];
+    var clip = sl.view_proj * vec4<f32>(v.position, 1.0);
+    if v.shape == sl.info.y {
+        clip = vec4<f32>(0.0, 0.0, 2.0, 1.0);
+    }
+    return ShadowVarying(clip, v.shape, slot);
+}
+
+// The ray from the light through the texel centre, traced with the camera passes'
+// `intersect_analytic`; the depth of its hit.
+@fragment
+fn fs_shadow_analytic(in: ShadowVarying) -> @builtin(frag_depth) f32 {
+    let sl = shadow.lights[in.slot];
+    let side = shadow.settings.bias.w;
+    let ndc = vec2<f32>(2.0 * in.clip.x / side - 1.0, 1.0 - 2.0 * in.clip.y / side);
+    let ray = shadow_ray(sl, ndc);
+    let t = intersect_analytic(shapes[in.shape], ray.o, ray.d);
+    if !(t > 0.0) {
+        discard;
+    }
+    return shadow_project(sl, ray.o + ray.d * t).z;
+}
+
+// ---- The visibility AOV pass: V of every light slot at every G-buffer sample ----
+
+// Target width, light slots per chunk, light slots in all, target pixels (visibility.rs).
+struct AovInfo {
+    dims: vec4<u32>,
+}
+
+@group(1) @binding(3) var<storage, read_write> visibility_out: array<f32>;
+@group(1) @binding(4) var<uniform> aov: AovInfo;
+
+struct ChunkVarying {
+    @builtin(position) pos: vec4<f32>,
+    @location(0) @interpolate(flat) chunk: u32,
+}
+
+// The full-screen triangle; the instance index is the chunk of light slots.
+@vertex
+fn vs_fullscreen_chunk(@builtin(vertex_index) i: u32, @builtin(instance_index) chunk: u32) -> ChunkVarying {
+    return ChunkVarying(fullscreen_vertex(i), chunk);
+}
+
+// Writes slot j's value of this sample at visibility_out[(j − first)·pixels + pixel].
+@fragment
+fn fs_visibility(in: ChunkVarying) {
+    let px = vec2<i32>(in.pos.xy);
+    let g0 = textureLoad(gbuffer0, px, 0);
+    let pixel = u32(px.y) * aov.dims.x + u32(px.x);
+    let first = in.chunk * aov.dims.y;
+    let last = min(first + aov.dims.y, aov.dims.z);
+    var sp = SurfacePoint(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec2<f32>(0.0), 0u);
+    if g0.w >= 0.5 {
+        let g1 = textureLoad(gbuffer1, px, 0);
+        let g2 = textureLoad(gbuffer2, px, 0);
+        sp = SurfacePoint(g0.xyz, g2.xyz, g1.xyz, vec2<f32>(g1.w, g2.w), u32(g0.w) - 1u);
+    }
+    for (var j = first; j < last; j++) {
+        var v = 0.0;
+        if g0.w >= 0.5 {
+            v = light_slot_visibility(frame, sp, j);
+        }
+        visibility_out[(j - first) * aov.dims.w + pixel] = v;
+    }
 }

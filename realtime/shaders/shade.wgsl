@@ -7,12 +7,24 @@
 // (oracle/src/integrator/direct.rs), so that with `area_quadrature` the difference is the
 // quadrature's (vanishing) error and with `area_representative_point` the method's error.
 // The area-light method is the pipeline-overridable constant AREA_METHOD, picked here and
-// nowhere else (one dispatcher, as bevy_pbr's `sample_shadow_map_*`).
+// nowhere else (one dispatcher, as bevy_pbr's `sample_shadow_map_*`). Under a shadow method
+// (SHADOW_METHOD ≠ 0) each light's term is multiplied by its visibility V from the light's
+// shadow map (shadow_visibility.wgsl) — what the oracle's `direct` integrator then measures
+// exactly; the environment stays unshadowed.
 // Failure mode: mirror and dielectric surfaces see only the environment (environment.wgsl);
 // emissive meshes are visible but light nothing (only spheres, rectangles and disks are area
 // lights here); `max_depth` < 2 is not modelled.
 // Inputs: the frame (camera, counts), the scene arrays (this dispatcher and the entry points
 // are the only readers besides the leaf samplers), a surface point and ωo.
+
+// The unshadowed `term` of light slot `slot` (area emitters first, then scene lights) at sp,
+// times its visibility under the pipeline's shadow method; `term` itself when unshadowed.
+fn shadowed(term: vec3<f32>, slot: u32, sp: SurfacePoint) -> vec3<f32> {
+    if SHADOW_METHOD == SHADOW_NONE || all(term == vec3<f32>(0.0)) {
+        return term;
+    }
+    return term * shadow_visibility(shadow.lights[slot], slot, shadow.settings, sp.p, sp.ng);
+}
 
 // Shaded colour and the albedo AOV of a surface point.
 struct Shaded {
@@ -38,16 +50,17 @@ fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>) -> Shaded {
     for (var i = 0u; i < f.counts.x; i++) {
         count_iteration();
         let l = lights[i];
+        let slot = f.counts.y + i;
         if is_sun_disk(l) {
             if AREA_METHOD == AREA_REPRESENTATIVE_POINT {
-                color += sun_representative(l, b, n, wo);
+                color += shadowed(sun_representative(l, b, n, wo), slot, sp);
             } else {
-                color += sun_quadrature(l, b, n, wo, nq);
+                color += shadowed(sun_quadrature(l, b, n, wo, nq), slot, sp);
             }
         } else {
             let inc = punctual_incident(l, sp.p);
             if any(inc.li > vec3<f32>(0.0)) {
-                color += bsdf_eval(b, n, wo, inc.wi) * inc.li;
+                color += shadowed(bsdf_eval(b, n, wo, inc.wi) * inc.li, slot, sp);
             }
         }
     }
@@ -55,9 +68,9 @@ fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>) -> Shaded {
         count_iteration();
         let s = shapes[emitters[i]];
         if AREA_METHOD == AREA_REPRESENTATIVE_POINT {
-            color += area_light_representative(s, b, n, wo, sp.p);
+            color += shadowed(area_light_representative(s, b, n, wo, sp.p), i, sp);
         } else {
-            color += area_light_quadrature(s, b, n, wo, sp.p, nq);
+            color += shadowed(area_light_quadrature(s, b, n, wo, sp.p, nq), i, sp);
         }
     }
     if f.env_info.x != ENV_NONE && f.env_info.z > 0u {

@@ -11,6 +11,8 @@
 // the plane frame and dual basis of oracle/src/geometry/plane.rs for rectangles and disks.
 // Normal maps: glTF 2.0 `normalTexture` (MikkTSpace tangent frame), as
 // oracle/src/geometry/normal_map.rs.
+// `intersect_analytic` is shared with the shadow pass, which traces rays from a light through
+// its map's texels on the same proxies (passes.wgsl `fs_shadow_analytic`).
 // Failure mode: proxies write `frag_depth`, which turns off early depth testing for them;
 // a camera inside a sphere's bounding box but in front of the near plane is fine, one closer
 // than the near plane (1e-4 × the scene radius) to a surface clips it.
@@ -209,45 +211,63 @@ struct AnalyticHit {
     surface: SurfacePoint,
 }
 
-fn trace_analytic(f: FrameUniforms, s: Shape, shape: u32, frag: vec2<f32>) -> AnalyticHit {
-    let xy = film_position(f, frag);
-    let o = f.cam_pos.xyz;
-    let d = camera_ray_direction(f, xy.x, xy.y);
-    let miss = AnalyticHit(false, SurfacePoint(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec2<f32>(0.0), 0u));
-    var diff: Differential;
+// Ray parameter t > 0 of the nearest hit of the ray o + t·d with analytic shape `s`, or −1
+// where it misses: the one intersection routine of the camera passes and the shadow pass.
+// Rectangles take their coverage from the rasteriser (the proxy is the rectangle itself);
+// disks test the dual-basis radius, spheres the Haines et al. quadratic.
+fn intersect_analytic(s: Shape, o: vec3<f32>, d: vec3<f32>) -> f32 {
     switch s.kind {
         case SHAPE_SPHERE: {
             let t = intersect_sphere(s.center.xyz, s.center.w, o, d);
             if !(t > 0.0) {
-                return miss;
+                return -1.0;
             }
-            diff = sphere_differential(s, o, d, t);
+            return t;
         }
         case SHAPE_RECTANGLE: {
-            // Coverage comes from the rasteriser (the proxy is the rectangle itself).
             let t = intersect_plane(s, o, d);
             if !(t > 0.0 && t < 1e30) {
-                return miss;
+                return -1.0;
             }
-            diff = rectangle_differential(s, o + d * t);
+            return t;
         }
         case SHAPE_DISK: {
             let t = intersect_plane(s, o, d);
             if !(t > 0.0 && t < 1e30) {
-                return miss;
+                return -1.0;
             }
-            let q = o + d * t;
-            let st = plane_local(s, q);
+            let st = plane_local(s, o + d * t);
             if dot(st, st) > 1.0 {
-                return miss;
+                return -1.0;
             }
-            diff = disk_differential(s, q);
+            return t;
         }
         default: {
-            return miss;
+            return -1.0;
         }
     }
-    return AnalyticHit(true, surface_point(diff, s, shape));
+}
+
+// Differential geometry of analytic shape `s` at the hit o + t·d that `intersect_analytic` found.
+fn analytic_differential(s: Shape, o: vec3<f32>, d: vec3<f32>, t: f32) -> Differential {
+    if s.kind == SHAPE_SPHERE {
+        return sphere_differential(s, o, d, t);
+    }
+    if s.kind == SHAPE_DISK {
+        return disk_differential(s, o + d * t);
+    }
+    return rectangle_differential(s, o + d * t);
+}
+
+fn trace_analytic(f: FrameUniforms, s: Shape, shape: u32, frag: vec2<f32>) -> AnalyticHit {
+    let xy = film_position(f, frag);
+    let o = f.cam_pos.xyz;
+    let d = camera_ray_direction(f, xy.x, xy.y);
+    let t = intersect_analytic(s, o, d);
+    if !(t > 0.0) {
+        return AnalyticHit(false, SurfacePoint(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec2<f32>(0.0), 0u));
+    }
+    return AnalyticHit(true, surface_point(analytic_differential(s, o, d, t), s, shape));
 }
 
 // Depth-buffer value of world point p (reversed-Z, infinite far plane).

@@ -1,6 +1,8 @@
 //! One frame's GPU work: the frame uniform and scene bind group, the passes it records (a
 //! labelled render pass per stage, debug groups per draw), and the timestamp queries around
-//! each pass.
+//! each pass. Under a shadow method the frame starts with the shadow pass: one depth-only
+//! render pass per light (`shadow pass: <light>`), timed together as `shadow pass` (the first
+//! one's start to the last one's end).
 
 use std::sync::{Arc, Mutex};
 
@@ -13,6 +15,7 @@ use crate::gpu::Gpu;
 use crate::gpu_types::{vec4, FrameUniforms};
 use crate::pipelines::Stage;
 use crate::render::RasterSettings;
+use crate::shadow::ShadowMaps;
 use crate::targets::Targets;
 use crate::upload::SceneGpu;
 
@@ -33,6 +36,7 @@ impl Frame {
         layout: &wgpu::BindGroupLayout,
         scene: &Scene,
         sg: &SceneGpu,
+        shadow: &ShadowMaps,
         settings: &RasterSettings,
         k: u32,
     ) -> Frame {
@@ -57,6 +61,7 @@ impl Frame {
             &sg.texture_infos,
             &sg.texels,
             &counters,
+            &shadow.uniform,
         ];
         let entries: Vec<_> = buffers
             .iter()
@@ -102,19 +107,105 @@ fn frame_uniforms(scene: &Scene, sg: &SceneGpu, settings: &RasterSettings, k: u3
     }
 }
 
-/// Records the frame's render passes: the geometry pass (forward, or G-buffer), then for
-/// the deferred pipeline the lighting pass.
+/// The bind groups every shading pass sets: group 1 (G-buffer, or empty) and group 2 (maps).
+pub(crate) struct ShadingGroups<'a> {
+    /// Group 1 of the geometry pipelines (empty).
+    pub(crate) empty: &'a wgpu::BindGroup,
+    /// The shadow maps (group 2).
+    pub(crate) shadow: &'a ShadowMaps,
+}
+
+/// Records the frame's render passes: the shadow pass when `stages` has its pipelines, the
+/// geometry pass (forward, or G-buffer), then for the deferred pipeline the lighting pass.
+/// Query pairs are numbered in that order.
 pub(crate) fn encode_passes(
     encoder: &mut wgpu::CommandEncoder,
     frame: &Frame,
     targets: &Targets,
     stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
     sg: &SceneGpu,
+    groups: &ShadingGroups<'_>,
     queries: Option<&Timestamps>,
 ) {
-    encode_geometry_pass(encoder, frame, targets, stages, sg, queries);
+    let mut pass = 0;
+    if stages.iter().any(|(s, _)| s.is_shadow()) && !groups.shadow.layers.is_empty() {
+        encode_shadow_passes(
+            encoder,
+            frame,
+            stages,
+            sg,
+            groups.shadow,
+            queries.map(|q| (q, pass)),
+        );
+        pass += 1;
+    }
+    encode_geometry_pass(
+        encoder,
+        frame,
+        targets,
+        stages,
+        sg,
+        groups,
+        queries.map(|q| (q, pass)),
+    );
     if let Some((_, lighting)) = stages.iter().find(|(s, _)| *s == Stage::Lighting) {
-        encode_lighting_pass(encoder, frame, targets, lighting, queries);
+        encode_lighting_pass(
+            encoder,
+            frame,
+            targets,
+            lighting,
+            groups,
+            queries.map(|q| (q, pass + 1)),
+        );
+    }
+}
+
+/// The shadow pass: for each light slot, a depth-only render pass into its layer drawing the
+/// meshes and the analytic proxies with instance index = slot.
+fn encode_shadow_passes(
+    encoder: &mut wgpu::CommandEncoder,
+    frame: &Frame,
+    stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
+    sg: &SceneGpu,
+    shadow: &ShadowMaps,
+    queries: Option<(&Timestamps, u32)>,
+) {
+    let last = shadow.layers.len() - 1;
+    for (slot, (name, view)) in shadow.layers.iter().enumerate() {
+        let depth = wgpu::RenderPassDepthStencilAttachment {
+            view,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(1.0),
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        };
+        let label = format!("shadow pass: {name}");
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(&label),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(depth),
+            timestamp_writes: queries.and_then(|(q, i)| q.span_writes(i, slot == 0, slot == last)),
+            occlusion_query_set: None,
+        });
+        pass.set_bind_group(0, &frame.bind_group, &[]);
+        let instance = slot as u32..slot as u32 + 1;
+        for (stage, pipeline) in stages {
+            let (group, vertices) = match stage {
+                Stage::ShadowMesh => ("meshes (depth)", sg.mesh_vertices.as_ref()),
+                Stage::ShadowAnalytic => (
+                    "analytic shapes (depth, ray traced on proxies)",
+                    sg.analytic_vertices.as_ref(),
+                ),
+                _ => continue,
+            };
+            let Some((vb, n)) = vertices else { continue };
+            pass.push_debug_group(group);
+            pass.set_pipeline(pipeline);
+            pass.set_vertex_buffer(0, vb.slice(..));
+            pass.draw(0..*n, instance.clone());
+            pass.pop_debug_group();
+        }
     }
 }
 
@@ -125,7 +216,8 @@ fn encode_geometry_pass(
     targets: &Targets,
     stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
     sg: &SceneGpu,
-    queries: Option<&Timestamps>,
+    groups: &ShadingGroups<'_>,
+    queries: Option<(&Timestamps, u32)>,
 ) {
     let depth = wgpu::RenderPassDepthStencilAttachment {
         view: &targets.depth_view,
@@ -141,10 +233,12 @@ fn encode_geometry_pass(
         label: Some(if deferred { "G-buffer pass" } else { "forward pass" }),
         color_attachments: &color,
         depth_stencil_attachment: Some(depth),
-        timestamp_writes: queries.map(|q| q.writes(0)),
+        timestamp_writes: queries.map(|(q, i)| q.writes(i)),
         occlusion_query_set: None,
     });
     pass.set_bind_group(0, &frame.bind_group, &[]);
+    pass.set_bind_group(1, groups.empty, &[]);
+    pass.set_bind_group(2, &groups.shadow.bind_group, &[]);
     for (stage, pipeline) in stages {
         let (group, vertices) = match stage {
             Stage::ForwardMesh | Stage::GBufferMesh => ("meshes", sg.mesh_vertices.as_ref()),
@@ -153,7 +247,7 @@ fn encode_geometry_pass(
                 sg.analytic_vertices.as_ref(),
             ),
             Stage::Background => ("background", None),
-            Stage::Lighting => continue,
+            Stage::Lighting | Stage::ShadowMesh | Stage::ShadowAnalytic | Stage::VisibilityAov => continue,
         };
         if *stage != Stage::Background && vertices.is_none() {
             continue;
@@ -177,14 +271,15 @@ fn encode_lighting_pass(
     frame: &Frame,
     targets: &Targets,
     pipeline: &wgpu::RenderPipeline,
-    queries: Option<&Timestamps>,
+    groups: &ShadingGroups<'_>,
+    queries: Option<(&Timestamps, u32)>,
 ) {
     let color = attachments(&targets.output_views);
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("lighting pass"),
         color_attachments: &color,
         depth_stencil_attachment: None,
-        timestamp_writes: queries.map(|q| q.writes(1)),
+        timestamp_writes: queries.map(|(q, i)| q.writes(i)),
         occlusion_query_set: None,
     });
     pass.push_debug_group("full-screen lighting");
@@ -192,6 +287,7 @@ fn encode_lighting_pass(
     if let Some(bg) = &targets.gbuffer_bind_group {
         pass.set_bind_group(1, bg, &[]);
     }
+    pass.set_bind_group(2, &groups.shadow.bind_group, &[]);
     pass.set_pipeline(pipeline);
     pass.draw(0..3, 0..1);
     pass.pop_debug_group();
@@ -256,6 +352,17 @@ impl Timestamps {
             beginning_of_pass_write_index: Some(2 * pass),
             end_of_pass_write_index: Some(2 * pass + 1),
         }
+    }
+
+    /// Timing entry `pass` spread over several render passes: its start written by the
+    /// first, its end by the last, nothing by those between (wgpu refuses timestamp writes
+    /// with neither index).
+    fn span_writes(&self, pass: u32, first: bool, last: bool) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        (first || last).then(|| wgpu::RenderPassTimestampWrites {
+            query_set: &self.set,
+            beginning_of_pass_write_index: first.then_some(2 * pass),
+            end_of_pass_write_index: last.then_some(2 * pass + 1),
+        })
     }
 
     pub(crate) fn encode_resolve(&self, encoder: &mut wgpu::CommandEncoder) {

@@ -1,6 +1,8 @@
 //! The data the shaders read: `#[repr(C)]` Pod structs in the field order of their WGSL
 //! counterparts in `shaders/common.wgsl` (and `passes.wgsl` for the vertex layouts), each with a
-//! size assertion, and the kind codes the shaders switch on.
+//! size assertion, and the kind codes the shaders switch on. The shadow maps' structs live with
+//! their technique in shadow.rs (`shaders/shadow_map_common.wgsl`), the visibility AOV's in
+//! visibility.rs.
 //!
 //! Layout rules: storage and uniform structs follow WGSL's host-shareable layout (vec4 and
 //! mat4 aligned to 16 bytes, scalars to 4); every struct here is a multiple of 16 bytes made of

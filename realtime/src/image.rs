@@ -7,6 +7,7 @@
 //! | `albedo.R/G/B`, `normal.X/Y/Z`, `depth.Z` | means over the subsamples, background counting as 0 (as the oracle's film) |
 //! | `coverage.Y` | fraction of subsamples that hit a surface |
 //! | `object_id.Y` | shape index + 1 at the pixel centre, 0 for the background |
+//! | `visibility.<light>.Y` | mean of the light's visibility V over the subsamples, background 0 (visibility.rs) |
 //!
 //! Depth is the camera-space distance along the view axis; the normal is the shading normal
 //! (normal map applied, not flipped towards the viewer).
@@ -87,6 +88,26 @@ pub fn assemble(
     img
 }
 
+/// Mean over each pixel's k×k subsamples of one value per sample of a `width`·k-wide target
+/// (accumulated in f64, as `assemble`).
+pub fn box_filter(samples: &[f32], width: u32, height: u32, k: u32) -> Vec<f32> {
+    let (w, h, k) = (width as usize, height as usize, k as usize);
+    let tw = w * k;
+    let inv = 1.0 / (k * k) as f64;
+    (0..w * h)
+        .map(|p| {
+            let (px, py) = (p % w, p / w);
+            let mut sum = 0f64;
+            for sy in 0..k {
+                for sx in 0..k {
+                    sum += f64::from(samples[(py * k + sy) * tw + px * k + sx]);
+                }
+            }
+            (sum * inv) as f32
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -123,5 +144,9 @@ mod tests {
         assert!((img.channel("coverage.Y").unwrap()[0] - third).abs() < 1e-6);
         assert!((img.channel("depth.Z").unwrap()[0] - 2.0 * third).abs() < 1e-6);
         assert!((img.channel("albedo.G").unwrap()[0] - 0.5 * third).abs() < 1e-6);
+        let v: Vec<f32> = (0..tw * th)
+            .map(|t| if t % tw < 3 { 1.0 } else { 0.25 })
+            .collect();
+        assert_eq!(box_filter(&v, w as u32, h as u32, k as u32), [1.0, 0.25]);
     }
 }

@@ -20,11 +20,14 @@
 //! | module | what |
 //! |---|---|
 //! | [`gpu`] | adapter and device selection |
-//! | [`method`] | methods (`area_quadrature`, `area_representative_point`) and parameters |
+//! | [`method`] | methods (`area_quadrature`, `area_representative_point`, `shadow_hard`, `pcf_*`, `pcss`) and parameters |
 //! | [`render`] | settings, the frame loop, timing, read-back |
 //! | `frame` | one frame: uniforms, render passes, timestamp queries |
 //! | `upload` | the scene as GPU buffers (meshes de-indexed, analytic shapes as proxies) |
-//! | [`pipelines`] | shader module and pipelines (forward, G-buffer, lighting) |
+//! | [`pipelines`] | shader module and pipelines (forward, G-buffer, lighting, shadow, visibility AOV) |
+//! | [`shadow`] | shadow maps: light frusta, the shadow uniform, the map array (Williams 1978) |
+//! | [`poisson`] | the Poisson-disk tap pattern (Mitchell 1991 best candidate) |
+//! | [`visibility`] | the per-light visibility AOV `visibility.<light>.Y` |
 //! | [`image`] | box filter over supersamples, the oracle's EXR channel layout |
 //! | [`timing`] | GPU timestamps / wall time, hardware-independent counters |
 //! | `shaders/*.wgsl` | the techniques, each file headed by its paper and failure mode |
@@ -39,13 +42,16 @@ pub mod gpu_types;
 pub mod image;
 pub mod method;
 pub mod pipelines;
+pub mod poisson;
 pub mod render;
+pub mod shadow;
 mod targets;
 pub mod timing;
 mod upload;
+pub mod visibility;
 
 pub use error::{RasterError, INSTALL_HINT};
 pub use gpu::Gpu;
-pub use method::{AreaMethod, Method, PipelineKind};
+pub use method::{AreaMethod, BlockerDepth, Method, PipelineKind, Shadow, ShadowTechnique};
 pub use render::{RasterOutput, RasterSettings, Renderer};
 pub use timing::{Counters, Timing, TimingSource};

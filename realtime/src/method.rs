@@ -1,19 +1,42 @@
-//! Methods (how area lights, sun disks and the environment are shaded) and their parameters,
-//! as `verity raster --method NAME --param k=v` names them.
+//! Methods (how area lights, sun disks and the environment are shaded, and whether lights cast
+//! shadows) and their parameters, as `verity raster --method NAME --param k=v` names them.
 //!
-//! | method | area lights and sun disks | parameters |
-//! |---|---|---|
-//! | `area_quadrature` | N×N midpoint quadrature: converges to the exact unshadowed integral | `n` (16), `env_n` (8) |
-//! | `area_representative_point` | one representative point per light (Karis 2013) | `env_n` (8) |
+//! | method | lights | visibility V | parameters (default) |
+//! |---|---|---|---|
+//! | `area_quadrature` | N×N midpoint quadrature: converges to the exact unshadowed integral | 1 (unshadowed) | `n` (16), `env_n` (8) |
+//! | `area_representative_point` | one representative point per light (Karis 2013) | 1 (unshadowed) | `env_n` (8) |
+//! | `shadow_hard` | N×N quadrature × V | one depth comparison, nearest texel (Williams 1978) | common |
+//! | `pcf_hw_2x2` | N×N quadrature × V | one hardware bilinear comparison: 2×2 PCF | common |
+//! | `pcf_box` | N×N quadrature × V | k×k nearest comparisons averaged (Reeves et al. 1987) | common, `kernel` (3: 3 or 5), `receiver_plane` |
+//! | `pcf_poisson` | N×N quadrature × V | N bilinear comparisons on a Poisson disk | common, `taps` (16: 1..=64), `radius` (2 texels: 0..=64), `receiver_plane` |
+//! | `pcss` | N×N quadrature × V | Fernando 2005 blocker search + penumbra-sized PCF | common, `blocker_samples` (16: 1..=64), `filter_samples` (32: 1..=64), `light_size` (the light's), `blocker_depth` (`search` / `ignore`), `receiver_plane` |
 //!
-//! Delta lights (point, spot, zero-diameter directional) are exact under every method. The
-//! environment lights surfaces by `env_n`×`env_n` cosine-weighted midpoint quadrature under
-//! every method (0 turns environment lighting off; the background is always drawn).
+//! Common parameters of the shadow methods: `n` (8: 1..=64), `env_n` (0: 0..=64), `map` (shadow
+//! map side, 1024: 64..=4096), `bias` (constant bias in world metres along the light ray,
+//! 0.002: 0..=10), `slope_bias` (slope-scaled bias in texel footprints × tan θ, 1: 0..=100),
+//! `normal_offset` (offset along the geometric normal in texel footprints, 1: 0..=100).
+//! `receiver_plane` (`on` / `off`, default on) gives each tap of the multi-tap kernels the
+//! depth of the receiver's tangent plane there (receiver-plane depth bias, Isidoro 2006);
+//! without it wide kernels self-shadow receivers tilted to the light.
+//! `light_size` is metres for local lights and the angular diameter in degrees for directional
+//! lights; `blocker_depth = ignore` replaces the blocker search by half the receiver depth
+//! (a constant penumbra of the light's size): a deliberately broken PCSS, a test device for
+//! thresholds, not a technique.
+//!
+//! Delta lights (point, spot, zero-diameter directional) are exact under every method, up to V.
+//! The environment lights surfaces by `env_n`×`env_n` cosine-weighted midpoint quadrature under
+//! every method, never shadowed (0 turns environment lighting off; the background is always
+//! drawn).
 
 use std::fmt;
 
 /// Largest `n` / `env_n` accepted (N² samples per light per pixel).
 pub const MAX_QUADRATURE_N: u32 = 64;
+/// Largest Poisson tap count (`taps`, `blocker_samples`, `filter_samples`): the size of the
+/// tap table (shadow.rs `POISSON_TAPS`).
+pub const MAX_SHADOW_TAPS: u32 = 64;
+/// Shadow-map sides accepted.
+pub const SHADOW_MAP_SIZES: std::ops::RangeInclusive<u32> = 64..=4096;
 
 /// The area-light technique (WGSL `AREA_METHOD`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -34,8 +57,127 @@ impl AreaMethod {
     }
 }
 
+/// Where PCSS takes the blocker depth from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BlockerDepth {
+    /// The average depth of the blockers found by the search (Fernando 2005).
+    Search,
+    /// Half the receiver depth, whatever blocks: a constant penumbra of the light's size —
+    /// the deliberately broken PCSS that the study thresholds must reject.
+    Ignore,
+}
+
+/// The shadow-map filtering technique and its own parameters (WGSL `SHADOW_METHOD`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ShadowTechnique {
+    /// `shadow_hard`: one depth comparison at the nearest texel (Williams 1978).
+    Hard,
+    /// `pcf_hw_2x2`: one bilinear hardware comparison (2×2 PCF).
+    PcfHw2x2,
+    /// `pcf_box`: k×k nearest comparisons on the texel grid, averaged.
+    PcfBox {
+        /// k: 3 or 5.
+        kernel: u32,
+    },
+    /// `pcf_poisson`: bilinear comparisons at the taps of a Poisson disk.
+    PcfPoisson {
+        /// Number of taps, 1..=64.
+        taps: u32,
+        /// Disk radius in texels.
+        radius: f32,
+    },
+    /// `pcss`: Fernando 2005 percentage-closer soft shadows.
+    Pcss {
+        /// Taps of the blocker search.
+        blocker_samples: u32,
+        /// Taps of the penumbra-sized PCF.
+        filter_samples: u32,
+        /// w_light override (metres; degrees of angular diameter for directional lights);
+        /// None: each light's own size.
+        light_size: Option<f32>,
+        /// The real blocker search, or the broken constant penumbra.
+        blocker_depth: BlockerDepth,
+    },
+}
+
+impl ShadowTechnique {
+    /// The value of the WGSL override constant `SHADOW_METHOD` (0 is "no shadows").
+    pub fn shader_code(self) -> u32 {
+        match self {
+            ShadowTechnique::Hard => 1,
+            ShadowTechnique::PcfHw2x2 => 2,
+            ShadowTechnique::PcfBox { .. } => 3,
+            ShadowTechnique::PcfPoisson { .. } => 4,
+            ShadowTechnique::Pcss { .. } => 5,
+        }
+    }
+
+    /// The method name.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShadowTechnique::Hard => "shadow_hard",
+            ShadowTechnique::PcfHw2x2 => "pcf_hw_2x2",
+            ShadowTechnique::PcfBox { .. } => "pcf_box",
+            ShadowTechnique::PcfPoisson { .. } => "pcf_poisson",
+            ShadowTechnique::Pcss { .. } => "pcss",
+        }
+    }
+
+    /// The technique called `name` with its default parameters.
+    fn by_name(name: &str) -> Option<ShadowTechnique> {
+        Some(match name {
+            "shadow_hard" => ShadowTechnique::Hard,
+            "pcf_hw_2x2" => ShadowTechnique::PcfHw2x2,
+            "pcf_box" => ShadowTechnique::PcfBox { kernel: 3 },
+            "pcf_poisson" => ShadowTechnique::PcfPoisson {
+                taps: 16,
+                radius: 2.0,
+            },
+            "pcss" => ShadowTechnique::Pcss {
+                blocker_samples: 16,
+                filter_samples: 32,
+                light_size: None,
+                blocker_depth: BlockerDepth::Search,
+            },
+            _ => return None,
+        })
+    }
+}
+
+/// Shadow mapping: the technique and the shadow-map parameters every technique shares.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shadow {
+    /// How the map is filtered into V.
+    pub technique: ShadowTechnique,
+    /// Shadow-map side in texels.
+    pub map: u32,
+    /// Constant bias, world metres along the ray towards the light.
+    pub bias: f32,
+    /// Slope-scaled bias: this many texel footprints × tan θ (θ between normal and light).
+    pub slope_bias: f32,
+    /// Offset of the lookup point along the geometric normal, in texel footprints.
+    pub normal_offset: f32,
+    /// Receiver-plane depth bias for the multi-tap kernels (`pcf_box`, `pcf_poisson`, `pcss`):
+    /// each tap compares against the receiver's tangent plane's depth there (Isidoro 2006).
+    pub receiver_plane: bool,
+}
+
+impl Shadow {
+    /// `technique` with the default map (1024²) and biases (0.002 m, 1, 1).
+    pub fn new(technique: ShadowTechnique) -> Shadow {
+        Shadow {
+            technique,
+            map: 1024,
+            bias: 0.002,
+            slope_bias: 1.0,
+            normal_offset: 1.0,
+            receiver_plane: true,
+        }
+    }
+}
+
 /// A method with its parameters.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Method {
     /// How area lights and sun disks are shaded.
     pub area: AreaMethod,
@@ -43,6 +185,8 @@ pub struct Method {
     pub area_n: u32,
     /// N of the N×N environment quadrature; 0 = no environment lighting.
     pub env_n: u32,
+    /// Shadow mapping, or None: every light unoccluded.
+    pub shadow: Option<Shadow>,
 }
 
 impl Default for Method {
@@ -52,13 +196,44 @@ impl Default for Method {
             area: AreaMethod::Quadrature,
             area_n: 16,
             env_n: 8,
+            shadow: None,
+        }
+    }
+}
+
+/// A parameter's accepted values, for parsing and error messages.
+enum Param {
+    Whole(std::ops::RangeInclusive<u32>),
+    OneOf(&'static [u32]),
+    Real(f32, f32),
+    Keyword(&'static [&'static str]),
+}
+
+impl Param {
+    fn describe(&self) -> String {
+        match self {
+            Param::Whole(r) => format!("a whole number in {}..={}", r.start(), r.end()),
+            Param::OneOf(v) => {
+                let v: Vec<String> = v.iter().map(u32::to_string).collect();
+                format!("one of {}", v.join(", "))
+            }
+            Param::Real(lo, hi) => format!("a number in [{lo}, {hi}]"),
+            Param::Keyword(k) => format!("one of {}", k.join(", ")),
         }
     }
 }
 
 impl Method {
     /// Every method name `parse` accepts.
-    pub const NAMES: [&'static str; 2] = ["area_quadrature", "area_representative_point"];
+    pub const NAMES: [&'static str; 7] = [
+        "area_quadrature",
+        "area_representative_point",
+        "shadow_hard",
+        "pcf_hw_2x2",
+        "pcf_box",
+        "pcf_poisson",
+        "pcss",
+    ];
 
     /// `area_quadrature` with the given N (environment N 8).
     pub fn quadrature(n: u32) -> Self {
@@ -76,6 +251,17 @@ impl Method {
         }
     }
 
+    /// The shadow method `shadow` over N×N quadrature with the shadow methods' defaults
+    /// (n = 8, env_n = 0).
+    pub fn shadowed(shadow: Shadow) -> Self {
+        Method {
+            area: AreaMethod::Quadrature,
+            area_n: 8,
+            env_n: 0,
+            shadow: Some(shadow),
+        }
+    }
+
     /// The same method with environment quadrature N.
     pub fn with_env_n(self, env_n: u32) -> Self {
         Method { env_n, ..self }
@@ -87,48 +273,211 @@ impl Method {
         let mut m = match name {
             "area_quadrature" => Method::default(),
             "area_representative_point" => Method::representative_point(),
-            _ => {
-                return Err(format!(
-                    "unknown method `{name}`; methods: {}",
-                    Method::NAMES.join(", ")
-                ))
-            }
-        };
-        for (key, value) in params {
-            let accepted: &[&str] = match m.area {
-                AreaMethod::Quadrature => &["n", "env_n"],
-                AreaMethod::RepresentativePoint => &["env_n"],
-            };
-            let slot = match key.as_str() {
-                "n" if m.area == AreaMethod::Quadrature => &mut m.area_n,
-                "env_n" => &mut m.env_n,
-                _ => {
+            _ => match ShadowTechnique::by_name(name) {
+                Some(t) => Method::shadowed(Shadow::new(t)),
+                None => {
                     return Err(format!(
-                        "method {name} has no parameter `{key}`; parameters: {}",
-                        accepted.join(", ")
+                        "unknown method `{name}`; methods: {}",
+                        Method::NAMES.join(", ")
                     ))
                 }
+            },
+        };
+        for (key, value) in params {
+            let Some(spec) = m.param_spec(key) else {
+                return Err(format!(
+                    "method {name} has no parameter `{key}`; parameters: {}",
+                    m.param_names().join(", ")
+                ));
             };
-            *slot = parse_n(key, value, key == "env_n")?;
+            m.set(key, value.trim(), &spec)
+                .ok_or_else(|| format!("parameter {key} = `{value}`: expected {}", spec.describe()))?;
         }
         Ok(m)
     }
 
+    /// The parameter names this method accepts, in `params` order.
+    fn param_names(&self) -> Vec<&'static str> {
+        let mut names = Vec::new();
+        if self.area == AreaMethod::Quadrature {
+            names.push("n");
+        }
+        names.push("env_n");
+        if let Some(s) = &self.shadow {
+            names.extend(["map", "bias", "slope_bias", "normal_offset"]);
+            names.extend(match s.technique {
+                ShadowTechnique::Hard | ShadowTechnique::PcfHw2x2 => &[][..],
+                ShadowTechnique::PcfBox { .. } => &["kernel", "receiver_plane"],
+                ShadowTechnique::PcfPoisson { .. } => &["taps", "radius", "receiver_plane"],
+                ShadowTechnique::Pcss { .. } => &[
+                    "blocker_samples",
+                    "filter_samples",
+                    "light_size",
+                    "blocker_depth",
+                    "receiver_plane",
+                ],
+            });
+        }
+        names
+    }
+
+    /// What parameter `key` of this method accepts, or None if it has no such parameter.
+    fn param_spec(&self, key: &str) -> Option<Param> {
+        if !self.param_names().contains(&key) {
+            return None;
+        }
+        let taps = Param::Whole(1..=MAX_SHADOW_TAPS);
+        Some(match key {
+            "n" => Param::Whole(1..=MAX_QUADRATURE_N),
+            "env_n" => Param::Whole(0..=MAX_QUADRATURE_N),
+            "map" => Param::Whole(SHADOW_MAP_SIZES),
+            "bias" => Param::Real(0.0, 10.0),
+            "slope_bias" | "normal_offset" => Param::Real(0.0, 100.0),
+            "kernel" => Param::OneOf(&[3, 5]),
+            "taps" | "blocker_samples" | "filter_samples" => taps,
+            "radius" => Param::Real(0.0, 64.0),
+            "light_size" => Param::Real(0.0, 1e6),
+            "blocker_depth" => Param::Keyword(&["search", "ignore"]),
+            // true/false too: a study file's TOML booleans arrive as such.
+            "receiver_plane" => Param::Keyword(&["on", "off", "true", "false"]),
+            _ => return None,
+        })
+    }
+
+    /// Sets parameter `key` from `value`; None if the value is not accepted.
+    fn set(&mut self, key: &str, value: &str, spec: &Param) -> Option<()> {
+        let whole = || -> Option<u32> {
+            let v = value.parse::<u32>().ok()?;
+            match spec {
+                Param::Whole(r) => r.contains(&v).then_some(v),
+                Param::OneOf(set) => set.contains(&v).then_some(v),
+                _ => None,
+            }
+        };
+        let real = || -> Option<f32> {
+            let v = value.parse::<f32>().ok()?;
+            match spec {
+                Param::Real(lo, hi) => (v.is_finite() && v >= *lo && v <= *hi).then_some(v),
+                _ => None,
+            }
+        };
+        match key {
+            "n" => self.area_n = whole()?,
+            "env_n" => self.env_n = whole()?,
+            _ => {
+                let s = self.shadow.as_mut()?;
+                match (key, &mut s.technique) {
+                    ("map", _) => s.map = whole()?,
+                    ("bias", _) => s.bias = real()?,
+                    ("slope_bias", _) => s.slope_bias = real()?,
+                    ("normal_offset", _) => s.normal_offset = real()?,
+                    ("receiver_plane", _) => {
+                        s.receiver_plane = match value {
+                            "on" | "true" => true,
+                            "off" | "false" => false,
+                            _ => return None,
+                        }
+                    }
+                    ("kernel", ShadowTechnique::PcfBox { kernel }) => *kernel = whole()?,
+                    ("taps", ShadowTechnique::PcfPoisson { taps, .. }) => *taps = whole()?,
+                    ("radius", ShadowTechnique::PcfPoisson { radius, .. }) => *radius = real()?,
+                    ("blocker_samples", ShadowTechnique::Pcss { blocker_samples, .. }) => {
+                        *blocker_samples = whole()?
+                    }
+                    ("filter_samples", ShadowTechnique::Pcss { filter_samples, .. }) => {
+                        *filter_samples = whole()?
+                    }
+                    ("light_size", ShadowTechnique::Pcss { light_size, .. }) => *light_size = Some(real()?),
+                    ("blocker_depth", ShadowTechnique::Pcss { blocker_depth, .. }) => {
+                        *blocker_depth = match value {
+                            "search" => BlockerDepth::Search,
+                            "ignore" => BlockerDepth::Ignore,
+                            _ => return None,
+                        }
+                    }
+                    _ => return None,
+                }
+            }
+        }
+        Some(())
+    }
+
+    /// Checks every parameter against the ranges `parse` accepts (for methods built in code).
+    pub fn validate(&self) -> Result<(), String> {
+        for (key, value) in self.params() {
+            let spec = self
+                .param_spec(&key)
+                .ok_or_else(|| format!("method {self}: no parameter `{key}`"))?;
+            let mut copy = *self;
+            if copy.set(&key, &value, &spec).is_none() {
+                return Err(format!(
+                    "method {self}: parameter {key} = {value}: expected {}",
+                    spec.describe()
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// The method's name.
     pub fn name(&self) -> &'static str {
-        match self.area {
-            AreaMethod::Quadrature => "area_quadrature",
-            AreaMethod::RepresentativePoint => "area_representative_point",
+        match (self.shadow, self.area) {
+            (Some(s), _) => s.technique.name(),
+            (None, AreaMethod::Quadrature) => "area_quadrature",
+            (None, AreaMethod::RepresentativePoint) => "area_representative_point",
         }
+    }
+
+    /// The WGSL `SHADOW_METHOD` of this method (0: unshadowed).
+    pub fn shadow_code(&self) -> u32 {
+        self.shadow.map_or(0, |s| s.technique.shader_code())
     }
 
     /// Its parameters as `k=v` pairs (for headers and the timing line).
     pub fn params(&self) -> Vec<(String, String)> {
         let mut p = Vec::new();
+        let mut push = |k: &str, v: String| p.push((k.to_string(), v));
         if self.area == AreaMethod::Quadrature {
-            p.push(("n".to_string(), self.area_n.to_string()));
+            push("n", self.area_n.to_string());
         }
-        p.push(("env_n".to_string(), self.env_n.to_string()));
+        push("env_n", self.env_n.to_string());
+        if let Some(s) = &self.shadow {
+            push("map", s.map.to_string());
+            push("bias", s.bias.to_string());
+            push("slope_bias", s.slope_bias.to_string());
+            push("normal_offset", s.normal_offset.to_string());
+            let plane = if s.receiver_plane { "on" } else { "off" };
+            match s.technique {
+                ShadowTechnique::Hard | ShadowTechnique::PcfHw2x2 => {}
+                ShadowTechnique::PcfBox { kernel } => {
+                    push("kernel", kernel.to_string());
+                    push("receiver_plane", plane.to_string());
+                }
+                ShadowTechnique::PcfPoisson { taps, radius } => {
+                    push("taps", taps.to_string());
+                    push("radius", radius.to_string());
+                    push("receiver_plane", plane.to_string());
+                }
+                ShadowTechnique::Pcss {
+                    blocker_samples,
+                    filter_samples,
+                    light_size,
+                    blocker_depth,
+                } => {
+                    push("blocker_samples", blocker_samples.to_string());
+                    push("filter_samples", filter_samples.to_string());
+                    if let Some(w) = light_size {
+                        push("light_size", w.to_string());
+                    }
+                    let mode = match blocker_depth {
+                        BlockerDepth::Search => "search",
+                        BlockerDepth::Ignore => "ignore",
+                    };
+                    push("blocker_depth", mode.to_string());
+                    push("receiver_plane", plane.to_string());
+                }
+            }
+        }
         p
     }
 }
@@ -138,17 +487,6 @@ impl fmt::Display for Method {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let params: Vec<String> = self.params().iter().map(|(k, v)| format!("{k}={v}")).collect();
         write!(f, "{}({})", self.name(), params.join(", "))
-    }
-}
-
-/// A quadrature N in 1..=[`MAX_QUADRATURE_N`] (0 too when `zero_ok`).
-fn parse_n(key: &str, value: &str, zero_ok: bool) -> Result<u32, String> {
-    let lo = if zero_ok { 0 } else { 1 };
-    match value.trim().parse::<u32>() {
-        Ok(n) if (lo..=MAX_QUADRATURE_N).contains(&n) => Ok(n),
-        _ => Err(format!(
-            "parameter {key} = `{value}`: expected a whole number in {lo}..={MAX_QUADRATURE_N}"
-        )),
     }
 }
 
@@ -191,8 +529,8 @@ mod tests {
 
     #[test]
     fn parse_rejects_bad_names_and_values() {
-        let e = Method::parse("pcss", &[]).unwrap_err();
-        assert!(e.contains("area_quadrature"), "{e}");
+        let e = Method::parse("pcss_fixed", &[]).unwrap_err();
+        assert!(e.contains("area_quadrature") && e.contains("pcss"), "{e}");
         let e = Method::parse("area_representative_point", &[kv("n", "4")]).unwrap_err();
         assert!(e.contains("no parameter `n`") && e.contains("env_n"), "{e}");
         for bad in ["0", "65", "-1", "x", "2.5"] {
@@ -202,5 +540,78 @@ mod tests {
             );
         }
         assert!(Method::parse("area_quadrature", &[kv("env_n", "0")]).is_ok());
+        let e = Method::parse("area_quadrature", &[kv("map", "512")]).unwrap_err();
+        assert!(e.contains("no parameter `map`"), "{e}");
+    }
+
+    /// Every shadow method's defaults as the method table lists them, and names round-trip.
+    #[test]
+    fn shadow_methods_have_the_documented_defaults() {
+        let common = "n=8, env_n=0, map=1024, bias=0.002, slope_bias=1, normal_offset=1";
+        for (name, own) in [
+            ("shadow_hard", ""),
+            ("pcf_hw_2x2", ""),
+            ("pcf_box", ", kernel=3, receiver_plane=on"),
+            ("pcf_poisson", ", taps=16, radius=2, receiver_plane=on"),
+            (
+                "pcss",
+                ", blocker_samples=16, filter_samples=32, blocker_depth=search, receiver_plane=on",
+            ),
+        ] {
+            let m = Method::parse(name, &[]).unwrap();
+            assert_eq!(m.to_string(), format!("{name}({common}{own})"));
+            assert_eq!(m.name(), name);
+            assert!(m.validate().is_ok());
+            // The header's parameter list parses back to the same method.
+            assert_eq!(Method::parse(name, &m.params()).unwrap(), m);
+            assert_eq!(m.area, AreaMethod::Quadrature);
+        }
+        let codes: Vec<u32> = Method::NAMES
+            .iter()
+            .map(|n| Method::parse(n, &[]).unwrap().shadow_code())
+            .collect();
+        assert_eq!(codes, [0, 0, 1, 2, 3, 4, 5]);
+    }
+
+    #[test]
+    fn shadow_parameters_are_range_checked() {
+        let ok = |name: &str, k: &str, v: &str| Method::parse(name, &[kv(k, v)]).is_ok();
+        assert!(
+            ok("pcf_box", "kernel", "5") && !ok("pcf_box", "kernel", "4") && !ok("pcf_box", "kernel", "7")
+        );
+        assert!(
+            ok("pcf_poisson", "taps", "64")
+                && !ok("pcf_poisson", "taps", "0")
+                && !ok("pcf_poisson", "taps", "65")
+        );
+        assert!(ok("pcf_poisson", "radius", "0.5") && !ok("pcf_poisson", "radius", "-1"));
+        assert!(ok("shadow_hard", "map", "64") && ok("shadow_hard", "map", "4096"));
+        assert!(!ok("shadow_hard", "map", "32") && !ok("shadow_hard", "map", "8192"));
+        assert!(
+            ok("shadow_hard", "bias", "0")
+                && !ok("shadow_hard", "bias", "NaN")
+                && !ok("shadow_hard", "bias", "inf")
+        );
+        assert!(!ok("shadow_hard", "kernel", "3"), "kernel is pcf_box's");
+        assert!(ok("pcss", "blocker_depth", "ignore") && !ok("pcss", "blocker_depth", "fixed"));
+        let m = Method::parse("pcss", &[kv("light_size", "0.25"), kv("blocker_depth", "ignore")]).unwrap();
+        assert!(
+            m.to_string()
+                .ends_with("light_size=0.25, blocker_depth=ignore, receiver_plane=on)"),
+            "{m}"
+        );
+        assert!(ok("pcf_box", "receiver_plane", "off") && !ok("pcf_hw_2x2", "receiver_plane", "off"));
+        let off = Method::parse("pcss", &[kv("receiver_plane", "false")]).unwrap();
+        assert!(off.to_string().ends_with("receiver_plane=off)"), "{off}");
+        let e = Method::parse("pcf_box", &[kv("kernel", "4")]).unwrap_err();
+        assert!(e.contains("kernel") && e.contains("one of 3, 5"), "{e}");
+        let e = Method::parse("pcss", &[kv("radius", "1")]).unwrap_err();
+        assert!(e.contains("blocker_samples") && e.contains("light_size"), "{e}");
+        let mut bad = Method::parse("pcf_poisson", &[]).unwrap();
+        bad.shadow = Some(Shadow::new(ShadowTechnique::PcfPoisson {
+            taps: 99,
+            radius: 1.0,
+        }));
+        assert!(bad.validate().unwrap_err().contains("taps"));
     }
 }

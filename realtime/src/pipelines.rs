@@ -1,5 +1,5 @@
 //! The shader module, its bind group layouts and the render pipelines, created lazily and
-//! cached per (entry point, area method, counters) — lavapipe compiles each with LLVM, so a
+//! cached per (entry point, area method, shadow method, counters) — lavapipe compiles each with LLVM, so a
 //! pipeline is built once per process, not once per frame or render.
 //!
 //! | pipeline | vertex | fragment | targets | depth |
@@ -10,8 +10,17 @@
 //! | G-buffer mesh | `vs_mesh` | `fs_mesh_gbuffer` | G0, G1, G2 | Greater, write |
 //! | G-buffer analytic | `vs_analytic` | `fs_analytic_gbuffer` | G0, G1, G2 | Greater, write (frag_depth) |
 //! | lighting | `vs_fullscreen` | `fs_lighting` | colour, normal+depth, albedo+id | none |
+//! | shadow mesh | `vs_shadow_mesh` | none (depth only) | none | Less, write (standard Z) |
+//! | shadow analytic | `vs_shadow_analytic` | `fs_shadow_analytic` | none | Less, write (frag_depth) |
+//! | visibility AOV | `vs_fullscreen_chunk` | `fs_visibility` | none (storage writes) | Always, no write |
 //!
-//! Every target is Rgba32Float; depth is Depth32Float, reversed-Z, cleared to 0.
+//! Every target is Rgba32Float; depth is Depth32Float, reversed-Z, cleared to 0; shadow maps
+//! are Depth32Float layers, standard Z, cleared to 1.
+//!
+//! Bind groups: 0 the scene (and the shadow uniform), 1 the G-buffer (lighting; with the AOV
+//! buffer for the visibility AOV; an empty group for the geometry pipelines), 2 the shadow maps
+//! and their comparison samplers (every shading pipeline; a placeholder when unshadowed). The
+//! shadow pass binds group 0 only: its maps cannot be bound while it renders them.
 //!
 //! The counting variant (the module with `counters_on.wgsl`) is used for the lighting pipeline
 //! of the counting frame only: after a G-buffer pass it shades each visible sample once.
@@ -20,7 +29,7 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 use crate::gpu_types::{AnalyticVertex, MeshVertex};
-use crate::method::AreaMethod;
+use crate::method::{AreaMethod, Method};
 
 /// Format of every colour target and G-buffer layer.
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
@@ -29,7 +38,7 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// The WGSL sources in dependency order; WGSL has no includes, so they form one module, with
 /// `counters_on.wgsl` or `counters_off.wgsl` appended.
-const SHADER_SOURCES: [(&str, &str); 10] = [
+const SHADER_SOURCES: [(&str, &str); 15] = [
     ("common.wgsl", include_str!("../shaders/common.wgsl")),
     ("texture.wgsl", include_str!("../shaders/texture.wgsl")),
     ("surface.wgsl", include_str!("../shaders/surface.wgsl")),
@@ -46,6 +55,17 @@ const SHADER_SOURCES: [(&str, &str); 10] = [
     (
         "area_representative_point.wgsl",
         include_str!("../shaders/area_representative_point.wgsl"),
+    ),
+    (
+        "shadow_map_common.wgsl",
+        include_str!("../shaders/shadow_map_common.wgsl"),
+    ),
+    ("shadow_hard.wgsl", include_str!("../shaders/shadow_hard.wgsl")),
+    ("pcf.wgsl", include_str!("../shaders/pcf.wgsl")),
+    ("pcss.wgsl", include_str!("../shaders/pcss.wgsl")),
+    (
+        "shadow_visibility.wgsl",
+        include_str!("../shaders/shadow_visibility.wgsl"),
     ),
     ("shade.wgsl", include_str!("../shaders/shade.wgsl")),
     ("passes.wgsl", include_str!("../shaders/passes.wgsl")),
@@ -80,6 +100,12 @@ pub enum Stage {
     GBufferAnalytic,
     /// Deferred lighting (and background).
     Lighting,
+    /// Depth of meshes from a light.
+    ShadowMesh,
+    /// Depth of analytic shapes from a light (ray traced on their proxies).
+    ShadowAnalytic,
+    /// Every light's visibility at every G-buffer sample (the `visibility.*` AOV).
+    VisibilityAov,
 }
 
 impl Stage {
@@ -91,19 +117,44 @@ impl Stage {
             Stage::GBufferMesh => ("vs_mesh", "fs_mesh_gbuffer"),
             Stage::GBufferAnalytic => ("vs_analytic", "fs_analytic_gbuffer"),
             Stage::Lighting => ("vs_fullscreen", "fs_lighting"),
+            Stage::ShadowMesh => ("vs_shadow_mesh", ""),
+            Stage::ShadowAnalytic => ("vs_shadow_analytic", "fs_shadow_analytic"),
+            Stage::VisibilityAov => ("vs_fullscreen_chunk", "fs_visibility"),
         }
+    }
+
+    /// Whether the stage shades (its overrides matter); the others are built once.
+    fn shades(self) -> bool {
+        matches!(
+            self,
+            Stage::ForwardMesh | Stage::ForwardAnalytic | Stage::Lighting | Stage::VisibilityAov
+        )
+    }
+
+    /// A shadow-pass stage (depth from a light).
+    pub fn is_shadow(self) -> bool {
+        matches!(self, Stage::ShadowMesh | Stage::ShadowAnalytic)
     }
 }
 
-/// Cache key: the pipeline, the area method, whether it is the counting variant.
-type Key = (Stage, AreaMethod, bool);
+/// Cache key: the pipeline, the area method, the shadow method's WGSL code, whether it is the
+/// counting variant.
+type Key = (Stage, AreaMethod, u32, bool);
 
 /// Layouts, the shader module and the pipeline cache.
 pub struct Pipelines {
     pub(crate) scene_layout: wgpu::BindGroupLayout,
     pub(crate) gbuffer_layout: wgpu::BindGroupLayout,
+    /// Group 1 of the visibility AOV pass: the G-buffer, the AOV buffer, its dimensions.
+    pub(crate) aov_layout: wgpu::BindGroupLayout,
+    /// Group 2: the shadow-map array and its comparison samplers.
+    pub(crate) shadow_layout: wgpu::BindGroupLayout,
+    /// The empty group 1 of the geometry pipelines.
+    pub(crate) empty_bind_group: wgpu::BindGroup,
     forward_layout: wgpu::PipelineLayout,
     lighting_layout: wgpu::PipelineLayout,
+    aov_pipeline_layout: wgpu::PipelineLayout,
+    shadow_pass_layout: wgpu::PipelineLayout,
     module: wgpu::ShaderModule,
     counting_module: wgpu::ShaderModule,
     cache: Mutex<HashMap<Key, Arc<wgpu::RenderPipeline>>>,
@@ -122,51 +173,119 @@ fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
+fn layout_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    ty: wgpu::BindingType,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty,
+        count: None,
+    }
+}
+
+fn uniform_type() -> wgpu::BindingType {
+    wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Uniform,
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    }
+}
+
+fn bind_group_layout(
+    device: &wgpu::Device,
+    label: &str,
+    entries: &[wgpu::BindGroupLayoutEntry],
+) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries,
+    })
+}
+
+fn pipeline_layout(
+    device: &wgpu::Device,
+    label: &str,
+    groups: &[&wgpu::BindGroupLayout],
+) -> wgpu::PipelineLayout {
+    device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: groups,
+        push_constant_ranges: &[],
+    })
+}
+
 impl Pipelines {
     /// Compiles the shader module (validation errors come back from the caller's error scope).
     pub fn new(device: &wgpu::Device) -> Pipelines {
-        let mut scene_entries = vec![wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        }];
+        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let fragment = wgpu::ShaderStages::FRAGMENT;
+        let mut scene_entries = vec![layout_entry(0, vf, uniform_type())];
         scene_entries.extend((1..=6).map(|b| storage_entry(b, true)));
         scene_entries.push(storage_entry(7, false));
-        let scene_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("scene bind group layout"),
-            entries: &scene_entries,
-        });
+        // The shadow uniform: settings, taps and every light's frustum (shadow.rs).
+        scene_entries.push(layout_entry(8, vf, uniform_type()));
+        let scene_layout = bind_group_layout(device, "scene bind group layout", &scene_entries);
         let gbuffer_entries: Vec<_> = (0..3)
-            .map(|b| wgpu::BindGroupLayoutEntry {
-                binding: b,
-                visibility: wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
+            .map(|b| {
+                layout_entry(
+                    b,
+                    fragment,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                )
             })
             .collect();
-        let gbuffer_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("G-buffer bind group layout"),
-            entries: &gbuffer_entries,
+        let gbuffer_layout = bind_group_layout(device, "G-buffer bind group layout", &gbuffer_entries);
+        let mut aov_entries = gbuffer_entries.clone();
+        aov_entries.push(storage_entry(3, false));
+        aov_entries.push(layout_entry(4, fragment, uniform_type()));
+        let aov_layout = bind_group_layout(device, "visibility AOV bind group layout", &aov_entries);
+        let comparison = wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison);
+        let shadow_layout = bind_group_layout(
+            device,
+            "shadow map bind group layout",
+            &[
+                layout_entry(
+                    0,
+                    fragment,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                ),
+                layout_entry(1, fragment, comparison),
+                layout_entry(2, fragment, comparison),
+            ],
+        );
+        let empty_layout = bind_group_layout(device, "empty bind group layout", &[]);
+        let empty_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("empty bind group (group 1 of the geometry pipelines)"),
+            layout: &empty_layout,
+            entries: &[],
         });
-        let forward_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("geometry pipeline layout"),
-            bind_group_layouts: &[&scene_layout],
-            push_constant_ranges: &[],
-        });
-        let lighting_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("lighting pipeline layout"),
-            bind_group_layouts: &[&scene_layout, &gbuffer_layout],
-            push_constant_ranges: &[],
-        });
+        let forward_layout = pipeline_layout(
+            device,
+            "geometry pipeline layout",
+            &[&scene_layout, &empty_layout, &shadow_layout],
+        );
+        let lighting_layout = pipeline_layout(
+            device,
+            "lighting pipeline layout",
+            &[&scene_layout, &gbuffer_layout, &shadow_layout],
+        );
+        let aov_pipeline_layout = pipeline_layout(
+            device,
+            "visibility AOV pipeline layout",
+            &[&scene_layout, &aov_layout, &shadow_layout],
+        );
+        let shadow_pass_layout = pipeline_layout(device, "shadow pass pipeline layout", &[&scene_layout]);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("verity realtime shaders"),
             source: wgpu::ShaderSource::Wgsl(shader_source(false).into()),
@@ -178,8 +297,13 @@ impl Pipelines {
         Pipelines {
             scene_layout,
             gbuffer_layout,
+            aov_layout,
+            shadow_layout,
+            empty_bind_group,
             forward_layout,
             lighting_layout,
+            aov_pipeline_layout,
+            shadow_pass_layout,
             module,
             counting_module,
             cache: Mutex::new(HashMap::new()),
@@ -187,14 +311,22 @@ impl Pipelines {
     }
 
     /// The pipeline for `stage` with `method`, the counting variant or not, built on first use.
+    /// Stages that do not shade ignore the shadow method (and the shadow pass the area method
+    /// and counters too), so they are built once.
     pub fn get(
         &self,
         device: &wgpu::Device,
         stage: Stage,
-        method: AreaMethod,
+        method: &Method,
         counters: bool,
     ) -> Arc<wgpu::RenderPipeline> {
-        let key = (stage, method, counters);
+        let key = if stage.is_shadow() {
+            (stage, AreaMethod::Quadrature, 0, false)
+        } else if stage.shades() {
+            (stage, method.area, method.shadow_code(), counters)
+        } else {
+            (stage, method.area, 0, counters)
+        };
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
         cache
             .entry(key)
@@ -202,10 +334,13 @@ impl Pipelines {
             .clone()
     }
 
-    fn build(&self, device: &wgpu::Device, (stage, method, counters): Key) -> wgpu::RenderPipeline {
+    fn build(&self, device: &wgpu::Device, (stage, method, shadow, counters): Key) -> wgpu::RenderPipeline {
         let (vs, fs) = stage.entry_points();
-        let label = format!("{fs} ({method:?}, counters {counters})");
-        let constants = [("AREA_METHOD", f64::from(method.shader_code()))];
+        let label = format!("{vs}/{fs} ({method:?}, shadow method {shadow}, counters {counters})");
+        let constants = [
+            ("AREA_METHOD", f64::from(method.shader_code())),
+            ("SHADOW_METHOD", f64::from(shadow)),
+        ];
         let module = if counters {
             &self.counting_module
         } else {
@@ -220,6 +355,12 @@ impl Pipelines {
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &MeshVertex::ATTRIBUTES,
         }];
+        // The shadow pass reads only the position of the mesh vertex.
+        let mesh_position_layout = [wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<MeshVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &MeshVertex::ATTRIBUTES[..1],
+        }];
         let analytic_layout = [wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<AnalyticVertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
@@ -227,8 +368,9 @@ impl Pipelines {
         }];
         let buffers: &[wgpu::VertexBufferLayout] = match stage {
             Stage::ForwardMesh | Stage::GBufferMesh => &mesh_layout,
-            Stage::ForwardAnalytic | Stage::GBufferAnalytic => &analytic_layout,
-            Stage::Background | Stage::Lighting => &[],
+            Stage::ShadowMesh => &mesh_position_layout,
+            Stage::ForwardAnalytic | Stage::GBufferAnalytic | Stage::ShadowAnalytic => &analytic_layout,
+            Stage::Background | Stage::Lighting | Stage::VisibilityAov => &[],
         };
         let depth = |compare, write| wgpu::DepthStencilState {
             format: DEPTH_FORMAT,
@@ -240,11 +382,14 @@ impl Pipelines {
         let depth_stencil = match stage {
             Stage::Lighting => None,
             Stage::Background => Some(depth(wgpu::CompareFunction::GreaterEqual, false)),
+            Stage::ShadowMesh | Stage::ShadowAnalytic => Some(depth(wgpu::CompareFunction::Less, true)),
+            // A render pass needs an attachment: the G-buffer's depth, untouched.
+            Stage::VisibilityAov => Some(depth(wgpu::CompareFunction::Always, false)),
             _ => Some(depth(wgpu::CompareFunction::Greater, true)),
         };
         let cull_mode = match stage {
             // Analytic proxies are wound so that back-face culling keeps one layer.
-            Stage::ForwardAnalytic | Stage::GBufferAnalytic => Some(wgpu::Face::Back),
+            Stage::ForwardAnalytic | Stage::GBufferAnalytic | Stage::ShadowAnalytic => Some(wgpu::Face::Back),
             _ => None,
         };
         let target = Some(wgpu::ColorTargetState {
@@ -252,10 +397,23 @@ impl Pipelines {
             blend: None,
             write_mask: wgpu::ColorWrites::ALL,
         });
+        let three = [target.clone(), target.clone(), target];
+        let targets: &[Option<wgpu::ColorTargetState>] = match stage {
+            Stage::ShadowMesh | Stage::ShadowAnalytic | Stage::VisibilityAov => &[],
+            _ => &three,
+        };
         let layout = match stage {
             Stage::Lighting => &self.lighting_layout,
+            Stage::VisibilityAov => &self.aov_pipeline_layout,
+            Stage::ShadowMesh | Stage::ShadowAnalytic => &self.shadow_pass_layout,
             _ => &self.forward_layout,
         };
+        let fragment = (!fs.is_empty()).then(|| wgpu::FragmentState {
+            module,
+            entry_point: Some(fs),
+            compilation_options: options.clone(),
+            targets,
+        });
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(&label),
             layout: Some(layout),
@@ -273,12 +431,7 @@ impl Pipelines {
             },
             depth_stencil,
             multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module,
-                entry_point: Some(fs),
-                compilation_options: options,
-                targets: &[target.clone(), target.clone(), target],
-            }),
+            fragment,
             multiview: None,
             cache: None,
         })

@@ -1,10 +1,11 @@
 //! Rendering a scene: settings, the frame loop (warm-up, timed frames, read-back), the
-//! optional counting frame and the object-id pass at pixel centres.
+//! optional counting frame, the object-id pass at pixel centres and the visibility AOV.
 //!
-//! One frame is one command buffer: the forward pass, or the G-buffer pass and the lighting
-//! pass, each a labelled render pass with debug groups and, when the adapter has them,
-//! timestamp writes at its start and end. Frames are submitted one at a time and waited for,
-//! so wall time around submit-and-wait is one frame's latency.
+//! One frame is one command buffer: under a shadow method the shadow pass (one depth-only
+//! render pass per light), then the forward pass, or the G-buffer pass and the lighting pass,
+//! each a labelled render pass with debug groups and, when the adapter has them, timestamp
+//! writes at its start and end. Frames are submitted one at a time and waited for, so wall
+//! time around submit-and-wait is one frame's latency.
 
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
@@ -13,14 +14,16 @@ use scenes::layered::LayeredImage;
 use scenes::Scene;
 
 use crate::error::RasterError;
-use crate::frame::{encode_passes, Frame, Timestamps};
+use crate::frame::{encode_passes, Frame, ShadingGroups, Timestamps};
 use crate::gpu::Gpu;
-use crate::image::{assemble, Readback};
+use crate::image::{assemble, box_filter, Readback};
 use crate::method::{Method, PipelineKind, MAX_QUADRATURE_N};
 use crate::pipelines::{Pipelines, Stage};
+use crate::shadow::ShadowMaps;
 use crate::targets::Targets;
 use crate::timing::{median, Counters, PassTime, Timing, TimingSource};
 use crate::upload::SceneGpu;
+use crate::visibility::{encode_visibility_pass, named_sources, slots_per_chunk, Chunk, Source};
 
 /// Largest supersampling factor accepted (k×k samples per pixel).
 pub const MAX_SSAA: u32 = 16;
@@ -105,6 +108,17 @@ impl RasterSettings {
                 "method {m}: n must be in 1..={MAX_QUADRATURE_N} and env_n in 0..={MAX_QUADRATURE_N}"
             ));
         }
+        if let Err(e) = m.validate() {
+            return bad(e);
+        }
+        if let Some(sh) = &m.shadow {
+            if sh.map > max_dimension {
+                return bad(format!(
+                    "method {m}: map = {} exceeds the adapter's {max_dimension} texels per side",
+                    sh.map
+                ));
+            }
+        }
         if self.timed_frames == 0 {
             return bad("at least one timed frame is needed".into());
         }
@@ -125,7 +139,8 @@ impl RasterSettings {
 /// A finished raster render.
 #[derive(Clone, Debug)]
 pub struct RasterOutput {
-    /// R, G, B, depth.Z, normal.X/Y/Z, albedo.R/G/B, coverage.Y, object_id.Y and the header.
+    /// R, G, B, depth.Z, normal.X/Y/Z, albedo.R/G/B, coverage.Y, object_id.Y,
+    /// visibility.<light>.Y and the header.
     pub image: LayeredImage,
     /// Cost.
     pub timing: Timing,
@@ -189,24 +204,30 @@ impl Renderer {
         settings.check(self.gpu.limits().max_texture_dimension_2d)?;
         let max_binding = u64::from(self.gpu.limits().max_storage_buffer_binding_size);
         let scene_gpu = SceneGpu::new(device, scene, max_binding).map_err(RasterError::Scene)?;
+        let shadow = ShadowMaps::new(
+            device,
+            &self.pipelines.shadow_layout,
+            scene,
+            &settings.method,
+            self.gpu.limits(),
+        )
+        .map_err(RasterError::Settings)?;
+        let groups = ShadingGroups {
+            empty: &self.pipelines.empty_bind_group,
+            shadow: &shadow,
+        };
         let k = settings.ssaa;
         let (tw, th) = (settings.width * k, settings.height * k);
-        let frame = Frame::new(
-            device,
-            &self.pipelines.scene_layout,
-            scene,
-            &scene_gpu,
-            settings,
-            k,
-        );
+        let layout = &self.pipelines.scene_layout;
+        let frame = Frame::new(device, layout, scene, &scene_gpu, &shadow, settings, k);
         let targets = Targets::new(device, settings.pipeline, tw, th, &self.pipelines.gbuffer_layout);
         let stages = self.stages(settings, false);
         self.check_errors("creating the scene buffers and pipelines")?;
 
-        let timing = self.timed_frames(&frame, &targets, &stages, &scene_gpu, settings)?;
+        let timing = self.timed_frames(&frame, &targets, &stages, &scene_gpu, &groups, settings)?;
         let main = self.read_back(&targets)?;
         let counters = if settings.counters {
-            Some(self.counting_frame(&frame, &targets, &scene_gpu, settings)?)
+            Some(self.counting_frame(&frame, &targets, &scene_gpu, &groups, settings)?)
         } else {
             None
         };
@@ -214,14 +235,7 @@ impl Renderer {
         let ids = if k % 2 == 1 {
             None
         } else {
-            let one = Frame::new(
-                device,
-                &self.pipelines.scene_layout,
-                scene,
-                &scene_gpu,
-                settings,
-                1,
-            );
+            let one = Frame::new(device, layout, scene, &scene_gpu, &shadow, settings, 1);
             let t1 = Targets::new(
                 device,
                 settings.pipeline,
@@ -229,10 +243,22 @@ impl Renderer {
                 settings.height,
                 &self.pipelines.gbuffer_layout,
             );
-            self.run_frame(&one, &t1, &stages, &scene_gpu, None)?;
+            self.run_frame(&one, &t1, &stages, &scene_gpu, &groups, None)?;
             Some(self.read_back(&t1)?.albedo_id.iter().map(|t| t[3]).collect())
         };
+        let visibility = self.visibility_frame(&frame, &targets, &scene_gpu, &groups, settings)?;
         let mut image = assemble(&main, settings.width, settings.height, k, ids);
+        let coverage = image
+            .channel("coverage.Y")
+            .map(<[f32]>::to_vec)
+            .unwrap_or_default();
+        for (name, source) in named_sources(scene) {
+            let channel = match source {
+                Source::Slot(slot) => box_filter(&visibility[slot], settings.width, settings.height, k),
+                Source::Coverage => coverage.clone(),
+            };
+            image.push_channel(format!("visibility.{name}.Y"), channel);
+        }
         add_header(
             &mut image,
             scene,
@@ -241,6 +267,7 @@ impl Renderer {
             &timing,
             counters.as_ref(),
             &scene_gpu,
+            &shadow,
         );
         Ok(RasterOutput {
             image,
@@ -251,16 +278,23 @@ impl Renderer {
 
     /// The pipelines one frame of `settings` draws with, in pass order.
     fn stages(&self, settings: &RasterSettings, counters: bool) -> Vec<(Stage, Arc<wgpu::RenderPipeline>)> {
+        let shadow: &[Stage] = if settings.method.shadow.is_some() {
+            &[Stage::ShadowMesh, Stage::ShadowAnalytic]
+        } else {
+            &[]
+        };
         let list: &[Stage] = match settings.pipeline {
             PipelineKind::Forward => &[Stage::ForwardMesh, Stage::ForwardAnalytic, Stage::Background],
             PipelineKind::Deferred => &[Stage::GBufferMesh, Stage::GBufferAnalytic, Stage::Lighting],
         };
-        list.iter()
+        shadow
+            .iter()
+            .chain(list)
             .map(|&s| {
                 (
                     s,
                     self.pipelines
-                        .get(&self.gpu.device, s, settings.method.area, counters),
+                        .get(&self.gpu.device, s, &settings.method, counters),
                 )
             })
             .collect()
@@ -273,9 +307,11 @@ impl Renderer {
         targets: &Targets,
         stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
         scene_gpu: &SceneGpu,
+        groups: &ShadingGroups<'_>,
         settings: &RasterSettings,
     ) -> Result<Timing, RasterError> {
-        let passes = pass_names(settings.pipeline);
+        let shadow_pass = settings.method.shadow.is_some() && !groups.shadow.layers.is_empty();
+        let passes = pass_names(settings.pipeline, shadow_pass);
         let queries = self
             .gpu
             .has_timestamps()
@@ -285,7 +321,7 @@ impl Renderer {
         let mut gpu_total = Vec::new();
         for i in 0..settings.warmup_frames + settings.timed_frames {
             let t0 = Instant::now();
-            self.run_frame(frame, targets, stages, scene_gpu, queries.as_ref())?;
+            self.run_frame(frame, targets, stages, scene_gpu, groups, queries.as_ref())?;
             let dt = t0.elapsed().as_secs_f64() * 1e3;
             let ticks = match &queries {
                 Some(q) => Some(q.read(&self.gpu)?),
@@ -341,13 +377,14 @@ impl Renderer {
         targets: &Targets,
         stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
         scene_gpu: &SceneGpu,
+        groups: &ShadingGroups<'_>,
         queries: Option<&Timestamps>,
     ) -> Result<(), RasterError> {
         let device = &self.gpu.device;
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("frame encoder"),
         });
-        encode_passes(&mut encoder, frame, targets, stages, scene_gpu, queries);
+        encode_passes(&mut encoder, frame, targets, stages, scene_gpu, groups, queries);
         if let Some(q) = queries {
             q.encode_resolve(&mut encoder);
         }
@@ -415,43 +452,59 @@ impl Renderer {
         }
     }
 
+    /// Deferred targets of `targets`' size: `targets` itself when it has a G-buffer, else new
+    /// ones kept in `holder`.
+    fn gbuffer_targets<'a>(&self, targets: &'a Targets, holder: &'a mut Option<Targets>) -> &'a Targets {
+        if targets.gbuffer_views.is_some() {
+            return targets;
+        }
+        holder.insert(Targets::new(
+            &self.gpu.device,
+            PipelineKind::Deferred,
+            targets.width,
+            targets.height,
+            &self.pipelines.gbuffer_layout,
+        ))
+    }
+
+    /// The G-buffer stages of `settings`' method.
+    fn gbuffer_stages(&self, settings: &RasterSettings) -> Vec<(Stage, Arc<wgpu::RenderPipeline>)> {
+        [Stage::GBufferMesh, Stage::GBufferAnalytic]
+            .into_iter()
+            .map(|s| {
+                (
+                    s,
+                    self.pipelines.get(&self.gpu.device, s, &settings.method, false),
+                )
+            })
+            .collect()
+    }
+
     /// The counting frame: a G-buffer pass, then the lighting pass compiled with the counters,
     /// so each visible sample is shaded (and counted) once whatever the pipeline; sums the rows.
+    /// Shadow-map fetches are counted; the maps are those the timed frames left.
     fn counting_frame(
         &self,
         frame: &Frame,
         targets: &Targets,
         scene_gpu: &SceneGpu,
+        groups: &ShadingGroups<'_>,
         settings: &RasterSettings,
     ) -> Result<Counters, RasterError> {
         let device = &self.gpu.device;
-        let deferred;
-        let targets = if targets.gbuffer_views.is_some() {
-            targets
-        } else {
-            deferred = Targets::new(
-                device,
-                PipelineKind::Deferred,
-                targets.width,
-                targets.height,
-                &self.pipelines.gbuffer_layout,
-            );
-            &deferred
-        };
-        let area = settings.method.area;
-        let stages: Vec<_> = [
-            (Stage::GBufferMesh, false),
-            (Stage::GBufferAnalytic, false),
-            (Stage::Lighting, true),
-        ]
-        .into_iter()
-        .map(|(s, counting)| (s, self.pipelines.get(device, s, area, counting)))
-        .collect();
+        let mut holder = None;
+        let targets = self.gbuffer_targets(targets, &mut holder);
+        let mut stages = self.gbuffer_stages(settings);
+        stages.push((
+            Stage::Lighting,
+            self.pipelines
+                .get(device, Stage::Lighting, &settings.method, true),
+        ));
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("counting frame encoder"),
         });
         encoder.clear_buffer(&frame.counters, 0, None);
-        encode_passes(&mut encoder, frame, targets, &stages, scene_gpu, None);
+        encode_passes(&mut encoder, frame, targets, &stages, scene_gpu, groups, None);
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("counters read-back"),
             size: frame.counters.size(),
@@ -473,17 +526,91 @@ impl Renderer {
             loop_iterations_per_pixel: sums[1] as f64 / pixels,
         })
     }
-}
 
-/// Labels of the render passes of a frame.
-fn pass_names(kind: PipelineKind) -> Vec<&'static str> {
-    match kind {
-        PipelineKind::Forward => vec!["forward pass"],
-        PipelineKind::Deferred => vec!["G-buffer pass", "lighting pass"],
+    /// The visibility AOV frame (visibility.rs): a G-buffer pass, then the visibility pass per
+    /// chunk of light slots; V of every slot at every target sample, slot by slot.
+    fn visibility_frame(
+        &self,
+        frame: &Frame,
+        targets: &Targets,
+        scene_gpu: &SceneGpu,
+        groups: &ShadingGroups<'_>,
+        settings: &RasterSettings,
+    ) -> Result<Vec<Vec<f32>>, RasterError> {
+        let device = &self.gpu.device;
+        let slots = scene_gpu.emitter_count + scene_gpu.light_count;
+        if slots == 0 {
+            return Ok(Vec::new());
+        }
+        let mut holder = None;
+        let targets = self.gbuffer_targets(targets, &mut holder);
+        let pixels = targets.width * targets.height;
+        let limits = self.gpu.limits();
+        let max_bytes = u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
+        let per_chunk = slots_per_chunk(slots, pixels, max_bytes).map_err(RasterError::Settings)?;
+        let chunk = Chunk::new(device, &self.pipelines.aov_layout, targets, per_chunk, slots);
+        let pipeline = self
+            .pipelines
+            .get(device, Stage::VisibilityAov, &settings.method, false);
+        let stages = self.gbuffer_stages(settings);
+        let mut out = Vec::with_capacity(slots as usize);
+        for c in 0..slots.div_ceil(per_chunk) {
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("visibility AOV encoder"),
+            });
+            if c == 0 {
+                encode_passes(&mut encoder, frame, targets, &stages, scene_gpu, groups, None);
+            }
+            let shadow_group = &groups.shadow.bind_group;
+            encode_visibility_pass(
+                &mut encoder,
+                targets,
+                &frame.bind_group,
+                &chunk.bind_group,
+                shadow_group,
+                &pipeline,
+                c,
+            );
+            let readback = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("visibility AOV read-back"),
+                size: chunk.output.size(),
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                mapped_at_creation: false,
+            });
+            encoder.copy_buffer_to_buffer(&chunk.output, 0, &readback, 0, chunk.output.size());
+            self.gpu.queue.submit([encoder.finish()]);
+            self.wait()?;
+            self.check_errors("the visibility AOV frame")?;
+            let bytes = self.map(&readback)?;
+            let values: Vec<f32> = bytes
+                .chunks_exact(4)
+                .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .collect();
+            let here = (slots - c * per_chunk).min(per_chunk) as usize;
+            out.extend(
+                values
+                    .chunks_exact(pixels as usize)
+                    .take(here)
+                    .map(<[f32]>::to_vec),
+            );
+        }
+        Ok(out)
     }
 }
 
-/// Header attributes: renderer, adapter, backend, method, parameters, timing, counters.
+/// Labels of the timed passes of a frame (the shadow pass: all its render passes together).
+fn pass_names(kind: PipelineKind, shadow: bool) -> Vec<&'static str> {
+    let mut names = if shadow { vec!["shadow pass"] } else { Vec::new() };
+    match kind {
+        PipelineKind::Forward => names.push("forward pass"),
+        PipelineKind::Deferred => names.extend(["G-buffer pass", "lighting pass"]),
+    }
+    names
+}
+
+/// Header attributes: renderer, adapter, backend, method, parameters, timing, counters, the
+/// shadow maps' projections.
+#[allow(clippy::too_many_arguments)]
 fn add_header(
     image: &mut LayeredImage,
     scene: &Scene,
@@ -492,6 +619,7 @@ fn add_header(
     timing: &Timing,
     counters: Option<&Counters>,
     sg: &SceneGpu,
+    shadow: &ShadowMaps,
 ) {
     let params: Vec<String> = s
         .method
@@ -540,6 +668,10 @@ fn add_header(
             "loop_iterations_per_pixel",
             format!("{:.4}", c.loop_iterations_per_pixel),
         ));
+    }
+    if !shadow.frusta.is_empty() {
+        let maps: Vec<String> = shadow.frusta.iter().map(|f| f.describe()).collect();
+        attrs.push(("shadow_maps", maps.join("; ")));
     }
     if !sg.unlit_emitters.is_empty() {
         attrs.push((

@@ -118,3 +118,34 @@ fn a_method_broken_on_purpose_fails_its_bound_with_a_clear_message() {
         "{msg}"
     );
 }
+
+#[test]
+fn a_pcss_ignoring_the_blocker_depth_fails_the_shadow_bounds() {
+    // PCSS with `blocker_depth = ignore` uses a constant penumbra instead of Fernando's
+    // (d_r − d_b)·w_light/d_b: the deliberately broken PCSS of the soft-shadow issue. Held to
+    // the real PCSS's visibility bound, it must fail, naming the study, variant and bound.
+    let path = workspace().join("scenes/studies/soft-shadows.toml");
+    let mut s = study::load(&path).unwrap();
+    s.name = "soft-shadows-broken".into();
+    s.methods.retain(|m| m.name == "pcss");
+    s.methods[0]
+        .params
+        .push(("blocker_depth".into(), "ignore".into()));
+    s.methods[0].sweep = vec![("map".into(), vec!["1024".into()])];
+    s.thresholds
+        .retain(|t| t.method == "pcss" && t.max.is_some() && t.on == study::Target::Visibility);
+    assert_eq!(
+        s.thresholds.len(),
+        1,
+        "the soft-shadow study bounds PCSS's visibility from above"
+    );
+    let r = run_quick(&s, "");
+    let failures = r.failures();
+    assert_eq!(failures.len(), 1, "the broken PCSS must fail its bound");
+    let msg = failures[0].message(&s.name);
+    assert!(
+        msg.starts_with("soft-shadows-broken: pcss(map=1024) relmse of the visibility over `interior` = ")
+            && msg.contains("soft-shadows.toml:"),
+        "{msg}"
+    );
+}

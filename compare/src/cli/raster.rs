@@ -2,7 +2,7 @@
 //! PNG preview, and print the timing line.
 //!
 //! The EXR has the oracle's layout (R, G, B, depth.Z, normal.X/Y/Z, albedo.R/G/B, coverage.Y,
-//! object_id.Y) and a header naming the adapter, backend, method, parameters, pipeline,
+//! object_id.Y, visibility.<light>.Y: the method's visibility factor of each light) and a header naming the adapter, backend, method, parameters, pipeline,
 //! supersampling and the measured cost. The adapter is chosen by `WGPU_BACKEND` /
 //! `WGPU_ADAPTER_NAME` (realtime/src/gpu.rs); without any, the command exits with status 3
 //! and says what to install.
@@ -23,13 +23,21 @@ pub struct RasterArgs {
     #[arg(value_name = "SCENE")]
     pub scene: PathBuf,
 
-    /// Area-light method: area_quadrature (N×N quadrature, converges to the exact
-    /// unshadowed integral) or area_representative_point (Karis 2013).
+    /// Method: area_quadrature (N×N quadrature, converges to the exact unshadowed integral),
+    /// area_representative_point (Karis 2013); shadow maps (N×N quadrature × visibility):
+    /// shadow_hard (Williams 1978), pcf_hw_2x2, pcf_box, pcf_poisson (Reeves et al. 1987),
+    /// pcss (Fernando 2005).
     #[arg(long, value_name = "NAME", default_value = "area_quadrature")]
     pub method: String,
 
-    /// A method parameter, repeatable: n=16 (area_quadrature's N), env_n=8 (environment
-    /// quadrature N, 0 = no environment lighting).
+    /// A method parameter, repeatable: n=16 (area_quadrature's N; 8 for the shadow methods),
+    /// env_n=8 (environment quadrature N, 0 = none; 0 for the shadow methods). Shadow methods:
+    /// map=1024 (64..=4096), bias=0.002 (metres along the light ray), slope_bias=1,
+    /// normal_offset=1 (texel footprints); pcf_box kernel=3 (3 or 5); pcf_poisson taps=16
+    /// (1..=64), radius=2 (texels); pcss blocker_samples=16, filter_samples=32 (1..=64),
+    /// light_size (metres; degrees for directional lights; default the light's own),
+    /// blocker_depth=search|ignore (ignore: the deliberately broken PCSS); pcf_box,
+    /// pcf_poisson and pcss receiver_plane=on|off (receiver-plane depth bias).
     #[arg(long = "param", value_name = "K=V", value_parser = parse_param)]
     pub params: Vec<(String, String)>,
 

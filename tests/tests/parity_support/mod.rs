@@ -359,3 +359,69 @@ pub fn add_emitter(s: &mut Scene, name: &str, geometry: Geometry, radiance: Vec3
     });
     i
 }
+
+/// The oracle's `direct` reference (exact visibility, unbounded specular chains) at `spp`:
+/// the ground truth of the shadow methods, with its `visibility.<light>.Y` AOV.
+pub fn oracle_direct(scene: &Scene, spp: u32) -> LayeredImage {
+    render(scene, settings(IntegratorKind::Direct, -1, 7), spp).image
+}
+
+/// `mask` grown by `r` pixels in every direction (a (2r + 1)² square).
+pub fn dilate(mask: &[bool], width: u32, height: u32, r: i64) -> Vec<bool> {
+    let (w, h) = (i64::from(width), i64::from(height));
+    (0..w * h)
+        .map(|i| {
+            let (x, y) = (i % w, i / w);
+            (-r..=r).any(|dy| {
+                (-r..=r).any(|dx| {
+                    let (u, v) = (x + dx, y + dy);
+                    u >= 0 && v >= 0 && u < w && v < h && mask[(v * w + u) as usize]
+                })
+            })
+        })
+        .collect()
+}
+
+/// Pixels whose (2r + 1)² neighbourhood of channel `name` holds only `value` (exactly).
+pub fn uniform_neighbourhood(img: &LayeredImage, name: &str, value: f32, r: i64) -> Vec<bool> {
+    let other: Vec<bool> = ch(img, name).iter().map(|&v| v != value).collect();
+    dilate(&other, img.width, img.height, r)
+        .iter()
+        .map(|o| !o)
+        .collect()
+}
+
+/// Mean absolute difference and RMS difference of channel `name` of `a` and `r` over the
+/// masked pixels.
+pub fn channel_errors(a: &LayeredImage, r: &LayeredImage, name: &str, mask: &[bool]) -> (f64, f64) {
+    let (va, vr) = (ch(a, name), ch(r, name));
+    let (mut abs, mut sq, mut n) = (0.0, 0.0, 0usize);
+    for i in 0..va.len() {
+        if mask[i] {
+            let d = f64::from(va[i]) - f64::from(vr[i]);
+            abs += d.abs();
+            sq += d * d;
+            n += 1;
+        }
+    }
+    assert!(n > 0, "the mask selects no pixel");
+    (abs / n as f64, (sq / n as f64).sqrt())
+}
+
+/// Element-wise `a && b`.
+pub fn and(a: &[bool], b: &[bool]) -> Vec<bool> {
+    a.iter().zip(b).map(|(x, y)| *x && *y).collect()
+}
+
+/// Built-in scene `file` (scenes/) at `size`².
+pub fn builtin_scene(file: &str, size: u32) -> Scene {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenes")
+        .join(file);
+    let mut s = scenes::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    s.film = Film {
+        width: size,
+        height: size,
+    };
+    s
+}

@@ -1,0 +1,229 @@
+// shadow_map_common.wgsl — shadow maps: the per-light projection, the receiver's biased
+// lookup, and the leaf samplers every shadow technique filters with.
+//
+// Technique: Williams 1978, "Casting Curved Shadows on Curved Surfaces", SIGGRAPH '78
+// (https://doi.org/10.1145/965139.807402): render depth from the light, then a point is lit
+// where its own depth from the light is not greater than the stored one. One Depth32Float
+// layer per shadowed light (realtime/src/shadow.rs builds the projections: perspective from a
+// rectangle's or disk's centre along its normal, from a sphere or point light towards the
+// scene, along a spot's axis; orthographic over the scene for directional lights), depth in
+// [0, 1] (near → 0), cleared to 1, compared with `LessEqual` (1 = lit).
+// Bias, three terms, applied to the lookup point q of a receiver p with geometric normal n
+// (turned towards the light) and texel footprint τ = world size of one texel at p's depth:
+// - normal offset: q = p + n·normal_offset·τ (Holbein 2011, "Normal Offset Shadows", GDC 2011
+//   poster; http://www.dissidentlogic.com/old/#Normal%20Offset%20Shadows);
+// - constant + slope-scaled: the reference depth is that of q moved towards the light by
+//   b = bias + slope_bias·τ·tan θ metres (θ between n and the light direction; the slope term
+//   is the depth change across one texel, as OpenGL's glPolygonOffset factor·m, OpenGL 1.1
+//   spec §3.5.5), tan θ clamped at SHADOW_MAX_SLOPE. Biases are in world metres, so one value
+//   means the same on every light and map resolution;
+// - receiver-plane depth bias for the multi-tap kernels (Isidoro 2006, "Shadow Mapping:
+//   GPU-based Tips and Techniques", GDC 2006): a tap at Δuv from the lookup compares against
+//   depth + ∇d·Δuv, the depth there of the receiver's tangent plane. A plane's projected
+//   depth is affine in the map's (u, v) (a projective map takes planes to planes), so ∇d comes
+//   exactly from projecting two tangent offsets of q — from the geometric normal rather than
+//   screen-space derivatives, so forward, deferred and the AOV pass agree.
+// Failure mode: too little bias gives self-shadowing "acne" (the receiver's own depth,
+// resampled at texel centres, occludes it), too much detaches shadows from their casters
+// ("peter-panning") and leaks light through thin blockers; points outside a light's frustum
+// (beyond a perspective map's 150° field of view, behind a one-sided emitter's plane, the
+// far side of a point or sphere light's single frustum) are treated as lit; without the
+// receiver-plane bias, wide kernels on receivers tilted to the light self-shadow (one reference
+// depth for the whole kernel), and with it curved receivers still do (the tangent plane leaves
+// the surface across a wide kernel).
+// Inputs: `shadow` (group 0, binding 8: settings, Poisson taps, one ShadowLight per light
+// slot — area emitters first, then scene lights), the map array and two comparison samplers
+// (group 2). Only the leaf samplers below and the entry points read these bindings.
+
+// Shadow methods, picked per pipeline (method.rs `ShadowTechnique::shader_code`).
+const SHADOW_NONE: u32 = 0u;
+const SHADOW_HARD: u32 = 1u;
+const SHADOW_PCF_HW_2X2: u32 = 2u;
+const SHADOW_PCF_BOX: u32 = 3u;
+const SHADOW_PCF_POISSON: u32 = 4u;
+const SHADOW_PCSS: u32 = 5u;
+
+// Pipeline-overridable constant: the shadow method (shadow_visibility.wgsl dispatches on it).
+override SHADOW_METHOD: u32 = 0u;
+
+// Largest tan θ of the slope-scaled bias (θ ≈ 84°), chosen here: beyond it the receiver is
+// nearly edge-on to the light (cos θ < 0.1, little light arrives), and an unbounded slope term
+// would detach the whole receiver's shadow.
+const SHADOW_MAX_SLOPE: f32 = 10.0;
+
+// Tangent step of the receiver-plane gradient, in texel footprints (any step is exact for a
+// plane; 4 keeps the projected differences well above f32 rounding, chosen here).
+const SHADOW_PLANE_STEP: f32 = 4.0;
+
+// One light's shadow map (shadow.rs `GpuShadowLight`).
+struct ShadowLight {
+    // World to clip; depth z/w in [0, 1].
+    view_proj: mat4x4<f32>,
+    // Its inverse (the shadow pass's rays through texels).
+    inv_view_proj: mat4x4<f32>,
+    // Perspective: the eye (xyz), w = 1. Orthographic: a point on the view axis, w = 0.
+    eye: vec4<f32>,
+    // Unit view direction (xyz); w: the PCSS light-size term s — w_light in metres for
+    // perspective maps, 2·tan(θ/2) of the angular diameter θ for orthographic ones.
+    axis: vec4<f32>,
+    // Near and far view depth, and the texel footprint τ(z) = z·depth.z + depth.w.
+    depth: vec4<f32>,
+    // PCSS's search near plane (the nearest blocker depth it assumes), unused ×3.
+    search: vec4<f32>,
+    // Shadowed (0/1), the light's own shape (NONE for scene lights), unused, unused.
+    info: vec4<u32>,
+}
+
+// The method's parameters (shadow.rs `GpuShadowSettings`).
+struct ShadowSettings {
+    // Constant bias (m), slope-scaled bias, normal offset (texels), map side (texels).
+    bias: vec4<f32>,
+    // pcf_box kernel k, pcf_poisson taps, pcss blocker samples, pcss filter samples.
+    taps: vec4<u32>,
+    // pcf_poisson radius (texels), pcss blocker depth (0 search, 1 ignore), receiver-plane
+    // depth bias (0/1), unused.
+    filtering: vec4<f32>,
+}
+
+struct ShadowUniforms {
+    settings: ShadowSettings,
+    // 64 taps in the unit disk, two per vec4 (poisson.rs `poisson_disk`).
+    poisson: array<vec4<f32>, 32>,
+    lights: array<ShadowLight, 64>,
+}
+
+@group(0) @binding(8) var<uniform> shadow: ShadowUniforms;
+@group(2) @binding(0) var shadow_maps: texture_depth_2d_array;
+@group(2) @binding(1) var shadow_nearest: sampler_comparison;
+@group(2) @binding(2) var shadow_bilinear: sampler_comparison;
+
+// Where a receiver looks the map up.
+struct ShadowReceiver {
+    // Map coordinates of the lookup point (row 0 at the top).
+    uv: vec2<f32>,
+    // The biased reference depth in the map's [0, 1].
+    depth: f32,
+    // View depth of the lookup point along the light's axis (PCSS's z_r).
+    z: f32,
+    // ∂depth/∂(u, v) of the receiver's tangent plane (zero without receiver-plane bias).
+    gradient: vec2<f32>,
+    // Inside the frustum; outside counts as lit.
+    valid: bool,
+}
+
+// The reference depth of a tap `offset` (map coordinates) away from the lookup.
+fn shadow_tap_depth(r: ShadowReceiver, offset: vec2<f32>) -> f32 {
+    return r.depth + dot(r.gradient, offset);
+}
+
+// ∂depth/∂(u, v) of the plane through q with unit normal n (`at` = q's projection), from the
+// projections of q + ε·t and q + ε·b, ε = `step` world units; zero where the plane is seen
+// edge-on (the two offsets project onto one line).
+fn shadow_plane_gradient(sl: ShadowLight, q: vec3<f32>, n: vec3<f32>, at: vec4<f32>, step: f32) -> vec2<f32> {
+    let a = shadow_project(sl, q + basis_t(n) * step).xyz - at.xyz;
+    let b = shadow_project(sl, q + basis_b(n) * step).xyz - at.xyz;
+    let det = a.x * b.y - a.y * b.x;
+    if !(abs(det) > 1e-3 * length(a.xy) * length(b.xy)) {
+        return vec2<f32>(0.0);
+    }
+    return vec2<f32>(a.z * b.y - b.z * a.y, a.x * b.z - b.x * a.z) / det;
+}
+
+fn shadow_is_perspective(sl: ShadowLight) -> bool {
+    return sl.eye.w > 0.5;
+}
+
+// View depth of p along the light's axis.
+fn shadow_view_depth(sl: ShadowLight, p: vec3<f32>) -> f32 {
+    return dot(p - sl.eye.xyz, sl.axis.xyz);
+}
+
+// World size of one texel at view depth z.
+fn shadow_texel_size(sl: ShadowLight, z: f32) -> f32 {
+    return sl.depth.z * z + sl.depth.w;
+}
+
+// Unit direction from p towards the light.
+fn shadow_to_light(sl: ShadowLight, p: vec3<f32>) -> vec3<f32> {
+    if shadow_is_perspective(sl) {
+        return normalize(sl.eye.xyz - p);
+    }
+    return -sl.axis.xyz;
+}
+
+// (u, v, depth, clip w) of world point p; v = 0 is the top row, as texture coordinates.
+fn shadow_project(sl: ShadowLight, p: vec3<f32>) -> vec4<f32> {
+    let c = sl.view_proj * vec4<f32>(p, 1.0);
+    let ndc = c.xyz / c.w;
+    return vec4<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5, ndc.z, c.w);
+}
+
+// View depth of a stored depth d: perspective z = n·f/(f − d(f − n)) (the inverse of
+// glam's `perspective_rh`), orthographic z = n + d(f − n).
+fn shadow_linear_depth(sl: ShadowLight, d: f32) -> f32 {
+    let n = sl.depth.x;
+    let f = sl.depth.y;
+    if shadow_is_perspective(sl) {
+        return n * f / (f - d * (f - n));
+    }
+    return n + d * (f - n);
+}
+
+// The ray through the point `ndc` of the light's image plane, from its near to its far plane.
+struct ShadowRay {
+    o: vec3<f32>,
+    d: vec3<f32>,
+}
+
+fn shadow_ray(sl: ShadowLight, ndc: vec2<f32>) -> ShadowRay {
+    let a = sl.inv_view_proj * vec4<f32>(ndc, 0.0, 1.0);
+    let b = sl.inv_view_proj * vec4<f32>(ndc, 1.0, 1.0);
+    let o = a.xyz / a.w;
+    return ShadowRay(o, b.xyz / b.w - o);
+}
+
+// The lookup of receiver p with unit front geometric normal ng (see the header for the bias).
+fn shadow_receiver(sl: ShadowLight, s: ShadowSettings, p: vec3<f32>, ng: vec3<f32>) -> ShadowReceiver {
+    let wl = shadow_to_light(sl, p);
+    let n = select(ng, -ng, dot(ng, wl) < 0.0);
+    let texel = shadow_texel_size(sl, max(shadow_view_depth(sl, p), sl.depth.x));
+    let q = p + n * (s.bias.z * texel);
+    let cos_t = clamp(dot(n, wl), 0.0, 1.0);
+    let tan_t = min(sqrt(max(1.0 - cos_t * cos_t, 0.0)) / max(cos_t, 1e-6), SHADOW_MAX_SLOPE);
+    let b = s.bias.x + s.bias.y * texel * tan_t;
+    let at = shadow_project(sl, q);
+    let biased = shadow_project(sl, q + shadow_to_light(sl, q) * b);
+    let inside = all(at.xy >= vec2<f32>(0.0)) && all(at.xy <= vec2<f32>(1.0));
+    let valid = at.w > 0.0 && biased.w > 0.0 && inside && at.z >= 0.0 && at.z <= 1.0;
+    var gradient = vec2<f32>(0.0);
+    if s.filtering.z > 0.5 {
+        gradient = shadow_plane_gradient(sl, q, n, at, SHADOW_PLANE_STEP * texel);
+    }
+    return ShadowReceiver(at.xy, biased.z, shadow_view_depth(sl, q), gradient, valid);
+}
+
+// Leaf samplers. One comparison of the nearest texel: 1 fetch.
+fn shadow_compare_nearest(layer: u32, uv: vec2<f32>, depth: f32) -> f32 {
+    count_fetch();
+    return textureSampleCompareLevel(shadow_maps, shadow_nearest, uv, layer, depth);
+}
+
+// The hardware's bilinear comparison: 2×2 texels compared, then weighted (4 fetches).
+fn shadow_compare_bilinear(layer: u32, uv: vec2<f32>, depth: f32) -> f32 {
+    cost.x += 4u;
+    return textureSampleCompareLevel(shadow_maps, shadow_bilinear, uv, layer, depth);
+}
+
+// The stored depth of the texel containing uv (edges clamped): 1 fetch.
+fn shadow_depth_nearest(layer: u32, uv: vec2<f32>, side: f32) -> f32 {
+    count_fetch();
+    let n = i32(side);
+    let texel = clamp(vec2<i32>(floor(uv * side)), vec2<i32>(0), vec2<i32>(n - 1));
+    return textureLoad(shadow_maps, texel, layer, 0);
+}
+
+// Tap k of the Poisson disk in the unit disk.
+fn poisson_tap(k: u32) -> vec2<f32> {
+    let v = shadow.poisson[k / 2u];
+    return select(v.xy, v.zw, (k & 1u) == 1u);
+}

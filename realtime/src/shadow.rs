@@ -1,0 +1,748 @@
+//! Shadow maps (Williams 1978): one Depth32Float layer per light, rendered every frame in a
+//! depth-only pass from the light, then filtered into a visibility factor V by the method's
+//! technique (`shaders/shadow_*.wgsl`, `pcf.wgsl`, `pcss.wgsl`).
+//!
+//! Light slots — the layers, and the shaders' `shadow.lights[slot]` — are the realtime light
+//! order: the area emitters (spheres, rectangles, disks) in scene order, then the scene
+//! lights. Emissive meshes light nothing here and get no map.
+//!
+//! | light | projection | field of view / extent |
+//! |---|---|---|
+//! | rectangle, disk | perspective from the centre along the emitting normal | fitted to the other shapes' bounding boxes in front of the light, at most [`MAX_FOV_DEG`] |
+//! | sphere, point | perspective from the centre towards the centre of the other shapes' bounding box | the same fit |
+//! | spot | perspective along the spot axis | the fit, at most 2 × the cutoff angle |
+//! | directional (delta or sun disk) | orthographic along the light's direction | the scene's bounding box, square |
+//!
+//! The fit: every corner of every other shape's bounding box, in light view space, must lie
+//! inside the square frustum; a shape whose box crosses the light's plane (depth ≤ 0 — a wall
+//! meeting a ceiling light) forces the widest field of view. One frustum per light, no cube
+//! maps: what falls outside (beyond 150°, behind a one-sided emitter, the far side of a point
+//! or sphere light, the back of a two-sided emitter) is treated as lit. The near plane is
+//! [`NEAR_MARGIN`] × the nearest box depth in front of the light (at least
+//! [`MIN_NEAR_FRACTION`] × the scene radius, when a box crosses the light's plane); the far
+//! plane is [`FAR_MARGIN`] × the farthest box depth. PCSS's blocker search assumes no blocker
+//! nearer the light than its *search* near plane (Bavoil 2008): [`NEAR_MARGIN`] × the nearest
+//! depth of the boxes wholly in front of the light — the near plane itself unless boxes cross
+//! the light's plane (walls meeting a ceiling light), whose parts nearer than that are then
+//! missed by the search (still in the map, so PCF sees them), instead of the search growing
+//! to the whole map.
+//!
+//! Emitters do not shadow their own light: the light's own shape is skipped in its map
+//! (`vs_shadow_analytic`), not left to the bias.
+//!
+//! PCSS light size w_light (overridden by the `light_size` parameter): a rectangle's larger
+//! side — the penumbra of a blocker edge parallel to one side spans the light's extent across
+//! it exactly (similar triangles), so for the square lights of the shadow studies the side is
+//! exact and the larger side bounds every axis-aligned penumbra, where the diagonal would be
+//! exact only for edges at 45°; a disk's larger diameter; a sphere's diameter; 0 for point
+//! and spot lights (hard); for directional lights the term is 2·tan(θ/2) of the angular
+//! diameter θ (an orthographic map: the penumbra grows by that per metre behind the blocker).
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3};
+use scenes::{Geometry, Light, Scene};
+use wgpu::util::DeviceExt;
+
+use crate::gpu_types::NONE;
+use crate::method::{BlockerDepth, Method, Shadow, ShadowTechnique, MAX_SHADOW_TAPS};
+use crate::pipelines::DEPTH_FORMAT;
+use crate::poisson::poisson_disk;
+
+/// Light slots the shadow uniform holds (WGSL `array<ShadowLight, 64>`).
+pub const MAX_SHADOWED_LIGHTS: usize = 64;
+/// Poisson taps in the table (WGSL `poisson`, two per vec4).
+pub const POISSON_TAPS: usize = MAX_SHADOW_TAPS as usize;
+/// Widest perspective field of view (the brief's rule for lights whose frustum cannot be fitted:
+/// 150° keeps the texel footprint at the edge within tan 75°/tan 0° ≈ 3.7× the centre's).
+pub const MAX_FOV_DEG: f32 = 150.0;
+/// Narrowest field of view (a light far from a tiny scene), so the projection stays regular.
+pub const MIN_FOV_DEG: f32 = 1.0;
+/// Near plane as a fraction of the nearest bounding-box depth (a margin so the nearest caster
+/// is not clipped), chosen here.
+pub const NEAR_MARGIN: f32 = 0.9;
+/// Far plane as a multiple of the farthest bounding-box depth, chosen here.
+pub const FAR_MARGIN: f32 = 1.01;
+/// Smallest near plane as a fraction of the scene's bounding radius (as the camera's
+/// NEAR_FRACTION, frame.rs, but 10× larger: a standard-Z map loses depth precision as n/z²).
+pub const MIN_NEAR_FRACTION: f32 = 1e-3;
+/// Largest total size of the shadow-map array accepted (bytes), chosen here: 1 GiB.
+pub const MAX_SHADOW_MAP_BYTES: u64 = 1 << 30;
+
+/// One light slot's map (WGSL `ShadowLight`, shadow_map_common.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuShadowLight {
+    /// World to clip, depth in [0, 1], column-major.
+    pub view_proj: [[f32; 4]; 4],
+    /// Its inverse.
+    pub inv_view_proj: [[f32; 4]; 4],
+    /// Eye (perspective, w = 1) or a point on the axis (orthographic, w = 0).
+    pub eye: [f32; 4],
+    /// Unit view direction; w = the PCSS light-size term.
+    pub axis: [f32; 4],
+    /// Near, far, texel footprint τ(z) = z·depth[2] + depth[3].
+    pub depth: [f32; 4],
+    /// PCSS's search near plane, unused, unused, unused.
+    pub search: [f32; 4],
+    /// Shadowed (0/1), own shape or NONE, unused, unused.
+    pub info: [u32; 4],
+}
+const _: () = assert!(std::mem::size_of::<GpuShadowLight>() == 2 * 64 + 5 * 16);
+
+/// The method's parameters (WGSL `ShadowSettings`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuShadowSettings {
+    /// Constant bias (m), slope-scaled bias, normal offset (texels), map side.
+    pub bias: [f32; 4],
+    /// pcf_box kernel, pcf_poisson taps, pcss blocker samples, pcss filter samples.
+    pub taps: [u32; 4],
+    /// pcf_poisson radius (texels), pcss blocker depth (0 search, 1 ignore), receiver-plane
+    /// depth bias (0/1), unused.
+    pub filtering: [f32; 4],
+}
+const _: () = assert!(std::mem::size_of::<GpuShadowSettings>() == 3 * 16);
+
+/// Everything the shadow pass and the shading read (WGSL `ShadowUniforms`, group 0 binding 8).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuShadowUniforms {
+    /// The method's parameters.
+    pub settings: GpuShadowSettings,
+    /// The Poisson taps, two per entry.
+    pub poisson: [[f32; 4]; POISSON_TAPS / 2],
+    /// One map per light slot.
+    pub lights: [GpuShadowLight; MAX_SHADOWED_LIGHTS],
+}
+const _: () = assert!(
+    std::mem::size_of::<GpuShadowUniforms>()
+        == 3 * 16 + POISSON_TAPS * 8 + MAX_SHADOWED_LIGHTS * std::mem::size_of::<GpuShadowLight>()
+);
+
+/// A light's frustum, as built on the CPU.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightFrustum {
+    /// The light's name (the pass label).
+    pub name: String,
+    /// World to clip.
+    pub view_proj: Mat4,
+    /// Eye, or a point on the axis (orthographic).
+    pub eye: Vec3,
+    /// Unit view direction.
+    pub axis: Vec3,
+    /// Perspective (true) or orthographic.
+    pub perspective: bool,
+    /// Full field of view (perspective, degrees) or side of the square extent (orthographic, m).
+    pub extent: f32,
+    /// Near and far view depth.
+    pub near: f32,
+    /// Far view depth.
+    pub far: f32,
+    /// Nearest blocker depth PCSS's search assumes (module docs).
+    pub search_near: f32,
+    /// PCSS light-size term (w_light, or 2·tan(θ/2) for directional lights).
+    pub size: f32,
+    /// The emitter's own shape.
+    pub own_shape: Option<usize>,
+}
+
+impl LightFrustum {
+    /// World size of one texel at view depth z of a `side`² map: (a, b) with τ = a·z + b.
+    pub fn texel(&self, side: u32) -> (f32, f32) {
+        if self.perspective {
+            (2.0 * (0.5 * self.extent.to_radians()).tan() / side as f32, 0.0)
+        } else {
+            (0.0, self.extent / side as f32)
+        }
+    }
+
+    /// `name: perspective 123.4°, depth 0.9–1.5 m, w_light 0.5 m`.
+    pub fn describe(&self) -> String {
+        if self.perspective {
+            format!(
+                "{}: perspective {:.1}°, depth {:.4}–{:.4} m (search from {:.4}), w_light {} m",
+                self.name, self.extent, self.near, self.far, self.search_near, self.size
+            )
+        } else {
+            format!(
+                "{}: orthographic {:.4} m square, depth {:.4}–{:.4} m (search from {:.4}), penumbra {} m/m",
+                self.name, self.extent, self.near, self.far, self.search_near, self.size
+            )
+        }
+    }
+
+    fn gpu(&self, side: u32) -> GpuShadowLight {
+        let (a, b) = self.texel(side);
+        GpuShadowLight {
+            view_proj: self.view_proj.to_cols_array_2d(),
+            inv_view_proj: self.view_proj.inverse().to_cols_array_2d(),
+            eye: self
+                .eye
+                .extend(if self.perspective { 1.0 } else { 0.0 })
+                .to_array(),
+            axis: self.axis.extend(self.size).to_array(),
+            depth: [self.near, self.far, a, b],
+            search: [self.search_near, 0.0, 0.0, 0.0],
+            info: [1, self.own_shape.map_or(NONE, |s| s as u32), 0, 0],
+        }
+    }
+}
+
+/// The frustum of every light slot of `scene` (area emitters, then scene lights), with the
+/// PCSS light size overridden by `light_size` where given.
+pub fn light_frusta(scene: &Scene, light_size: Option<f32>) -> Vec<LightFrustum> {
+    let mut out = Vec::new();
+    for (i, shape) in scene.shapes.iter().enumerate() {
+        if shape.emission.is_none() {
+            continue;
+        }
+        let (eye, axis, up, size) = match &shape.geometry {
+            Geometry::Mesh(_) => continue,
+            Geometry::Rectangle {
+                center,
+                half_u,
+                half_v,
+            }
+            | Geometry::Disk {
+                center,
+                half_u,
+                half_v,
+            } => {
+                let axis = half_u.cross(*half_v).normalize_or(Vec3::NEG_Y);
+                let size = 2.0 * half_u.length().max(half_v.length());
+                (*center, axis, Some(*half_u), size)
+            }
+            Geometry::Sphere { center, radius } => {
+                let axis = towards_scene(scene, Some(i), *center);
+                (*center, axis, None, 2.0 * radius)
+            }
+        };
+        let size = light_size.unwrap_or(size);
+        out.push(perspective(
+            scene,
+            &shape.name,
+            Some(i),
+            eye,
+            axis,
+            up,
+            MAX_FOV_DEG,
+            size,
+        ));
+    }
+    for light in &scene.lights {
+        let name = light.name();
+        out.push(match light {
+            Light::Point { position, .. } => {
+                let axis = towards_scene(scene, None, *position);
+                perspective(
+                    scene,
+                    name,
+                    None,
+                    *position,
+                    axis,
+                    None,
+                    MAX_FOV_DEG,
+                    light_size.unwrap_or(0.0),
+                )
+            }
+            Light::Spot {
+                position,
+                direction,
+                cutoff_deg,
+                ..
+            } => {
+                let axis = direction.normalize_or(Vec3::NEG_Y);
+                let fov = (2.0 * cutoff_deg).min(MAX_FOV_DEG);
+                perspective(
+                    scene,
+                    name,
+                    None,
+                    *position,
+                    axis,
+                    None,
+                    fov,
+                    light_size.unwrap_or(0.0),
+                )
+            }
+            Light::Directional {
+                direction,
+                angular_diameter_deg,
+                ..
+            } => {
+                let theta = light_size.unwrap_or(*angular_diameter_deg);
+                let size = 2.0 * (0.5 * theta.to_radians()).tan();
+                orthographic(scene, name, direction.normalize_or(Vec3::NEG_Y), size)
+            }
+        });
+    }
+    out
+}
+
+/// Unit direction from `eye` to the centre of the bounding box of every shape but `own`.
+fn towards_scene(scene: &Scene, own: Option<usize>, eye: Vec3) -> Vec3 {
+    let (lo, hi) = scene
+        .shapes
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| Some(*i) != own)
+        .map(|(_, s)| s.geometry.bounds())
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), (a, b)| {
+            (lo.min(a), hi.max(b))
+        });
+    let target = if lo.x <= hi.x { 0.5 * (lo + hi) } else { Vec3::ZERO };
+    (target - eye).try_normalize().unwrap_or(Vec3::NEG_Y)
+}
+
+/// The eight corners of an axis-aligned box.
+fn corners((lo, hi): (Vec3, Vec3)) -> [Vec3; 8] {
+    std::array::from_fn(|k| {
+        Vec3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        )
+    })
+}
+
+/// A perspective frustum from `eye` along `axis` fitted to the other shapes (module docs), its
+/// full field of view at most `max_fov` degrees.
+#[allow(clippy::too_many_arguments)]
+fn perspective(
+    scene: &Scene,
+    name: &str,
+    own: Option<usize>,
+    eye: Vec3,
+    axis: Vec3,
+    up: Option<Vec3>,
+    max_fov: f32,
+    size: f32,
+) -> LightFrustum {
+    let up = up
+        .map(|u| u - axis * u.dot(axis))
+        .and_then(|u| u.try_normalize())
+        .unwrap_or_else(|| axis.any_orthonormal_vector());
+    let view = Mat4::look_to_rh(eye, axis, up);
+    let (_, radius) = scene.bounding_sphere();
+    let (mut tan_max, mut z_min, mut z_max, mut crossing) = (0.0f32, f32::INFINITY, 0.0f32, false);
+    for (i, shape) in scene.shapes.iter().enumerate() {
+        if Some(i) == own {
+            continue;
+        }
+        let v = corners(shape.geometry.bounds()).map(|c| view.transform_point3(c));
+        let (lo, hi) = v.iter().fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(-p.z), hi.max(-p.z))
+        });
+        // Entirely behind the light (or NaN): nothing to fit.
+        if hi.is_nan() || hi <= 0.0 {
+            continue;
+        }
+        z_max = z_max.max(hi);
+        if lo <= 0.0 {
+            crossing = true;
+            continue;
+        }
+        z_min = z_min.min(lo);
+        for p in v {
+            tan_max = tan_max.max(p.x.abs().max(p.y.abs()) / -p.z);
+        }
+    }
+    let max_half = 0.5 * max_fov.to_radians();
+    let half = if crossing {
+        max_half
+    } else {
+        (tan_max * 1.01)
+            .atan()
+            .clamp(0.5 * MIN_FOV_DEG.to_radians(), max_half)
+    };
+    let near_floor = MIN_NEAR_FRACTION * radius;
+    let near = if crossing || !z_min.is_finite() {
+        near_floor
+    } else {
+        (NEAR_MARGIN * z_min).max(near_floor)
+    };
+    let far = FAR_MARGIN * z_max.max(near);
+    let search_near = if z_min.is_finite() {
+        (NEAR_MARGIN * z_min).max(near)
+    } else {
+        near
+    };
+    let proj = Mat4::perspective_rh(2.0 * half, 1.0, near, far);
+    LightFrustum {
+        name: name.to_string(),
+        view_proj: proj * view,
+        eye,
+        axis,
+        perspective: true,
+        extent: (2.0 * half).to_degrees(),
+        near,
+        far,
+        search_near,
+        size,
+        own_shape: own,
+    }
+}
+
+/// An orthographic frustum along the travel direction `axis` over the scene's bounding box.
+fn orthographic(scene: &Scene, name: &str, axis: Vec3, size: f32) -> LightFrustum {
+    let (centre, radius) = scene.bounding_sphere();
+    let eye = centre - axis * (2.0 * radius);
+    let view = Mat4::look_to_rh(eye, axis, axis.any_orthonormal_vector());
+    let v = corners(scene.bounds()).map(|c| view.transform_point3(c));
+    let (lo, hi) = v
+        .iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        });
+    let half = 0.5 * (hi.x - lo.x).max(hi.y - lo.y) * FAR_MARGIN;
+    let (cx, cy) = (0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y));
+    let margin = 0.01 * radius;
+    let (near, far) = (-hi.z - margin, -lo.z + margin);
+    let proj = Mat4::orthographic_rh(cx - half, cx + half, cy - half, cy + half, near, far);
+    LightFrustum {
+        name: name.to_string(),
+        view_proj: proj * view,
+        eye,
+        axis,
+        perspective: false,
+        extent: 2.0 * half,
+        near,
+        far,
+        search_near: near,
+        size,
+        own_shape: None,
+    }
+}
+
+/// The shadow uniform of `method` over `frusta` (all zero when unshadowed: V = 1 everywhere).
+pub fn shadow_uniforms(method: &Method, frusta: &[LightFrustum]) -> GpuShadowUniforms {
+    let mut u = GpuShadowUniforms::zeroed();
+    let Some(s) = method.shadow else {
+        return u;
+    };
+    let mut taps = [0u32; 4];
+    let mut filter = [0.0f32; 4];
+    match s.technique {
+        ShadowTechnique::Hard | ShadowTechnique::PcfHw2x2 => {}
+        ShadowTechnique::PcfBox { kernel } => taps[0] = kernel,
+        ShadowTechnique::PcfPoisson { taps: n, radius } => {
+            taps[1] = n;
+            filter[0] = radius;
+        }
+        ShadowTechnique::Pcss {
+            blocker_samples,
+            filter_samples,
+            blocker_depth,
+            ..
+        } => {
+            taps[2] = blocker_samples;
+            taps[3] = filter_samples;
+            filter[1] = f32::from(u8::from(blocker_depth == BlockerDepth::Ignore));
+        }
+    }
+    let multi_tap = !matches!(s.technique, ShadowTechnique::Hard | ShadowTechnique::PcfHw2x2);
+    filter[2] = f32::from(u8::from(s.receiver_plane && multi_tap));
+    u.settings = GpuShadowSettings {
+        bias: [s.bias, s.slope_bias, s.normal_offset, s.map as f32],
+        taps,
+        filtering: filter,
+    };
+    let disk = poisson_disk();
+    for (k, pair) in u.poisson.iter_mut().enumerate() {
+        *pair = [
+            disk[2 * k][0],
+            disk[2 * k][1],
+            disk[2 * k + 1][0],
+            disk[2 * k + 1][1],
+        ];
+    }
+    for (slot, f) in frusta.iter().enumerate() {
+        u.lights[slot] = f.gpu(s.map);
+    }
+    u
+}
+
+/// The PCSS light-size override of a method, if any.
+fn light_size_override(shadow: &Shadow) -> Option<f32> {
+    match shadow.technique {
+        ShadowTechnique::Pcss { light_size, .. } => light_size,
+        _ => None,
+    }
+}
+
+/// The shadow maps of one render: the uniform, the map array and its per-layer views, the
+/// sampling bind group (group 2).
+pub(crate) struct ShadowMaps {
+    /// `GpuShadowUniforms` (group 0, binding 8).
+    pub(crate) uniform: wgpu::Buffer,
+    /// (light name, depth view of its layer), in slot order; empty when unshadowed.
+    pub(crate) layers: Vec<(String, wgpu::TextureView)>,
+    /// The array view and the two comparison samplers.
+    pub(crate) bind_group: wgpu::BindGroup,
+    /// The frusta (empty when unshadowed).
+    pub(crate) frusta: Vec<LightFrustum>,
+}
+
+impl ShadowMaps {
+    /// The maps of `method` for `scene` (a 1×1 placeholder layer when it is unshadowed);
+    /// `layout` is the group-2 layout. Errors: too many lights, too large an array.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        scene: &Scene,
+        method: &Method,
+        limits: &wgpu::Limits,
+    ) -> Result<ShadowMaps, String> {
+        let frusta = match &method.shadow {
+            Some(s) => light_frusta(scene, light_size_override(s)),
+            None => Vec::new(),
+        };
+        let side = method.shadow.map_or(1, |s| s.map);
+        if frusta.len() > MAX_SHADOWED_LIGHTS {
+            return Err(format!(
+                "method {method}: the scene has {} lights, at most {MAX_SHADOWED_LIGHTS} can be shadowed",
+                frusta.len()
+            ));
+        }
+        let layers = frusta.len().max(1) as u32;
+        let bytes = 4 * u64::from(side) * u64::from(side) * u64::from(layers);
+        if side > limits.max_texture_dimension_2d
+            || layers > limits.max_texture_array_layers
+            || bytes > MAX_SHADOW_MAP_BYTES
+        {
+            return Err(format!(
+                "method {method}: {layers} shadow maps of {side}² texels ({} MiB) exceed the adapter's \
+                 texture limits ({} texels per side, {} layers) or {} MiB",
+                bytes >> 20,
+                limits.max_texture_dimension_2d,
+                limits.max_texture_array_layers,
+                MAX_SHADOW_MAP_BYTES >> 20
+            ));
+        }
+        let uniforms = shadow_uniforms(method, &frusta);
+        let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("shadow uniforms (settings, Poisson taps, light frusta)"),
+            contents: bytemuck::bytes_of(&uniforms),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(if frusta.is_empty() {
+                "shadow maps (placeholder: unshadowed method)"
+            } else {
+                "shadow maps (one layer per light)"
+            }),
+            size: wgpu::Extent3d {
+                width: side,
+                height: side,
+                depth_or_array_layers: layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let layer_views = frusta
+            .iter()
+            .enumerate()
+            .map(|(i, f)| {
+                let view = texture.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some(&format!("shadow map layer {i} ({})", f.name)),
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: i as u32,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                });
+                (f.name.clone(), view)
+            })
+            .collect();
+        let array = texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("shadow map array view"),
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let sampler = |label: &str, filter: wgpu::FilterMode| {
+            device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some(label),
+                address_mode_u: wgpu::AddressMode::ClampToEdge,
+                address_mode_v: wgpu::AddressMode::ClampToEdge,
+                mag_filter: filter,
+                min_filter: filter,
+                compare: Some(wgpu::CompareFunction::LessEqual),
+                ..Default::default()
+            })
+        };
+        let nearest = sampler("shadow comparison sampler (nearest)", wgpu::FilterMode::Nearest);
+        let bilinear = sampler("shadow comparison sampler (bilinear)", wgpu::FilterMode::Linear);
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shadow map bind group"),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&array),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::Sampler(&nearest),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::Sampler(&bilinear),
+                },
+            ],
+        });
+        Ok(ShadowMaps {
+            uniform,
+            layers: layer_views,
+            bind_group,
+            frusta,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use scenes::{Camera, Emission, Film, Material, RenderSettings, Shape, TexRgb};
+    use std::path::PathBuf;
+
+    fn scene(shapes: Vec<(Geometry, bool)>, lights: Vec<Light>) -> Scene {
+        Scene {
+            source: PathBuf::from("<shadow test>"),
+            camera: Camera::look_at(Vec3::new(0.0, 1.0, 3.0), Vec3::ZERO, Vec3::Y, 40.0),
+            film: Film { width: 4, height: 4 },
+            render: RenderSettings::default(),
+            textures: Vec::new(),
+            materials: vec![Material::Diffuse {
+                albedo: TexRgb::Constant(Vec3::splat(0.5)),
+            }],
+            shapes: shapes
+                .into_iter()
+                .enumerate()
+                .map(|(i, (geometry, emits))| Shape {
+                    name: format!("s{i}"),
+                    geometry,
+                    material: 0,
+                    emission: emits.then_some(Emission {
+                        radiance: TexRgb::Constant(Vec3::ONE),
+                        two_sided: false,
+                    }),
+                    normal_map: None,
+                })
+                .collect(),
+            lights,
+            environment: None,
+        }
+    }
+
+    fn rect(center: Vec3, half: f32, normal_down: bool) -> Geometry {
+        let (u, v) = (Vec3::X * half, Vec3::Z * half);
+        Geometry::Rectangle {
+            center,
+            half_u: if normal_down { u } else { v },
+            half_v: if normal_down { v } else { u },
+        }
+    }
+
+    /// The soft-shadow layout: a 0.5 m light 1.5 m over a 4 m floor, a blocker at 0.5 m. The
+    /// fitted frustum holds every floor corner, its near plane sits 10 % before the blocker, and
+    /// points project where the frustum says.
+    #[test]
+    fn rectangle_light_frustum_fits_the_scene() {
+        let s = scene(
+            vec![
+                (rect(Vec3::ZERO, 2.0, false), false),
+                (rect(Vec3::new(0.0, 0.5, 0.0), 0.2, false), false),
+                (rect(Vec3::new(-0.8, 1.5, 0.0), 0.25, true), true),
+            ],
+            Vec::new(),
+        );
+        let f = light_frusta(&s, None);
+        assert_eq!(f.len(), 1);
+        let f = &f[0];
+        assert!(f.perspective && f.axis.abs_diff_eq(Vec3::NEG_Y, 1e-6), "{f:?}");
+        assert_eq!((f.own_shape, f.size), (Some(2), 0.5));
+        assert!(
+            (f.near - 0.9).abs() < 1e-5 && (f.far - 1.515).abs() < 1e-4,
+            "{}",
+            f.describe()
+        );
+        // The farthest floor corner is 2.8 m off-axis at depth 1.5: tan = 2.8/1.5.
+        let want = 2.0 * (2.8f32 / 1.5 * 1.01).atan().to_degrees();
+        assert!((f.extent - want).abs() < 1e-3, "fov {} vs {want}", f.extent);
+        for corner in [
+            Vec3::new(2.0, 0.0, 2.0),
+            Vec3::new(-2.0, 0.0, -2.0),
+            Vec3::new(0.2, 0.5, 0.2),
+        ] {
+            let c = f.view_proj * corner.extend(1.0);
+            let ndc = c.truncate() / c.w;
+            assert!(
+                ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 && (0.0..=1.0).contains(&ndc.z),
+                "{corner}: {ndc}"
+            );
+        }
+        // Texel footprint: 2·tan(fov/2)/side per metre of depth.
+        let (a, b) = f.texel(1024);
+        assert!((a - 2.0 * 2.8 * 1.01 / 1.5 / 1024.0).abs() < 1e-6 && b == 0.0);
+    }
+
+    /// A wall crossing the light's plane forces the widest field of view and the smallest near
+    /// plane; spots are capped at twice their cutoff; suns get square orthographic boxes.
+    #[test]
+    fn crossing_shapes_spots_and_suns() {
+        let wall = Geometry::Rectangle {
+            center: Vec3::new(1.0, 1.0, 0.0),
+            half_u: Vec3::Y,
+            half_v: Vec3::Z,
+        };
+        let spot = Light::Spot {
+            name: "spot".into(),
+            position: Vec3::new(0.0, 3.0, 0.0),
+            direction: Vec3::NEG_Y,
+            intensity: Vec3::ONE,
+            cutoff_deg: 20.0,
+            beam_width_deg: 10.0,
+        };
+        let sun = Light::Directional {
+            name: "sun".into(),
+            direction: Vec3::new(0.0, -1.0, -1.0),
+            irradiance: Vec3::ONE,
+            angular_diameter_deg: 2.0,
+        };
+        let s = scene(
+            vec![
+                (rect(Vec3::ZERO, 2.0, false), false),
+                (wall, false),
+                (rect(Vec3::new(0.0, 1.5, 0.0), 0.25, true), true),
+            ],
+            vec![spot, sun],
+        );
+        let f = light_frusta(&s, None);
+        assert_eq!(f.len(), 3);
+        let radius = s.bounding_sphere().1;
+        assert!(
+            (f[0].extent - MAX_FOV_DEG).abs() < 1e-3
+                && (f[0].near - MIN_NEAR_FRACTION * radius).abs() < 1e-6
+                && (f[0].search_near - 0.9 * 1.5).abs() < 1e-5
+        );
+        assert!(
+            (f[1].extent - 40.0).abs() < 1e-3 && f[1].size == 0.0,
+            "{}",
+            f[1].describe()
+        );
+        assert!(!f[2].perspective && (f[2].size - 2.0 * 1f32.to_radians().tan()).abs() < 1e-7);
+        for c in corners(s.bounds()) {
+            let p = f[2].view_proj * c.extend(1.0);
+            assert!(
+                p.x.abs() <= 1.0 && p.y.abs() <= 1.0 && (0.0..=1.0).contains(&p.z),
+                "{c}: {p}"
+            );
+        }
+        // light_size overrides every light: metres, degrees for the sun.
+        let g = light_frusta(&s, Some(4.0));
+        assert_eq!((g[0].size, g[1].size), (4.0, 4.0));
+        assert!((g[2].size - 2.0 * 2f32.to_radians().tan()).abs() < 1e-7);
+    }
+}

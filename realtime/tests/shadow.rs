@@ -1,0 +1,246 @@
+//! The shadow methods end to end on the adapter at hand: their cost counters against the
+//! kernels they run, the shadow pass in the timing and the header, forward = deferred with
+//! shadows, the visibility channels, and bad settings as errors. Accuracy against the oracle
+//! is tested in tests/tests/parity_shadow.rs.
+
+use std::path::PathBuf;
+use std::sync::OnceLock;
+
+use glam::Vec3;
+use realtime::{Method, PipelineKind, RasterError, RasterSettings, Renderer};
+use scenes::*;
+
+fn renderer() -> &'static Renderer {
+    static R: OnceLock<Renderer> = OnceLock::new();
+    R.get_or_init(|| Renderer::new().unwrap_or_else(|e| panic!("these tests need a GPU adapter: {e}")))
+}
+
+fn method(name: &str, params: &[(&str, &str)]) -> Method {
+    let p: Vec<(String, String)> = params
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    Method::parse(name, &p).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn shape(name: &str, geometry: Geometry, emission: Option<f32>) -> Shape {
+    Shape {
+        name: name.into(),
+        geometry,
+        material: 0,
+        emission: emission.map(|l| Emission {
+            radiance: TexRgb::Constant(Vec3::splat(l)),
+            two_sided: false,
+        }),
+        normal_map: None,
+    }
+}
+
+/// A camera 1 m above a 100 m floor looking straight down (the floor fills the view), a
+/// 0.4 m rectangle light 2 m up facing down; with `blocker`, the light shrunk to 0.1 m (same
+/// power), a 0.2 m square 1.5 m up (above the camera, out of view) and a 90° view: umbra
+/// ±0.25 m, penumbra out to ±0.55 m, lit floor beyond, all in view.
+fn floor_scene(blocker: bool) -> Scene {
+    let mut shapes = vec![
+        shape(
+            "floor",
+            Geometry::Rectangle {
+                center: Vec3::ZERO,
+                half_u: Vec3::new(0.0, 0.0, 50.0),
+                half_v: Vec3::new(50.0, 0.0, 0.0),
+            },
+            None,
+        ),
+        shape(
+            "light",
+            Geometry::Rectangle {
+                center: Vec3::new(0.0, 2.0, 0.0),
+                half_u: Vec3::new(0.2, 0.0, 0.0),
+                half_v: Vec3::new(0.0, 0.0, 0.2),
+            },
+            Some(5.0),
+        ),
+    ];
+    let mut fov = 40.0;
+    if blocker {
+        shapes[1].geometry = Geometry::Rectangle {
+            center: Vec3::new(0.0, 2.0, 0.0),
+            half_u: Vec3::new(0.05, 0.0, 0.0),
+            half_v: Vec3::new(0.0, 0.0, 0.05),
+        };
+        shapes[1].emission = Some(Emission {
+            radiance: TexRgb::Constant(Vec3::splat(80.0)),
+            two_sided: false,
+        });
+        shapes.push(shape(
+            "blocker",
+            Geometry::Rectangle {
+                center: Vec3::new(0.0, 1.5, 0.0),
+                half_u: Vec3::new(0.0, 0.0, 0.1),
+                half_v: Vec3::new(0.1, 0.0, 0.0),
+            },
+            None,
+        ));
+        fov = 90.0;
+    }
+    Scene {
+        source: PathBuf::from("<shadow floor scene>"),
+        camera: Camera::look_at(Vec3::new(0.0, 1.0, 0.0), Vec3::ZERO, Vec3::Z, fov),
+        film: Film {
+            width: 16,
+            height: 16,
+        },
+        render: RenderSettings::default(),
+        textures: Vec::new(),
+        materials: vec![Material::Diffuse {
+            albedo: TexRgb::Constant(Vec3::splat(0.5)),
+        }],
+        shapes,
+        lights: Vec::new(),
+        environment: None,
+    }
+}
+
+/// On the unoccluded floor (every sample lit, inside the light's frustum) each visible sample
+/// runs 1 emitter iteration + n² = 16 quadrature iterations, then the shadow kernel: its
+/// comparisons (1 fetch nearest, 4 bilinear) and, for the looping kernels, one iteration per
+/// tap. PCSS's blocker search finds no blocker (16 loads) and stops; with the blocker depth
+/// ignored it filters (32 bilinear taps).
+#[test]
+fn counters_count_shadow_map_fetches_per_kernel() {
+    let scene = floor_scene(false);
+    let n = [("n", "4")];
+    for (name, extra, fetches, loops) in [
+        ("shadow_hard", None, 1.0, 17.0),
+        ("pcf_hw_2x2", None, 4.0, 17.0),
+        ("pcf_box", None, 9.0, 26.0),
+        ("pcf_box", Some(("kernel", "5")), 25.0, 42.0),
+        ("pcf_poisson", None, 64.0, 33.0),
+        ("pcf_poisson", Some(("taps", "4")), 16.0, 21.0),
+        ("pcss", None, 16.0, 33.0),
+        ("pcss", Some(("blocker_depth", "ignore")), 128.0, 49.0),
+    ] {
+        let mut params = n.to_vec();
+        params.extend(extra);
+        let s = RasterSettings::new(16, 16)
+            .method(method(name, &params))
+            .frames(0, 1)
+            .counters(true);
+        for pipeline in [PipelineKind::Forward, PipelineKind::Deferred] {
+            let out = renderer()
+                .render(&scene, &s.pipeline(pipeline))
+                .unwrap_or_else(|e| panic!("{e}"));
+            let c = out.counters.unwrap_or_else(|| panic!("counters were requested"));
+            assert_eq!(
+                (c.texel_fetches_per_pixel, c.loop_iterations_per_pixel),
+                (fetches, loops),
+                "{name} {extra:?} ({pipeline:?})"
+            );
+        }
+    }
+}
+
+/// The shadow pass is its own timed entry before the shading passes; the header lists the
+/// shadow parameters and each light's projection; the visibility channel is there.
+#[test]
+fn shadow_pass_is_timed_and_described() {
+    let scene = floor_scene(true);
+    let gpu = renderer().gpu();
+    for (pipeline, passes) in [
+        (PipelineKind::Forward, vec!["shadow pass", "forward pass"]),
+        (
+            PipelineKind::Deferred,
+            vec!["shadow pass", "G-buffer pass", "lighting pass"],
+        ),
+    ] {
+        let s = RasterSettings::new(16, 16)
+            .method(method("pcss", &[("map", "256")]))
+            .pipeline(pipeline)
+            .frames(1, 2);
+        let out = renderer().render(&scene, &s).unwrap_or_else(|e| panic!("{e}"));
+        if gpu.has_timestamps() && !out.timing.passes.is_empty() {
+            let names: Vec<&str> = out.timing.passes.iter().map(|p| p.name.as_str()).collect();
+            assert_eq!(names, passes);
+            assert!(out.timing.passes.iter().all(|p| p.ms >= 0.0));
+        }
+        let img = &out.image;
+        assert_eq!(img.attribute("method"), Some("pcss"));
+        assert_eq!(
+            img.attribute("parameters"),
+            Some(
+                "n=8 env_n=0 map=256 bias=0.002 slope_bias=1 normal_offset=1 blocker_samples=16 \
+                 filter_samples=32 blocker_depth=search receiver_plane=on"
+            )
+        );
+        let maps = img.attribute("shadow_maps").unwrap_or_default();
+        assert!(maps.starts_with("light: perspective"), "{maps}");
+        let v = img.channel("visibility.light.Y").unwrap_or_default();
+        assert_eq!(v.len(), 256);
+        assert!(v.iter().all(|x| (0.0..=1.0).contains(x)), "{v:?}");
+        assert!(v.contains(&0.0) && v.contains(&1.0), "umbra and lit: {v:?}");
+    }
+    let plain = renderer()
+        .render(&scene, &RasterSettings::new(16, 16).frames(0, 1))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(plain.image.attribute("shadow_maps"), None);
+    assert!(plain
+        .image
+        .channel("visibility.light.Y")
+        .unwrap_or_default()
+        .iter()
+        .all(|&x| x == 1.0));
+}
+
+/// Forward and deferred call the same functions on the same f32 inputs: with shadows too the
+/// images and visibilities agree (to 1e-5, instruction scheduling aside), at SSAA 2 (whose
+/// object ids take the extra 1× frame, shadow pass included).
+#[test]
+fn forward_and_deferred_agree_with_shadows() {
+    let scene = floor_scene(true);
+    for name in ["shadow_hard", "pcf_box", "pcss"] {
+        let s = RasterSettings::new(16, 16)
+            .method(method(name, &[("map", "256")]))
+            .ssaa(2)
+            .frames(0, 1);
+        let f = renderer().render(&scene, &s).unwrap_or_else(|e| panic!("{e}"));
+        let d = renderer()
+            .render(&scene, &s.pipeline(PipelineKind::Deferred))
+            .unwrap_or_else(|e| panic!("{e}"));
+        for c in ["R", "G", "B", "visibility.light.Y", "object_id.Y"] {
+            let (a, b) = (f.image.channel(c).unwrap(), d.image.channel(c).unwrap());
+            for (x, y) in a.iter().zip(b) {
+                assert!((x - y).abs() <= 1e-5 * y.abs().max(1.0), "{name} {c}: {x} vs {y}");
+            }
+        }
+    }
+}
+
+#[test]
+fn bad_shadow_settings_are_errors() {
+    let scene = floor_scene(true);
+    let max = renderer().gpu().limits().max_texture_dimension_2d;
+    let mut big = method("shadow_hard", &[]);
+    if let Some(s) = &mut big.shadow {
+        s.map = max + 1;
+    }
+    let mut many = scene.clone();
+    for i in 0..70 {
+        many.lights.push(Light::Point {
+            name: format!("p{i}"),
+            position: Vec3::new(0.0, 3.0, 0.0),
+            intensity: Vec3::ONE,
+        });
+    }
+    for (scene, m, want) in [
+        (&scene, big, "map"),
+        (&many, method("shadow_hard", &[]), "at most 64 can be shadowed"),
+    ] {
+        match renderer().render(scene, &RasterSettings::new(4, 4).method(m)) {
+            Err(RasterError::Settings(e)) => assert!(e.contains(want), "{e} (wanted {want})"),
+            other => panic!(
+                "expected a settings error ({want}), got {:?}",
+                other.map(|o| o.timing)
+            ),
+        }
+    }
+}
