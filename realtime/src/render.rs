@@ -430,6 +430,28 @@ impl Renderer {
     }
 
     /// Maps `buffer` for reading and copies its contents out.
+    /// Ends `encoder` with a copy of `src` into a fresh mappable buffer (`label`), submits it,
+    /// waits, and returns the bytes; `what` names the frame in errors.
+    fn submit_and_read(
+        &self,
+        mut encoder: wgpu::CommandEncoder,
+        src: &wgpu::Buffer,
+        label: &str,
+        what: &str,
+    ) -> Result<Vec<u8>, RasterError> {
+        let readback = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: src.size(),
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        encoder.copy_buffer_to_buffer(src, 0, &readback, 0, src.size());
+        self.gpu.queue.submit([encoder.finish()]);
+        self.wait()?;
+        self.check_errors(what)?;
+        self.map(&readback)
+    }
+
     fn map(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, RasterError> {
         let slice = buffer.slice(..);
         let status = Arc::new(Mutex::new(None));
@@ -505,17 +527,12 @@ impl Renderer {
         });
         encoder.clear_buffer(&frame.counters, 0, None);
         encode_passes(&mut encoder, frame, targets, &stages, scene_gpu, groups, None);
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("counters read-back"),
-            size: frame.counters.size(),
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
-        encoder.copy_buffer_to_buffer(&frame.counters, 0, &readback, 0, frame.counters.size());
-        self.gpu.queue.submit([encoder.finish()]);
-        self.wait()?;
-        self.check_errors("the counting frame")?;
-        let bytes = self.map(&readback)?;
+        let bytes = self.submit_and_read(
+            encoder,
+            &frame.counters,
+            "counters read-back",
+            "the counting frame",
+        )?;
         let mut sums = [0u64; 2];
         for (i, c) in bytes.chunks_exact(4).enumerate() {
             sums[i % 2] += u64::from(u32::from_le_bytes([c[0], c[1], c[2], c[3]]));
@@ -571,17 +588,12 @@ impl Renderer {
                 &pipeline,
                 c,
             );
-            let readback = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("visibility AOV read-back"),
-                size: chunk.output.size(),
-                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-                mapped_at_creation: false,
-            });
-            encoder.copy_buffer_to_buffer(&chunk.output, 0, &readback, 0, chunk.output.size());
-            self.gpu.queue.submit([encoder.finish()]);
-            self.wait()?;
-            self.check_errors("the visibility AOV frame")?;
-            let bytes = self.map(&readback)?;
+            let bytes = self.submit_and_read(
+                encoder,
+                &chunk.output,
+                "visibility AOV read-back",
+                "the visibility AOV frame",
+            )?;
             let values: Vec<f32> = bytes
                 .chunks_exact(4)
                 .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
