@@ -479,7 +479,7 @@ fn push_mesh(out: &mut Vec<MeshVertex>, mesh: &Mesh, id: u32) -> Result<(), Stri
             ([Vec2::ZERO, Vec2::X, Vec2::Y], p[1] - p[0], p[2] - p[0])
         } else {
             let uv = idx.map(|i| mesh.uvs[i]);
-            let (du, dv) = uv_derivatives(p, uv).unwrap_or((p[1] - p[0], p[2] - p[0]));
+            let (du, dv) = scenes::triangle_uv_derivatives(p, uv).unwrap_or((p[1] - p[0], p[2] - p[0]));
             (uv, du, dv)
         };
         let tangents = if mesh.tangents.is_empty() {
@@ -501,22 +501,6 @@ fn push_mesh(out: &mut Vec<MeshVertex>, mesh: &Mesh, id: u32) -> Result<(), Stri
         }
     }
     Ok(())
-}
-
-/// ∂p/∂u and ∂p/∂v from the vertex uvs (pbrt-v4 §6.5.3; oracle triangle.rs), or None when
-/// the uv mapping is degenerate.
-fn uv_derivatives(p: [Vec3; 3], uv: [Vec2; 3]) -> Option<(Vec3, Vec3)> {
-    let (duv02, duv12) = (uv[0] - uv[2], uv[1] - uv[2]);
-    let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
-    let det = duv02.x * duv12.y - duv02.y * duv12.x;
-    let inv = 1.0 / det;
-    if !(det != 0.0 && inv.is_finite()) {
-        return None;
-    }
-    let dpdu = (dp02 * duv12.y - dp12 * duv02.y) * inv;
-    let dpdv = (dp12 * duv02.x - dp02 * duv12.x) * inv;
-    let c = dpdu.cross(dpdv);
-    (c.is_finite() && c.length_squared() > 0.0).then_some((dpdu, dpdv))
 }
 
 fn check_rgb(name: &str, c: Vec3) -> Result<(), String> {

@@ -640,3 +640,19 @@ impl Scene {
         (c, ((hi - lo) * 0.5).length().max(1e-3))
     }
 }
+
+/// ∂p/∂u and ∂p/∂v of a triangle from its vertex positions and uvs (pbrt-v4 §6.5.3), shared by
+/// both renderers' tangent frames; None when the uv map is degenerate.
+pub fn triangle_uv_derivatives(p: [Vec3; 3], uv: [Vec2; 3]) -> Option<(Vec3, Vec3)> {
+    let (duv02, duv12) = (uv[0] - uv[2], uv[1] - uv[2]);
+    let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
+    let det = duv02.x * duv12.y - duv02.y * duv12.x;
+    let inv = 1.0 / det;
+    if !(det != 0.0 && inv.is_finite()) {
+        return None;
+    }
+    let dpdu = (dp02 * duv12.y - dp12 * duv02.y) * inv;
+    let dpdv = (dp12 * duv02.x - dp02 * duv12.x) * inv;
+    let c = dpdu.cross(dpdv);
+    (c.is_finite() && c.length_squared() > 0.0).then_some((dpdu, dpdv))
+}

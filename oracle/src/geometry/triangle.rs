@@ -170,7 +170,7 @@ fn interpolate_attributes(s: &mut Surface, v: [Vec3; 3], mesh: &Mesh, idx: [usiz
     if !mesh.uvs.is_empty() {
         let uv = idx.map(|i| mesh.uvs[i]);
         s.uv = uv[0] * b.x + uv[1] * b.y + uv[2] * b.z;
-        if let Some((dpdu, dpdv)) = uv_derivatives(v, uv) {
+        if let Some((dpdu, dpdv)) = scenes::triangle_uv_derivatives(v, uv) {
             (s.dpdu, s.dpdv) = (dpdu, dpdv);
         }
     }
@@ -181,19 +181,4 @@ fn interpolate_attributes(s: &mut Surface, v: [Vec3; 3], mesh: &Mesh, idx: [usiz
             s.tangent = Some((t.xyz(), if t.w < 0.0 { -1.0 } else { 1.0 }));
         }
     }
-}
-
-/// ∂p/∂u and ∂p/∂v from the vertex uvs (pbrt-v4 §6.5.3); None when the uv map is degenerate.
-fn uv_derivatives(p: [Vec3; 3], uv: [Vec2; 3]) -> Option<(Vec3, Vec3)> {
-    let (duv02, duv12) = (uv[0] - uv[2], uv[1] - uv[2]);
-    let (dp02, dp12) = (p[0] - p[2], p[1] - p[2]);
-    let det = duv02.x * duv12.y - duv02.y * duv12.x;
-    let inv = 1.0 / det;
-    if !(det != 0.0 && inv.is_finite()) {
-        return None;
-    }
-    let dpdu = (dp02 * duv12.y - dp12 * duv02.y) * inv;
-    let dpdv = (dp12 * duv02.x - dp02 * duv12.x) * inv;
-    let c = dpdu.cross(dpdv);
-    (c.is_finite() && c.length_squared() > 0.0).then_some((dpdu, dpdv))
 }
