@@ -166,3 +166,107 @@ fn study_files_are_checked_whole_with_located_errors() {
         );
     }
 }
+
+/// A study over the soft-shadow scene with a scene sweep of its light's size.
+const SWEPT: &str = r#"scene = "../soft-shadow.toml"
+[scene_sweep]
+name = "light_size"
+set = ["shape.light.size[0]", "shape.light.size[1]"]
+values = [0.25, 1.0]
+[ground_truth]
+integrator = "direct"
+spp = 16
+visibility_of = "light"
+[[method]]
+name = "shadow_hard"
+sweep = { map = [512, 256] }
+[[threshold]]
+method = "shadow_hard"
+scene = { light_size = 1.0 }
+metric = "relmse"
+max = 1.0
+reason = "r"
+"#;
+
+#[test]
+fn scene_sweeps_make_one_scene_per_value_and_thresholds_select_them() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/studies/test-bad.toml");
+    let s = compare::study::load_str(SWEPT, &path).unwrap();
+    let points = s.scene_points();
+    assert_eq!(points.len(), 2);
+    assert_eq!(points[1].label(), "light_size=1");
+    assert_eq!(points[1].suffix(), "--light_size-1");
+    let variants = s.variants();
+    let labels: Vec<String> = variants.iter().map(|v| v.label()).collect();
+    assert_eq!(
+        labels,
+        [
+            "shadow_hard(map=512) @ light_size=0.25",
+            "shadow_hard(map=256) @ light_size=0.25",
+            "shadow_hard(map=512) @ light_size=1",
+            "shadow_hard(map=256) @ light_size=1",
+        ]
+    );
+    assert_eq!(variants[3].id(), "shadow_hard-map-256--light_size-1");
+    let selected: Vec<String> = variants
+        .iter()
+        .filter(|v| s.thresholds[0].applies_to(v))
+        .map(|v| v.label())
+        .collect();
+    assert_eq!(selected.len(), 2);
+    assert!(selected.iter().all(|l| l.ends_with("@ light_size=1")));
+    // Each point's scene is the file with the fields set.
+    let (scene, _) = compare::study::run::prepare(&s, true, &points[1].overrides).unwrap();
+    let light = scene.shapes.iter().find(|x| x.name == "light").unwrap();
+    assert!((light.geometry.bounds().1.x - light.geometry.bounds().0.x - 1.0).abs() < 1e-5);
+
+    let cases = [
+        (
+            SWEPT.replace("shape.light.size[1]", "shape.lamp.size[1]"),
+            "scene_sweep light_size = 0.25: the scene does not load",
+        ),
+        (
+            SWEPT.replace("[0.25, 1.0]", "[0.25, -1.0]"),
+            "scene_sweep light_size = -1: the scene does not load",
+        ),
+        (SWEPT.replace("[0.25, 1.0]", "[0.25]"), "at least two values"),
+        (SWEPT.replace("[0.25, 1.0]", "[1.0, 1.0]"), "listed twice"),
+        (
+            SWEPT.replace("name = \"light_size\"", "name = \"light size\""),
+            "invalid scene parameter name",
+        ),
+        (
+            SWEPT.replace("{ light_size = 1.0 }", "{ light_size = 3.0 }"),
+            "no scene-sweep point has these values",
+        ),
+        (
+            SWEPT.replace("[ground_truth]", "[stability.flicker]\nframes = 3\nshift = \"shape.light.centre[0]\"\nstep = 0.01\n[ground_truth]"),
+            "flicker frame 1: the scene does not load",
+        ),
+        (
+            SWEPT.replace("[ground_truth]", "[stability.flicker]\nframes = 3\n[ground_truth]"),
+            "a flicker needs a motion",
+        ),
+    ];
+    for (text, want) in cases {
+        let e = study_error(&text);
+        assert!(
+            e.contains(want) && e.contains("test-bad.toml"),
+            "expected `{want}` in: {e}"
+        );
+    }
+    // A light motion: frame k adds k·step to the field.
+    let moving = SWEPT.replace(
+        "[ground_truth]",
+        "[stability.flicker]\nframes = 3\nshift = \"shape.light.center[0]\"\nstep = 0.01\n[ground_truth]",
+    );
+    let s = compare::study::load_str(&moving, &path).unwrap();
+    let f = s.stability.flicker.as_ref().unwrap();
+    let edits = compare::study::shifted(&f.motion, 2);
+    assert_eq!(edits.len(), 1);
+    assert_eq!(edits[0].edit, scenes::toml::overrides::Edit::Add(0.02));
+    assert!(f
+        .motion
+        .describe()
+        .contains("shape.light.center[0] moving by 0.01 per frame"));
+}

@@ -32,6 +32,10 @@ const NOT_EXPRESSIBLE: &[(&str, &str)] = &[
         "studies/scenes/grazing-sun",
         "angular diameter of 2° (a sun disk)",
     ),
+    (
+        "studies/scenes/slatted-screen",
+        "angular diameter of 0.5° (a sun disk)",
+    ),
 ];
 
 fn agrees(name: &str, variant: Variant, size: u32, spp: u32) {

@@ -10,6 +10,7 @@
 mod inputs;
 mod lights;
 mod materials;
+pub mod overrides;
 pub mod read;
 mod settings;
 mod shapes;
@@ -37,6 +38,23 @@ const SECTIONS: &[&str] = &[
 
 /// Loads a TOML scene file; relative paths in it are relative to its directory.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    load_str(&read_text(path)?, path)
+}
+
+/// Loads a TOML scene file with some of its fields changed first ([`overrides`]): a bad path
+/// is an error naming it (as the `field`), a bad value fails as it would in the file.
+pub fn load_with(path: &Path, changes: &[overrides::Override]) -> Result<Scene, SceneError> {
+    let text = read_text(path)?;
+    let ctx = Ctx::new(path, &text);
+    let mut root = parse_document(&ctx, &text)?;
+    for o in changes {
+        overrides::apply(&mut root, o).map_err(|e| SceneError::new(path, e).field(o.path.clone()))?;
+    }
+    from_tree(&ctx, &root)
+}
+
+/// The UTF-8 text of a scene file.
+fn read_text(path: &Path) -> Result<String, SceneError> {
     let bytes = std::fs::read(path).map_err(|e| {
         let e = SceneError::new(path, format!("cannot read the scene file: {e}"));
         if path.exists() {
@@ -55,7 +73,7 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
         )
         .hint("TOML files are UTF-8")
     })?;
-    load_str(&text, path)
+    Ok(text)
 }
 
 /// Parses TOML `text` (the file of `ctx`) into a located tree; a syntax error names the file
@@ -76,7 +94,13 @@ pub fn parse_document(ctx: &Ctx, text: &str) -> Result<tree::Node, SceneError> {
 pub fn load_str(text: &str, path: &Path) -> Result<Scene, SceneError> {
     let ctx = Ctx::new(path, text);
     let root = parse_document(&ctx, text)?;
-    let doc = Field::root(&ctx, &root).table()?;
+    from_tree(&ctx, &root)
+}
+
+/// Reads a parsed document (the file of `ctx`).
+fn from_tree(ctx: &Ctx, root: &tree::Node) -> Result<Scene, SceneError> {
+    let path = ctx.file.as_path();
+    let doc = Field::root(ctx, root).table()?;
     doc.only(SECTIONS, "a scene file")?;
     let section = |key: &str| doc.get(key).map(|f| f.table()).transpose();
 
@@ -93,7 +117,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene, SceneError> {
     };
 
     let mut names = Names::default();
-    let shapes = names.assign(&ctx, drafts, &lights)?;
+    let shapes = names.assign(ctx, drafts, &lights)?;
     let mut scene = Scene {
         source: path.to_path_buf(),
         camera,

@@ -39,6 +39,8 @@ const LEFT: f64 = 80.0;
 const RIGHT: f64 = 20.0;
 const TOP: f64 = 30.0;
 const BOTTOM: f64 = 60.0;
+/// Height of one legend row below the chart.
+const LEGEND_ROW: f64 = 14.0;
 
 /// A log or linear axis mapping values to pixels.
 struct Axis {
@@ -122,11 +124,13 @@ fn esc(s: &str) -> String {
 }
 
 /// Frame, ticks and axis titles.
-fn axes(svg: &mut String, x: &Axis, y: &Axis, x_title: &str, y_title: &str, title: &str) {
+/// The frame, ticks and titles; `legend_rows` rows of legend room are added below the chart.
+fn axes(svg: &mut String, x: &Axis, y: &Axis, x_title: &str, y_title: &str, title: &str, legend_rows: usize) {
+    let height = H + LEGEND_ROW * legend_rows as f64 + if legend_rows > 0 { 8.0 } else { 0.0 };
     let _ = write!(
         svg,
-        r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {W} {H}" width="{W}" height="{H}" font-family="sans-serif" font-size="11">
-<rect x="0" y="0" width="{W}" height="{H}" fill="white"/>
+        r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {W} {height}" width="{W}" height="{height}" font-family="sans-serif" font-size="11">
+<rect x="0" y="0" width="{W}" height="{height}" fill="white"/>
 <text x="{}" y="18" text-anchor="middle" font-size="13">{}</text>
 <rect x="{LEFT}" y="{TOP}" width="{}" height="{}" fill="none" stroke="#444"/>
 "##,
@@ -180,7 +184,7 @@ pub fn error_vs_cost(points: &[CostPoint], metric: &str, cost_title: &str, title
     let x = Axis::fit(points.iter().map(|p| p.cost_ms), LEFT, W - RIGHT);
     let y = Axis::fit(points.iter().map(|p| p.error), H - BOTTOM, TOP);
     let mut svg = String::new();
-    axes(&mut svg, &x, &y, cost_title, metric, title);
+    axes(&mut svg, &x, &y, cost_title, metric, title, 0);
     let mut front = pareto_front(points);
     front.sort_by(|&a, &b| points[a].cost_ms.total_cmp(&points[b].cost_ms));
     let path: Vec<String> = front
@@ -219,14 +223,26 @@ pub fn error_vs_cost(points: &[CostPoint], metric: &str, cost_title: &str, title
     svg
 }
 
-/// Error against a swept parameter (values in listed order along x), with the noise floor
-/// and the break point marked.
+/// One line of an error-against-parameter chart.
+pub struct Series<'a> {
+    /// Legend text (empty for a single unnamed line).
+    pub label: &'a str,
+    /// The error at each value.
+    pub errors: &'a [f64],
+    /// The value it breaks at, if any.
+    pub breakpoint: Option<&'a str>,
+}
+
+/// Line colours of the series, in order (then repeated).
+const SERIES_COLOURS: [&str; 8] = ["#36c", "#d62", "#393", "#93c", "#c39", "#088", "#b80", "#555"];
+
+/// Error against a swept parameter (values in listed order along x), one line per series,
+/// with the noise floor and each series' break point marked.
 pub fn error_vs_parameter(
     parameter: &str,
     values: &[String],
-    errors: &[f64],
+    series: &[Series],
     noise_floor: Option<f64>,
-    breakpoint: Option<&str>,
     metric: &str,
     title: &str,
 ) -> String {
@@ -240,12 +256,16 @@ pub fn error_vs_parameter(
         x.fixed_ticks = Some(xs.clone());
     }
     let y = Axis::fit(
-        errors.iter().copied().chain(noise_floor.filter(|f| *f > 0.0)),
+        series
+            .iter()
+            .flat_map(|s| s.errors.iter().copied())
+            .chain(noise_floor.filter(|f| *f > 0.0)),
         H - BOTTOM,
         TOP,
     );
     let mut svg = String::new();
-    axes(&mut svg, &x, &y, parameter, metric, title);
+    let legend_rows = if series.len() > 1 { series.len() } else { 0 };
+    axes(&mut svg, &x, &y, parameter, metric, title, legend_rows);
     if let Some(f) = noise_floor.filter(|f| f.is_finite() && *f > 0.0) {
         let p = y.px(f);
         let _ = writeln!(
@@ -256,48 +276,88 @@ pub fn error_vs_parameter(
             p - 4.0
         );
     }
-    let mut order: Vec<usize> = (0..values.len()).filter(|&i| errors[i].is_finite()).collect();
-    order.sort_by(|&a, &b| xs[a].total_cmp(&xs[b]));
-    let line: Vec<String> = order
-        .iter()
-        .map(|&i| format!("{:.1},{:.1}", x.px(xs[i]), y.px(errors[i])))
-        .collect();
-    let _ = writeln!(
-        svg,
-        r##"<polyline points="{}" fill="none" stroke="#36c" stroke-width="1.5"/>"##,
-        line.join(" ")
-    );
-    for &i in &order {
-        let broken = breakpoint == Some(values[i].as_str());
-        let _ = writeln!(
-            svg,
-            r##"<g><title>{parameter} = {}: {metric} {:.3e}{}</title><circle cx="{:.1}" cy="{:.1}" r="4.5" fill="{}"/></g>"##,
-            esc(&values[i]),
-            errors[i],
-            if broken { " (break point)" } else { "" },
-            x.px(xs[i]),
-            y.px(errors[i]),
-            if broken { "#d33" } else { "#36c" }
-        );
-        if numeric.is_none() {
+    if numeric.is_none() {
+        for (i, v) in values.iter().enumerate() {
             let _ = writeln!(
                 svg,
                 r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
                 x.px(xs[i]),
                 H - BOTTOM + 28.0,
-                esc(&values[i])
+                esc(v)
             );
         }
     }
-    if let Some(b) = breakpoint.and_then(|b| values.iter().position(|v| v == b)) {
-        let p = x.px(xs[b]);
+    for (n, s) in series.iter().enumerate() {
+        let colour = if series.len() == 1 {
+            SERIES_COLOURS[0]
+        } else {
+            SERIES_COLOURS[n % SERIES_COLOURS.len()]
+        };
+        let mut order: Vec<usize> = (0..values.len()).filter(|&i| s.errors[i].is_finite()).collect();
+        order.sort_by(|&a, &b| xs[a].total_cmp(&xs[b]));
+        let line: Vec<String> = order
+            .iter()
+            .map(|&i| format!("{:.1},{:.1}", x.px(xs[i]), y.px(s.errors[i])))
+            .collect();
         let _ = writeln!(
             svg,
-            r##"<line x1="{p:.1}" y1="{TOP}" x2="{p:.1}" y2="{:.1}" stroke="#d33" stroke-dasharray="2 2"/><text x="{:.1}" y="{:.1}" fill="#d33">break point</text>"##,
-            H - BOTTOM,
-            p + 4.0,
-            TOP + 12.0
+            r##"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="1.5"/>"##,
+            line.join(" ")
         );
+        let name = if s.label.is_empty() {
+            String::new()
+        } else {
+            format!("{}: ", esc(s.label))
+        };
+        for &i in &order {
+            let broken = s.breakpoint == Some(values[i].as_str());
+            let _ = writeln!(
+                svg,
+                r##"<g><title>{name}{parameter} = {}: {metric} {:.3e}{}</title><circle cx="{:.1}" cy="{:.1}" r="4.5" fill="{}" stroke="{colour}"/></g>"##,
+                esc(&values[i]),
+                s.errors[i],
+                if broken { " (break point)" } else { "" },
+                x.px(xs[i]),
+                y.px(s.errors[i]),
+                if broken { "#d33" } else { colour }
+            );
+        }
+        if let Some(b) = s.breakpoint.and_then(|b| values.iter().position(|v| v == b)) {
+            let p = x.px(xs[b]);
+            let _ = writeln!(
+                svg,
+                r##"<line x1="{p:.1}" y1="{TOP}" x2="{p:.1}" y2="{:.1}" stroke="{colour}" stroke-dasharray="2 2"/>"##,
+                H - BOTTOM
+            );
+        }
+        if series.len() > 1 {
+            // Legend below the chart, one row per series, with its break point.
+            let (lx, ly) = (LEFT, H + 4.0 + LEGEND_ROW * n as f64);
+            let _ = writeln!(
+                svg,
+                r##"<line x1="{lx:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{colour}" stroke-width="2"/><text x="{:.1}" y="{ly:.1}" font-size="9">{}{}</text>"##,
+                ly - 3.0,
+                lx + 14.0,
+                ly - 3.0,
+                lx + 18.0,
+                esc(s.label),
+                s.breakpoint
+                    .map_or(String::new(), |b| format!(" (breaks at {})", esc(b)))
+            );
+        }
+    }
+    if series.len() == 1 {
+        if let Some(b) = series[0]
+            .breakpoint
+            .and_then(|b| values.iter().position(|v| v == b))
+        {
+            let _ = writeln!(
+                svg,
+                r##"<text x="{:.1}" y="{:.1}" fill="#d33">break point</text>"##,
+                x.px(xs[b]) + 4.0,
+                TOP + 12.0
+            );
+        }
     }
     svg += "</svg>\n";
     svg
@@ -335,16 +395,29 @@ mod tests {
     #[test]
     fn parameter_chart_marks_the_break_point() {
         let values: Vec<String> = ["16", "8", "4", "2", "1"].map(String::from).to_vec();
-        let svg = error_vs_parameter(
-            "n",
-            &values,
-            &[1e-6, 2e-6, 1e-5, 1e-4, 1e-3],
-            Some(1e-6),
-            Some("2"),
-            "relmse",
-            "t",
-        );
+        let one = Series {
+            label: "",
+            errors: &[1e-6, 2e-6, 1e-5, 1e-4, 1e-3],
+            breakpoint: Some("2"),
+        };
+        let svg = error_vs_parameter("n", &values, &[one], Some(1e-6), "relmse", "t");
         assert!(svg.contains("n = 2: relmse 1.000e-4 (break point)"));
-        assert!(svg.contains("reference noise floor"));
+        assert!(svg.contains("reference noise floor") && svg.contains(">break point<"));
+        // Several series: one line each, a legend naming each and where it breaks.
+        let two = [
+            Series {
+                label: "pcss",
+                errors: &[1e-4, 1e-4, 2e-4, 3e-4, 4e-4],
+                breakpoint: None,
+            },
+            Series {
+                label: "shadow_hard",
+                errors: &[1e-3, 5e-3, 1e-2, 5e-2, 1e-1],
+                breakpoint: Some("8"),
+            },
+        ];
+        let svg = error_vs_parameter("light_size", &values, &two, None, "relmse", "t");
+        assert_eq!(svg.matches("<polyline").count(), 2);
+        assert!(svg.contains("shadow_hard (breaks at 8)") && svg.contains("pcss: light_size = 16"));
     }
 }

@@ -106,6 +106,25 @@ fn header(h: &mut String, r: &StudyResult) {
         gt.mean_relative_std_error,
         &gt.hash[..16.min(gt.hash.len())]
     );
+    if let Some(s) = &r.scene_sweep {
+        let values: Vec<String> = s
+            .values
+            .iter()
+            .zip(&s.ground_truths)
+            .map(|(v, g)| format!("{v} (<a href=\"{}\">ground truth</a>)", g.exr))
+            .collect();
+        let _ = writeln!(
+            h,
+            "<p>Scene sweep: <code>{}</code> sets {} to {}; every method is measured against each value's own ground truth (above: the first).</p>",
+            esc(&s.parameter),
+            s.fields
+                .iter()
+                .map(|f| format!("<code>{}</code>", esc(f)))
+                .collect::<Vec<_>>()
+                .join(", "),
+            values.join(", ")
+        );
+    }
     let a = &r.adapter;
     let _ = writeln!(
         h,
@@ -137,7 +156,7 @@ fn thresholds(h: &mut String, r: &StudyResult) {
             if t.passed { "" } else { "fail" },
             if t.passed { "<span class=pass>holds</span>" } else { "<span class=failtxt>FAILS</span>" },
             esc(&t.variant),
-            if t.on == "image" { t.metric.clone() } else { format!("{} of the {}", t.metric, t.on) },
+            if t.on == "image" || t.on == "flicker" { t.metric.clone() } else { format!("{} of the {}", t.metric, t.on) },
             esc(&t.mask),
             num(t.value),
             t.min.map_or("".into(), num),
@@ -213,7 +232,13 @@ fn flicker(h: &mut String, r: &StudyResult) {
     if r.flicker.is_empty() {
         return;
     }
-    h.push_str("<h2>Temporal flicker</h2><table><thead><tr><th class=l>variant</th><th>frames</th><th>flicker</th><th>noise floor</th></tr></thead><tbody>\n");
+    let _ = writeln!(
+        h,
+        "<h2>Temporal flicker</h2><p>Under {} ({} frames, one ground truth each); flicker is the mean change of the signed error between frames relative to the signal, beside what the ground truth's own noise gives.</p>",
+        esc(&r.flicker[0].motion),
+        r.flicker[0].frames
+    );
+    h.push_str("<table><thead><tr><th class=l>variant</th><th>frames</th><th>flicker</th><th>noise floor</th></tr></thead><tbody>\n");
     for f in &r.flicker {
         let _ = writeln!(
             h,
@@ -243,9 +268,10 @@ fn images(h: &mut String, r: &StudyResult) {
             .collect();
         let _ = writeln!(
             h,
-            "<h3>{label}</h3><div class=triple><figure><img src=\"ground_truth.png\" alt=\"ground truth\"><figcaption>ground truth (<a href=\"{gt}\">EXR</a>)</figcaption></figure><figure><img src=\"{png}\" data-gt=\"ground_truth.png\" data-approx=\"{png}\" onmouseenter=\"flip(this,true)\" onmouseleave=\"flip(this,false)\" onclick=\"flip(this,this.src.endsWith('{png}'))\" alt=\"approximation\"><figcaption>{label} (<a href=\"{exr}\">EXR</a>)</figcaption></figure><figure><img class=err src=\"{file}\" alt=\"{metric} error map\"><figcaption>{metric} error (magma, 0 to the 99th percentile); maps: {links}</figcaption></figure></div>",
+            "<h3>{label}</h3><div class=triple><figure><img src=\"{gt_png}\" alt=\"ground truth\"><figcaption>ground truth (<a href=\"{gt}\">EXR</a>)</figcaption></figure><figure><img src=\"{png}\" data-gt=\"{gt_png}\" data-approx=\"{png}\" onmouseenter=\"flip(this,true)\" onmouseleave=\"flip(this,false)\" onclick=\"flip(this,this.src.endsWith('{png}'))\" alt=\"approximation\"><figcaption>{label} (<a href=\"{exr}\">EXR</a>)</figcaption></figure><figure><img class=err src=\"{file}\" alt=\"{metric} error map\"><figcaption>{metric} error (magma, 0 to the 99th percentile); maps: {links}</figcaption></figure></div>",
             label = esc(&v.label),
-            gt = r.ground_truth.exr,
+            gt = v.ground_truth_exr,
+            gt_png = v.ground_truth_png,
             png = v.png,
             exr = v.exr,
             links = others.join(", ")
@@ -256,9 +282,12 @@ fn images(h: &mut String, r: &StudyResult) {
 /// The error-vs-cost chart of the study's chart metric over its chart mask.
 pub fn cost_chart(r: &StudyResult) -> String {
     let (metric, mask) = (r.chart.metric.as_str(), r.chart.mask.as_str());
+    // One scene: the first scene-sweep point (every point has the same costs' methods).
+    let first_scene = r.variants.first().map(|v| v.scene.clone()).unwrap_or_default();
     let points: Vec<CostPoint> = r
         .variants
         .iter()
+        .filter(|v| v.scene == first_scene)
         .map(|v| CostPoint {
             label: v.label.clone(),
             cost_ms: v.cost.frame_ms,

@@ -5,10 +5,10 @@
 //! |---|---|
 //! | `index.html` | the page ([`html`]) |
 //! | `metrics.json`, `metrics.csv` | every number (schema: compare/README.md) |
-//! | `ground_truth.exr/.png` | the oracle's image, variance and AOVs |
+//! | `ground_truth.exr/.png` | the oracle's image, variance and AOVs (`ground_truth--<parameter>-<value>.*` at each scene-sweep value) |
 //! | `methods/<id>.exr/.png` | each approximation, with `error.<metric>.Y` layers |
 //! | `methods/<id>-error-<metric>.png` | false-colour error maps with their colour bar ([`colormap`]) |
-//! | `charts/error-vs-cost.svg`, `charts/sweep-<method>-<parameter>.svg` | the charts ([`chart`]) |
+//! | `charts/error-vs-cost.svg`, `charts/sweep-<method>-<parameter>.svg`, `charts/scene-<parameter>-<image\|visibility>.svg` | the charts ([`chart`]) |
 
 pub mod chart;
 pub mod colormap;
@@ -43,15 +43,12 @@ pub fn write(result: &StudyResult, dir: &Path) -> io::Result<()> {
             "{}: {} over `{}` against {}",
             s.method, s.metric, s.mask, s.parameter
         );
-        let svg = chart::error_vs_parameter(
-            &s.parameter,
-            &s.values,
-            &s.errors,
-            floor,
-            s.breakpoint.as_deref(),
-            &s.metric,
-            &title,
-        );
+        let line = chart::Series {
+            label: "",
+            errors: &s.errors,
+            breakpoint: s.breakpoint.as_deref(),
+        };
+        let svg = chart::error_vs_parameter(&s.parameter, &s.values, &[line], floor, &s.metric, &title);
         write_atomic(
             dir.join(format!("charts/sweep-{}-{}.svg", s.method, s.parameter)),
             svg.as_bytes(),
@@ -68,8 +65,72 @@ pub fn write(result: &StudyResult, dir: &Path) -> io::Result<()> {
         };
         sweeps.push((caption, svg));
     }
+    if let Some(s) = &result.scene_sweep {
+        sweeps.extend(scene_sweep_charts(s, dir)?);
+    }
     write_atomic(
         dir.join("index.html"),
         html::page(result, &cost, &sweeps).as_bytes(),
     )
+}
+
+/// The scene sweep's charts, one per measured target (image, and visibility with
+/// `visibility_of`): every method grid point as a line against the scene parameter.
+fn scene_sweep_charts(
+    s: &crate::study::result::SceneSweepResult,
+    dir: &Path,
+) -> io::Result<Vec<(String, String)>> {
+    let mut out = Vec::new();
+    for on in ["image", "visibility"] {
+        let lines: Vec<chart::Series> = s
+            .series
+            .iter()
+            .filter_map(|x| {
+                let e = if on == "image" {
+                    Some(&x.image)
+                } else {
+                    x.visibility.as_ref()
+                }?;
+                Some(chart::Series {
+                    label: &x.variant,
+                    errors: &e.errors,
+                    breakpoint: e.breakpoint.as_deref(),
+                })
+            })
+            .collect();
+        if lines.is_empty() {
+            continue;
+        }
+        let what = if on == "image" {
+            "the image"
+        } else {
+            "the visibility factor"
+        };
+        let title = format!(
+            "{} of {what} over `{}` against the scene's {}",
+            s.metric, s.mask, s.parameter
+        );
+        let svg = chart::error_vs_parameter(&s.parameter, &s.values, &lines, None, &s.metric, &title);
+        write_atomic(
+            dir.join(format!("charts/scene-{}-{on}.svg", s.parameter)),
+            svg.as_bytes(),
+        )?;
+        let breaks: Vec<String> = lines
+            .iter()
+            .filter_map(|l| Some(format!("{} at {}", l.label, l.breakpoint?)))
+            .collect();
+        let caption = format!(
+            "{title} ({} = {}); one ground truth per value. Break points (error above {}× the line's best): {}",
+            s.parameter,
+            s.fields.join(", "),
+            s.factor,
+            if breaks.is_empty() {
+                "none".to_string()
+            } else {
+                breaks.join("; ")
+            }
+        );
+        out.push((caption, svg));
+    }
+    Ok(out)
 }

@@ -13,6 +13,7 @@ pub mod stability;
 use std::path::{Path, PathBuf};
 
 use realtime::{Method, PipelineKind};
+use scenes::toml::overrides::{Edit, Override};
 use scenes::toml::read::{Ctx, Field, Table};
 use scenes::{IntegratorKind, SceneError};
 
@@ -34,6 +35,8 @@ pub struct Study {
     pub description: String,
     /// The scene file, resolved against the study's directory.
     pub scene: PathBuf,
+    /// A scene parameter swept across separate ground truths (`[scene_sweep]`).
+    pub scene_sweep: Option<SceneSweep>,
     /// How the oracle renders the ground truth.
     pub ground_truth: GroundTruth,
     /// The light whose visibility factor is also measured (`[ground_truth] visibility_of`).
@@ -56,6 +59,106 @@ pub struct Study {
     pub stability: Stability,
 }
 
+/// A scene parameter swept across ground truths: each value is written into the listed
+/// fields of the scene file ([`scenes::toml::overrides`]) and makes its own scene, ground
+/// truth and measurement of every method (`[scene_sweep]`, compare/README.md).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneSweep {
+    /// The parameter's name in labels, charts and thresholds (`scene = { name = value }`).
+    pub name: String,
+    /// The scene fields each value is written into (dotted paths, all get the same value).
+    pub set: Vec<String>,
+    /// The values in the order listed (towards the failure regime), as written and as TOML.
+    pub values: Vec<(String, scenes::toml::tree::Value)>,
+}
+
+/// One scene of a study: the scene file as written, or one value of its scene sweep.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScenePoint {
+    /// (parameter, value) of the sweep; None for the scene as written.
+    pub value: Option<(String, String)>,
+    /// The fields changed.
+    pub overrides: Vec<Override>,
+}
+
+impl ScenePoint {
+    /// `light_size=0.5`, or "" for the scene as written.
+    pub fn label(&self) -> String {
+        self.value
+            .as_ref()
+            .map_or(String::new(), |(k, v)| format!("{k}={v}"))
+    }
+
+    /// A file-name suffix: "" for the scene as written, `--light_size-0.5` otherwise.
+    pub fn suffix(&self) -> String {
+        self.value
+            .as_ref()
+            .map_or(String::new(), |(k, v)| file_safe(&format!("--{k}-{v}")))
+    }
+}
+
+/// `s` with every character but ASCII letters, digits, `-` and `_` replaced by `_`.
+fn file_safe(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+impl Study {
+    /// The scenes the study measures on: the scene as written, or one per scene-sweep value
+    /// in the order listed.
+    pub fn scene_points(&self) -> Vec<ScenePoint> {
+        let Some(sweep) = &self.scene_sweep else {
+            return vec![ScenePoint {
+                value: None,
+                overrides: Vec::new(),
+            }];
+        };
+        sweep
+            .values
+            .iter()
+            .map(|(text, value)| ScenePoint {
+                value: Some((sweep.name.clone(), text.clone())),
+                overrides: sweep
+                    .set
+                    .iter()
+                    .map(|path| Override {
+                        path: path.clone(),
+                        edit: Edit::Set(value.clone()),
+                    })
+                    .collect(),
+            })
+            .collect()
+    }
+
+    /// Every method's grid points at one scene point.
+    pub fn variants_at(&self, point: &ScenePoint) -> Vec<Variant> {
+        let scene: Vec<(String, String)> = point.value.iter().cloned().collect();
+        self.methods
+            .iter()
+            .flat_map(|m| m.variants())
+            .map(|v| Variant {
+                scene: scene.clone(),
+                ..v
+            })
+            .collect()
+    }
+
+    /// Every variant the study measures: the methods' grids at each scene point.
+    pub fn variants(&self) -> Vec<Variant> {
+        self.scene_points()
+            .iter()
+            .flat_map(|p| self.variants_at(p))
+            .collect()
+    }
+}
+
 /// The oracle's settings for the ground truth.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GroundTruth {
@@ -74,6 +177,9 @@ pub struct Quality {
     pub resolution: Option<(u32, u32)>,
     /// The oracle's samples per pixel.
     pub spp: u32,
+    /// Warm-up and timed raster frames, instead of `[raster]`'s (quick mode only: the tests
+    /// check errors, and one timed frame is enough for a cost on the chart).
+    pub frames: Option<(u32, u32)>,
 }
 
 /// Raster settings shared by every method of the study.
@@ -152,13 +258,25 @@ pub struct Variant {
     pub params: Vec<(String, String)>,
     /// The swept parameters' values at this point.
     pub swept: Vec<(String, String)>,
+    /// The scene-sweep value it is measured at (empty without a `[scene_sweep]`).
+    pub scene: Vec<(String, String)>,
     /// The parsed realtime method.
     pub raster: Method,
 }
 
 impl Variant {
-    /// `name(k=v, …)` of the swept parameters (`name` alone without a sweep).
+    /// `name(k=v, …)` of the swept parameters (`name` alone without a sweep), then
+    /// ` @ scene_parameter=value` at a scene-sweep point.
     pub fn label(&self) -> String {
+        let mut label = self.method_label();
+        for (k, v) in &self.scene {
+            label += &format!(" @ {k}={v}");
+        }
+        label
+    }
+
+    /// The label without the scene-sweep value: the method's grid point.
+    pub fn method_label(&self) -> String {
         if self.swept.is_empty() {
             return self.method.clone();
         }
@@ -166,21 +284,16 @@ impl Variant {
         format!("{}({})", self.method, kv.join(", "))
     }
 
-    /// A file-name-safe id: `name` or `name-k-v-…`.
+    /// A file-name-safe id: `name` or `name-k-v-…`, then `--scene_parameter-value`.
     pub fn id(&self) -> String {
         let mut id = self.method.clone();
         for (k, v) in &self.swept {
             id += &format!("-{k}-{v}");
         }
-        id.chars()
-            .map(|c| {
-                if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                    c
-                } else {
-                    '_'
-                }
-            })
-            .collect()
+        for (k, v) in &self.scene {
+            id += &format!("--{k}-{v}");
+        }
+        file_safe(&id)
     }
 }
 
@@ -210,6 +323,7 @@ impl MethodSpec {
                     method: self.name.clone(),
                     params,
                     swept,
+                    scene: Vec::new(),
                     raster,
                 }
             })
@@ -225,6 +339,9 @@ pub enum Target {
     /// The method's visibility factor of the study's `visibility_of` light against the
     /// oracle's visible fraction of it (`visibility.<light>.Y`).
     Visibility,
+    /// The temporal flicker of the image under the study's `[stability.flicker]` motion
+    /// ([`stability`]: its own formula over the pixels interior in every frame).
+    Flicker,
 }
 
 impl Target {
@@ -233,6 +350,7 @@ impl Target {
         match self {
             Target::Image => "image",
             Target::Visibility => "visibility",
+            Target::Flicker => "flicker",
         }
     }
 }
@@ -244,9 +362,11 @@ pub struct Threshold {
     pub method: String,
     /// Only variants with these parameter values (all of the method's variants when empty).
     pub params: Vec<(String, String)>,
-    /// The metric bounded.
-    pub metric: Metric,
-    /// What is measured: the image, or the light's visibility factor.
+    /// Only at these scene-sweep values (every scene point when empty).
+    pub scene: Vec<(String, String)>,
+    /// The metric bounded (None for `on = "flicker"`, which has its own measure).
+    pub metric: Option<Metric>,
+    /// What is measured: the image, the light's visibility factor, or the flicker.
     pub on: Target,
     /// The mask it is measured over (`all` by default).
     pub mask: String,
@@ -263,7 +383,9 @@ pub struct Threshold {
 impl Threshold {
     /// Does the bound apply to `variant`?
     pub fn applies_to(&self, variant: &Variant) -> bool {
-        variant.method == self.method && self.params.iter().all(|kv| variant.params.contains(kv))
+        variant.method == self.method
+            && self.params.iter().all(|kv| variant.params.contains(kv))
+            && self.scene.iter().all(|kv| variant.scene.contains(kv))
     }
 }
 
@@ -277,20 +399,51 @@ pub struct Stability {
     /// The mask the sweeps and the cost chart use (`all` by default; `interior` leaves out
     /// edge aliasing that is the rasteriser's, not the method's).
     pub mask: String,
-    /// Temporal flicker under a small camera orbit, if asked for.
+    /// Temporal flicker under a slow camera or light motion, if asked for.
     pub flicker: Option<Flicker>,
 }
 
-/// Temporal flicker: `frames` frames, the camera orbiting its look-at point by `orbit_degrees`
-/// per frame about the world +Y axis.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Temporal flicker: `frames` frames of a slow motion.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Flicker {
     /// Number of frames (≥ 2).
     pub frames: u32,
-    /// Orbit step per frame, degrees.
-    pub orbit_degrees: f32,
-    /// Distance from the camera to the point it orbits, metres.
-    pub orbit_distance: f32,
+    /// What moves.
+    pub motion: Motion,
+}
+
+/// The motion flicker is measured under.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Motion {
+    /// The camera orbits the point `distance` ahead of it by `degrees` per frame about world +Y.
+    Orbit {
+        /// Orbit step per frame, degrees.
+        degrees: f32,
+        /// Distance from the camera to the point it orbits, metres.
+        distance: f32,
+    },
+    /// Scene fields (a light's position, a sun's direction) move by `step` per frame: frame k
+    /// adds k·step to each of them.
+    Shift {
+        /// Dotted scene-field paths ([`scenes::toml::overrides`]).
+        fields: Vec<String>,
+        /// Added per frame.
+        step: f64,
+    },
+}
+
+impl Motion {
+    /// How the report describes it.
+    pub fn describe(&self) -> String {
+        match self {
+            Motion::Orbit { degrees, distance } => {
+                format!("camera orbiting {degrees}° per frame about a point {distance} m ahead")
+            }
+            Motion::Shift { fields, step } => {
+                format!("{} moving by {step} per frame", fields.join(", "))
+            }
+        }
+    }
 }
 
 /// Loads and checks a study file.
@@ -307,6 +460,7 @@ const FIELDS: &[&str] = &[
     "title",
     "description",
     "scene",
+    "scene_sweep",
     "ground_truth",
     "quick",
     "raster",
@@ -334,6 +488,10 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
             .err(format!("scene file {} does not exist", scene.display()))
             .hint("the path is relative to the study file"));
     }
+    let scene_sweep = doc
+        .get("scene_sweep")
+        .map(|f| scene_sweep(&f.table()?, &scene))
+        .transpose()?;
     let gt_table = doc.req("ground_truth")?.table()?;
     let (ground_truth, full) = ground_truth(&gt_table)?;
     let visibility_of = opt_str(&gt_table, "visibility_of")?;
@@ -351,7 +509,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
         return Err(doc.err("a study needs at least one [[method]]").field("method"));
     }
     let stability = match doc.get("stability") {
-        Some(f) => stability(&f.table()?)?,
+        Some(f) => stability(&f.table()?, &scene)?,
         None => Stability {
             breakpoint_factor: 4.0,
             metric: Metric::RelMse,
@@ -366,6 +524,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
         name,
         description: opt_str(&doc, "description")?.unwrap_or_default(),
         scene,
+        scene_sweep,
         ground_truth,
         visibility_of,
         full,
@@ -431,6 +590,7 @@ fn ground_truth(t: &Table) -> Result<(GroundTruth, Quality), SceneError> {
     let full = Quality {
         resolution: t.get("resolution").map(|f| resolution(&f)).transpose()?,
         spp: t.req("spp")?.int_in(1, 1 << 24)? as u32,
+        frames: None,
     };
     Ok((
         GroundTruth {
@@ -443,8 +603,16 @@ fn ground_truth(t: &Table) -> Result<(GroundTruth, Quality), SceneError> {
 }
 
 fn quality(t: &Table, full: Quality) -> Result<Quality, SceneError> {
-    t.only(&["spp", "resolution"], "[quick]")?;
+    t.only(&["spp", "resolution", "warmup_frames", "timed_frames"], "[quick]")?;
+    let frames = match (t.get("warmup_frames"), t.get("timed_frames")) {
+        (None, None) => None,
+        (w, n) => Some((
+            w.map(|f| f.int_in(0, 100)).transpose()?.unwrap_or(0) as u32,
+            n.map(|f| f.int_in(1, 100)).transpose()?.unwrap_or(1) as u32,
+        )),
+    };
     Ok(Quality {
+        frames,
         resolution: t
             .get("resolution")
             .map(|f| resolution(&f))
@@ -611,11 +779,113 @@ fn method(t: &Table) -> Result<MethodSpec, SceneError> {
     Ok(MethodSpec { name, params, sweep })
 }
 
+/// `[scene_sweep]`: each value must make a valid scene (checked now, by loading it).
+fn scene_sweep(t: &Table, scene: &Path) -> Result<SceneSweep, SceneError> {
+    t.only(&["name", "set", "values"], "[scene_sweep]")?;
+    let name_field = t.req("name")?;
+    let name = name_field.str()?.to_string();
+    if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+        return Err(name_field
+            .err(format!("invalid scene parameter name `{name}`"))
+            .hint("use letters, digits and '_' (it names files and chart axes)"));
+    }
+    let set_field = t.req("set")?;
+    let set: Vec<String> = match set_field.node.value {
+        scenes::toml::tree::Value::String(_) => vec![set_field.str()?.to_string()],
+        _ => set_field
+            .array()?
+            .iter()
+            .map(|f| f.str().map(str::to_string))
+            .collect::<Result<_, _>>()?,
+    };
+    if set.is_empty() {
+        return Err(set_field.err("name at least one scene field, e.g. \"shape.light.size[0]\""));
+    }
+    let values_field = t.req("values")?;
+    let mut values = Vec::new();
+    for f in values_field.array()? {
+        let text = param_value(&f)?;
+        if values.iter().any(|(v, _)| *v == text) {
+            return Err(f.err(format!("the value {text} is listed twice")));
+        }
+        values.push((text, f.node.value.clone()));
+    }
+    if values.len() < 2 {
+        return Err(values_field.err("a scene sweep needs at least two values"));
+    }
+    let sweep = SceneSweep { name, set, values };
+    check_scene_edits(
+        scene,
+        &values_field,
+        |k| {
+            let (text, value) = &sweep.values[k];
+            let edits = sweep
+                .set
+                .iter()
+                .map(|path| Override {
+                    path: path.clone(),
+                    edit: Edit::Set(value.clone()),
+                })
+                .collect();
+            (format!("scene_sweep {} = {text}", sweep.name), edits)
+        },
+        sweep.values.len(),
+    )?;
+    Ok(sweep)
+}
+
+/// Loads the scene with each of `count` sets of edits (`edits(k)` gives a description and the
+/// edits); the first failure is an error at `field` with the scene's own message.
+fn check_scene_edits(
+    scene: &Path,
+    field: &Field,
+    edits: impl Fn(usize) -> (String, Vec<Override>),
+    count: usize,
+) -> Result<(), SceneError> {
+    let is_toml = scene.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+    if !is_toml {
+        return Err(field
+            .err(format!(
+                "scene fields can only be changed in a TOML scene file, not {}",
+                scene.display()
+            ))
+            .hint("include the asset from a .toml scene ([[include]]) and point the study at that"));
+    }
+    for k in 0..count {
+        let (what, list) = edits(k);
+        scenes::toml::load_with(scene, &list)
+            .map_err(|e| field.err(format!("{what}: the scene does not load: {e}")))?;
+    }
+    Ok(())
+}
+
 fn threshold(t: &Table) -> Result<Threshold, SceneError> {
     t.only(
-        &["method", "params", "metric", "on", "mask", "max", "min", "reason"],
+        &[
+            "method", "params", "scene", "metric", "on", "mask", "max", "min", "reason",
+        ],
         "a [[threshold]]",
     )?;
+    let on = match t.get("on") {
+        Some(f) => match f.keyword(&["image", "visibility", "flicker"])? {
+            "image" => Target::Image,
+            "visibility" => Target::Visibility,
+            _ => Target::Flicker,
+        },
+        None => Target::Image,
+    };
+    let metric = if on == Target::Flicker {
+        for key in ["metric", "mask"] {
+            if let Some(f) = t.get(key) {
+                return Err(f.err(format!("`on = \"flicker\"` takes no `{key}`")).hint(
+                    "flicker is one measure over the pixels interior in every frame (compare/README.md)",
+                ));
+            }
+        }
+        None
+    } else {
+        Some(metric(&t.req("metric")?)?)
+    };
     let bound = |key: &str| t.get(key).map(|f| number(&f)).transpose();
     let (max, min) = (bound("max")?, bound("min")?);
     if max.is_none() && min.is_none() {
@@ -631,14 +901,9 @@ fn threshold(t: &Table) -> Result<Threshold, SceneError> {
     Ok(Threshold {
         method: t.req("method")?.str()?.to_string(),
         params: params(t.get("params").map(|f| f.table()).transpose()?)?,
-        metric: metric(&t.req("metric")?)?,
-        on: match t.get("on") {
-            Some(f) => match f.keyword(&["image", "visibility"])? {
-                "image" => Target::Image,
-                _ => Target::Visibility,
-            },
-            None => Target::Image,
-        },
+        scene: params(t.get("scene").map(|f| f.table()).transpose()?)?,
+        metric,
+        on,
         mask: opt_str(t, "mask")?.unwrap_or_else(|| "all".into()),
         max,
         min,
@@ -647,7 +912,7 @@ fn threshold(t: &Table) -> Result<Threshold, SceneError> {
     })
 }
 
-fn stability(t: &Table) -> Result<Stability, SceneError> {
+fn stability(t: &Table, scene: &Path) -> Result<Stability, SceneError> {
     t.only(&["breakpoint_factor", "metric", "mask", "flicker"], "[stability]")?;
     let breakpoint_factor = t.f32_or("breakpoint_factor", 4.0)? as f64;
     if breakpoint_factor <= 1.0 {
@@ -656,18 +921,7 @@ fn stability(t: &Table) -> Result<Stability, SceneError> {
             .err("must be above 1 (a multiple of the best error)"));
     }
     let flicker = match t.get("flicker") {
-        Some(f) => {
-            let f = f.table()?;
-            f.only(
-                &["frames", "orbit_degrees", "orbit_distance"],
-                "[stability.flicker]",
-            )?;
-            Some(Flicker {
-                frames: f.req("frames")?.int_in(2, 64)? as u32,
-                orbit_degrees: f.req("orbit_degrees")?.positive()?,
-                orbit_distance: f.req("orbit_distance")?.positive()?,
-            })
-        }
+        Some(f) => Some(flicker(&f.table()?, scene)?),
         None => None,
     };
     Ok(Stability {
@@ -680,6 +934,71 @@ fn stability(t: &Table) -> Result<Stability, SceneError> {
         mask: opt_str(t, "mask")?.unwrap_or_else(|| "all".into()),
         flicker,
     })
+}
+
+/// `[stability.flicker]`: a camera orbit (`orbit_degrees`, `orbit_distance`) or scene fields
+/// shifted per frame (`shift`, `step`), each frame's scene checked by loading it.
+fn flicker(f: &Table, scene: &Path) -> Result<Flicker, SceneError> {
+    f.only(
+        &["frames", "orbit_degrees", "orbit_distance", "shift", "step"],
+        "[stability.flicker]",
+    )?;
+    let frames = f.req("frames")?.int_in(2, 64)? as u32;
+    let motion = match f.one_of(&["orbit_degrees", "shift"])? {
+        Some("orbit_degrees") => Motion::Orbit {
+            degrees: f.req("orbit_degrees")?.positive()?,
+            distance: f.req("orbit_distance")?.positive()?,
+        },
+        Some(_) => {
+            let shift = f.req("shift")?;
+            let fields: Vec<String> = match shift.node.value {
+                scenes::toml::tree::Value::String(_) => vec![shift.str()?.to_string()],
+                _ => shift
+                    .array()?
+                    .iter()
+                    .map(|x| x.str().map(str::to_string))
+                    .collect::<Result<_, _>>()?,
+            };
+            let step_field = f.req("step")?;
+            let step = number(&step_field)?;
+            if step == 0.0 || fields.is_empty() {
+                return Err(step_field.err("a light motion needs fields to shift and a non-zero step"));
+            }
+            let motion = Motion::Shift { fields, step };
+            check_scene_edits(
+                scene,
+                &shift,
+                |k| {
+                    (
+                        format!("flicker frame {}", k + 1),
+                        shifted(&motion, k as u32 + 1),
+                    )
+                },
+                frames as usize - 1,
+            )?;
+            motion
+        }
+        None => {
+            return Err(f
+                .err("a flicker needs a motion: `orbit_degrees` and `orbit_distance` (camera) or `shift` and `step` (scene fields)")
+                .hint("e.g. shift = \"shape.light.center[0]\", step = 0.005"))
+        }
+    };
+    Ok(Flicker { frames, motion })
+}
+
+/// The scene edits of frame `k` of a `Shift` motion (none for an orbit).
+pub fn shifted(motion: &Motion, k: u32) -> Vec<Override> {
+    match motion {
+        Motion::Orbit { .. } => Vec::new(),
+        Motion::Shift { fields, step } => fields
+            .iter()
+            .map(|path| Override {
+                path: path.clone(),
+                edit: Edit::Add(f64::from(k) * step),
+            })
+            .collect(),
+    }
 }
 
 /// Thresholds name declared methods, masks and metrics; the stability metric is measured.
@@ -698,11 +1017,39 @@ fn check_references(study: &Study, doc: &Table) -> Result<(), SceneError> {
                 names.join(", ")
             )));
         };
-        if !m.variants().iter().any(|v| th.applies_to(v)) {
+        let at_every_point: Vec<Variant> = study
+            .scene_points()
+            .iter()
+            .flat_map(|p| study.variants_at(p))
+            .filter(|v| v.method == m.name)
+            .collect();
+        if !at_every_point.iter().any(|v| th.applies_to(v)) {
+            if !th.scene.is_empty() {
+                let declared = study.scene_sweep.as_ref().map_or("none".to_string(), |s| {
+                    let values: Vec<&str> = s.values.iter().map(|(v, _)| v.as_str()).collect();
+                    format!("`{}` = {}", s.name, values.join(", "))
+                });
+                return Err(t.req("scene")?.err(format!(
+                    "no scene-sweep point has these values; the study's scene sweep: {declared}"
+                )));
+            }
             return Err(t.req("params")?.err(format!(
                 "no variant of `{}` has these parameter values",
                 th.method
             )));
+        }
+        if th.on == Target::Flicker {
+            if study.stability.flicker.is_none() {
+                return Err(t
+                    .req("on")?
+                    .err("measuring `flicker` needs a [stability.flicker] motion"));
+            }
+            let first = study.variants_at(&study.scene_points()[0]);
+            if !first.iter().any(|v| th.applies_to(v)) {
+                return Err(t
+                    .req("on")?
+                    .err("flicker is measured at the first scene-sweep value only; this bound selects none of its variants"));
+            }
         }
         if th.on == Target::Visibility && study.visibility_of.is_none() {
             return Err(t
@@ -712,10 +1059,10 @@ fn check_references(study: &Study, doc: &Table) -> Result<(), SceneError> {
         if th.mask != "all" && !study.masks.iter().any(|k| k.name() == th.mask) {
             return Err(t.req("mask")?.err(format!("no [[mask]] named `{}`", th.mask)));
         }
-        if !study.metrics.contains(&th.metric) {
+        if let Some(metric) = th.metric.filter(|m| !study.metrics.contains(m)) {
             return Err(t
                 .req("metric")?
-                .err(format!("`{}` is not in the study's `metrics`", th.metric)));
+                .err(format!("`{metric}` is not in the study's `metrics`")));
         }
     }
     let m = &study.stability.mask;

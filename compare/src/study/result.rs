@@ -31,7 +31,7 @@ pub struct StudyResult {
     pub width: u32,
     /// Image size.
     pub height: u32,
-    /// The ground truth.
+    /// The ground truth (of the first scene point, with a `[scene_sweep]`).
     pub ground_truth: GroundTruthInfo,
     /// The adapter every cost was measured on.
     pub adapter: AdapterInfo,
@@ -43,8 +43,10 @@ pub struct StudyResult {
     pub variants: Vec<VariantResult>,
     /// Every declared bound, checked.
     pub thresholds: Vec<ThresholdCheck>,
-    /// Error against each swept parameter, with the break point.
+    /// Error against each swept parameter, with the break point (at the first scene point).
     pub sweeps: Vec<SweepResult>,
+    /// Error of every method grid point against the scene parameter (`[scene_sweep]`).
+    pub scene_sweep: Option<SceneSweepResult>,
     /// Temporal flicker per variant, when the study asks for it.
     pub flicker: Vec<FlickerResult>,
     /// The metric and mask of the sweeps, break points and the cost chart.
@@ -75,6 +77,8 @@ pub struct GroundTruthInfo {
     pub cached: bool,
     /// The EXR, relative to the report folder.
     pub exr: String,
+    /// Its preview PNG.
+    pub png: String,
     /// Mean relative standard error of the reference (its own noise).
     pub mean_relative_std_error: f64,
 }
@@ -116,6 +120,12 @@ pub struct VariantResult {
     pub params: Vec<(String, String)>,
     /// The swept parameters at this point.
     pub swept: Vec<(String, String)>,
+    /// The scene-sweep value it was measured at (empty without a `[scene_sweep]`).
+    pub scene: Vec<(String, String)>,
+    /// The ground truth it was measured against (EXR and PNG, relative to the report folder).
+    pub ground_truth_exr: String,
+    /// Its preview PNG.
+    pub ground_truth_png: String,
     /// Its cost.
     pub cost: Cost,
     /// Metrics of the image per mask.
@@ -215,10 +225,9 @@ impl ThresholdCheck {
         if let Some(m) = self.min {
             bounds.push(format!("≥ {m:e}"));
         }
-        let on = if self.on == "image" {
-            String::new()
-        } else {
-            format!(" of the {}", self.on)
+        let on = match self.on.as_str() {
+            "image" | "flicker" => String::new(),
+            other => format!(" of the {other}"),
         };
         format!(
             "{study}: {} {}{on} over `{}` = {:.4e}, expected {} ({}) [{}]",
@@ -260,11 +269,60 @@ pub struct SweepResult {
     pub factor: f64,
 }
 
+/// Error of every method grid point against a scene parameter, one ground truth per value.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneSweepResult {
+    /// The parameter's name.
+    pub parameter: String,
+    /// The scene fields it sets.
+    pub fields: Vec<String>,
+    /// Its values in the order listed (towards the failure regime).
+    pub values: Vec<String>,
+    /// The ground truth at each value.
+    pub ground_truths: Vec<GroundTruthInfo>,
+    /// Metric of the errors and break points.
+    pub metric: String,
+    /// Mask they are measured over.
+    pub mask: String,
+    /// The break-point factor.
+    pub factor: f64,
+    /// One series per method grid point, in study order.
+    pub series: Vec<SceneSeries>,
+}
+
+/// One method grid point along a scene sweep.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneSeries {
+    /// The method grid point's label (without the scene value).
+    pub variant: String,
+    /// Method name.
+    pub method: String,
+    /// The final image's errors.
+    pub image: SeriesErrors,
+    /// The visibility factor's errors (with `visibility_of`).
+    pub visibility: Option<SeriesErrors>,
+}
+
+/// Errors along a sweep with their break point.
+#[derive(Clone, Debug, Serialize)]
+pub struct SeriesErrors {
+    /// The error at each value.
+    pub errors: Vec<f64>,
+    /// NaN/Inf pixels at each value.
+    pub non_finite: Vec<usize>,
+    /// The best error.
+    pub best: f64,
+    /// First value (in listed order) whose error exceeds `factor` × best, or that has NaN/Inf.
+    pub breakpoint: Option<String>,
+}
+
 /// Temporal flicker of one variant.
 #[derive(Clone, Debug, Serialize)]
 pub struct FlickerResult {
     /// Variant label.
     pub variant: String,
+    /// The motion (camera orbit or scene fields shifted).
+    pub motion: String,
     /// Frames rendered.
     pub frames: u32,
     /// Mean over frame pairs and pixels of |Δe| / (|r| + 0.01), e = approximation − ground truth.
@@ -287,12 +345,13 @@ impl StudyResult {
     /// metrics.csv: one row per variant × mask × metric.
     pub fn to_csv(&self) -> String {
         let mut s = String::from(
-            "variant,method,params,on,mask,metric,value,noise_floor,non_finite,frame_ms,gpu_ms,wall_ms,\
+            "variant,method,params,scene,on,mask,metric,value,noise_floor,non_finite,frame_ms,gpu_ms,wall_ms,\
              texel_fetches_per_pixel,loop_iterations_per_pixel\n",
         );
         let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
         for v in &self.variants {
             let params: Vec<String> = v.params.iter().map(|(k, x)| format!("{k}={x}")).collect();
+            let scene: Vec<String> = v.scene.iter().map(|(k, x)| format!("{k}={x}")).collect();
             let tagged = v
                 .metrics
                 .iter()
@@ -301,10 +360,11 @@ impl StudyResult {
             for (on, m) in tagged {
                 for e in &m.values {
                     s += &format!(
-                        "\"{}\",{},\"{}\",{on},{},{},{},{},{},{},{},{},{},{}\n",
+                        "\"{}\",{},\"{}\",\"{}\",{on},{},{},{},{},{},{},{},{},{},{}\n",
                         v.label,
                         v.method,
                         params.join(" "),
+                        scene.join(" "),
                         m.mask,
                         e.metric,
                         e.value,

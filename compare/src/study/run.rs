@@ -12,7 +12,7 @@ use scenes::{RenderSettings, Scene};
 use sha2::{Digest, Sha256};
 
 use super::result::*;
-use super::{stability, MaskSpec, Study, Variant};
+use super::{stability, MaskSpec, ScenePoint, Study, Target, Variant};
 use crate::cli::render::integrator_name;
 use crate::metrics::{self, Mask, MetricValue, RgbImage};
 use crate::progress::{ProgressMode, ProgressReporter, StepProgress};
@@ -62,9 +62,19 @@ fn raster_err(e: RasterError) -> StudyError {
     }
 }
 
-/// The study's scene at the run mode's resolution, and the oracle settings of its ground truth.
-pub fn prepare(study: &Study, quick: bool) -> Result<(Scene, RenderSettings), StudyError> {
-    let mut scene = scenes::load(&study.scene).map_err(|e| StudyError::Input(e.to_string()))?;
+/// The study's scene with `overrides` applied (a scene-sweep point, a frame of a light
+/// motion) at the run mode's resolution, and the oracle settings of its ground truth.
+pub fn prepare(
+    study: &Study,
+    quick: bool,
+    overrides: &[scenes::toml::overrides::Override],
+) -> Result<(Scene, RenderSettings), StudyError> {
+    let loaded = if overrides.is_empty() {
+        scenes::load(&study.scene)
+    } else {
+        scenes::toml::load_with(&study.scene, overrides)
+    };
+    let mut scene = loaded.map_err(|e| StudyError::Input(e.to_string()))?;
     let q = if quick { study.quick } else { study.full };
     if let Some((w, h)) = q.resolution {
         scene.film.width = w;
@@ -81,44 +91,66 @@ pub fn prepare(study: &Study, quick: bool) -> Result<(Scene, RenderSettings), St
     Ok((scene, settings))
 }
 
-/// Runs `study` on `renderer`, writing images under `opts.out_dir`.
+/// Runs `study` on `renderer`, writing images under `opts.out_dir`: at each scene point (the
+/// scene as written, or each scene-sweep value) its ground truth, masks and every variant.
 pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Result<StudyResult, StudyError> {
-    let (scene, settings) = prepare(study, opts.quick)?;
-    let (w, h) = (scene.film.width, scene.film.height);
     for sub in ["", "methods"] {
         let d = opts.out_dir.join(sub);
         fs::create_dir_all(&d).map_err(io_err(&d))?;
     }
-    let (gt, gt_info) = ground_truth(&scene, settings, opts)?;
-    gt.write_png_preview(opts.out_dir.join("ground_truth.png"), 0.0)
-        .map_err(io_err(&opts.out_dir))?;
-    let reference = RgbImage::from_layered(&gt, "ground truth").map_err(StudyError::Run)?;
-    let masks = build_masks(study, &scene, &gt)?;
-
-    let variants: Vec<Variant> = study.methods.iter().flat_map(|m| m.variants()).collect();
+    let points = study.scene_points();
+    let total = study.variants().len();
     let mut results = Vec::new();
+    let mut ground_truths = Vec::new();
+    let mut first: Option<(Scene, RenderSettings, Vec<MaskInfo>)> = None;
     let mut adapter = None;
-    let steps = StepProgress::new(opts.progress, variants.len());
-    for (k, variant) in variants.iter().enumerate() {
-        let line = format!("[{}/{}] {}", k + 1, variants.len(), variant.label());
-        steps.start(&variant.label());
-        let (result, timing) =
-            measure_variant(study, renderer, &scene, variant, (&reference, &gt), &masks, opts)?;
-        let (metric, mask) = (study.stability.metric.name(), study.stability.mask.as_str());
-        let v = result
-            .metrics
+    let steps = StepProgress::new(opts.progress, total);
+    for point in &points {
+        let (scene, settings) = prepare(study, opts.quick, &point.overrides)?;
+        let (gt, gt_info) = ground_truth(&scene, settings, opts, &format!("ground_truth{}", point.suffix()))?;
+        gt.write_png_preview(opts.out_dir.join(&gt_info.png), 0.0)
+            .map_err(io_err(&opts.out_dir))?;
+        let reference = RgbImage::from_layered(&gt, "ground truth").map_err(StudyError::Run)?;
+        let masks = build_masks(study, &scene, &gt, point)?;
+        for variant in study.variants_at(point) {
+            let line = format!("[{}/{total}] {}", results.len() + 1, variant.label());
+            steps.start(&variant.label());
+            let (result, timing) = measure_variant(
+                study,
+                renderer,
+                &scene,
+                &variant,
+                (&reference, &gt, &gt_info),
+                &masks,
+                opts,
+            )?;
+            let (metric, mask) = (study.stability.metric.name(), study.stability.mask.as_str());
+            let v = result
+                .metrics
+                .iter()
+                .find(|m| m.mask == mask)
+                .and_then(|m| m.values.iter().find(|e| e.metric == metric));
+            steps.done(&format!(
+                "report: {line}: {metric} over {mask} {:.3e}, {:.3} ms/frame",
+                v.map_or(f64::NAN, |e| e.value),
+                result.cost.frame_ms
+            ));
+            adapter.get_or_insert(timing);
+            results.push(result);
+        }
+        let mask_info = masks
             .iter()
-            .find(|m| m.mask == mask)
-            .and_then(|m| m.values.iter().find(|e| e.metric == metric));
-        steps.done(&format!(
-            "report: {line}: {metric} over {mask} {:.3e}, {:.3} ms/frame",
-            v.map_or(f64::NAN, |e| e.value),
-            result.cost.frame_ms
-        ));
-        adapter.get_or_insert(timing);
-        results.push(result);
+            .map(|m| MaskInfo {
+                name: m.name.clone(),
+                pixels: m.count(),
+            })
+            .collect();
+        first.get_or_insert((scene, settings, mask_info));
+        ground_truths.push(gt_info);
     }
     steps.finish();
+    let (scene, settings, masks) = first.expect("a study has at least one scene point");
+    let (w, h) = (scene.film.width, scene.film.height);
     let timing = adapter.expect("a study has at least one method");
     let mut out = StudyResult {
         schema_version: SCHEMA_VERSION,
@@ -130,7 +162,7 @@ pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Resul
         mode: if opts.quick { "quick" } else { "full" }.into(),
         width: w,
         height: h,
-        ground_truth: gt_info,
+        ground_truth: ground_truths[0].clone(),
         adapter: AdapterInfo {
             is_cpu: is_cpu_adapter(&timing.adapter),
             name: timing.adapter,
@@ -143,15 +175,10 @@ pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Resul
             .into(),
         },
         metrics: study.metrics.iter().map(|m| m.name().into()).collect(),
-        masks: masks
-            .iter()
-            .map(|m| MaskInfo {
-                name: m.name.clone(),
-                pixels: m.count(),
-            })
-            .collect(),
+        masks,
         thresholds: Vec::new(),
         sweeps: Vec::new(),
+        scene_sweep: None,
         flicker: Vec::new(),
         chart: ChartInfo {
             metric: study.stability.metric.name().into(),
@@ -159,11 +186,14 @@ pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Resul
         },
         variants: results,
     };
-    out.thresholds = check_thresholds(study, &variants, &out);
-    out.sweeps = stability::sweeps(study, &variants, &out);
-    if let Some(f) = study.stability.flicker {
-        out.flicker = stability::flicker(study, renderer, &scene, settings, &variants, f, opts)?;
+    let at_first = study.variants_at(&points[0]);
+    out.sweeps = stability::sweeps(study, &at_first, &out);
+    out.scene_sweep = stability::scene_sweep(study, &at_first, ground_truths, &out);
+    if let Some(f) = &study.stability.flicker {
+        let base = (&scene, settings, &points[0]);
+        out.flicker = stability::flicker(study, renderer, base, &at_first, f, opts)?;
     }
+    out.thresholds = check_thresholds(study, &study.variants(), &at_first, &out);
     out.write_files(&opts.out_dir).map_err(io_err(&opts.out_dir))?;
     Ok(out)
 }
@@ -195,11 +225,12 @@ pub fn ground_truth_hash(scene: &Scene, settings: &RenderSettings) -> String {
 }
 
 /// The ground truth from the cache, or rendered (with progress) and cached; a copy goes into
-/// the report folder as `ground_truth.exr`.
+/// the report folder as `<name>.exr` (its preview is to be `<name>.png`).
 pub fn ground_truth(
     scene: &Scene,
     settings: RenderSettings,
     opts: &RunOptions,
+    name: &str,
 ) -> Result<(LayeredImage, GroundTruthInfo), StudyError> {
     let hash = ground_truth_hash(scene, &settings);
     let cached_path = opts.cache_dir.join(format!("{hash}.exr"));
@@ -238,7 +269,7 @@ pub fn ground_truth(
             r.image
         }
     };
-    let exr = "ground_truth.exr".to_string();
+    let exr = format!("{name}.exr");
     image
         .write_exr(opts.out_dir.join(&exr))
         .map_err(io_err(&opts.out_dir))?;
@@ -252,6 +283,7 @@ pub fn ground_truth(
         hash,
         cached: was_cached,
         exr,
+        png: format!("{name}.png"),
         mean_relative_std_error: mean_relative_std_error(&image),
     };
     Ok((image, info))
@@ -275,10 +307,19 @@ fn mean_relative_std_error(img: &LayeredImage) -> f64 {
 }
 
 /// `all` and the study's masks, built on the ground truth.
-fn build_masks(study: &Study, scene: &Scene, gt: &LayeredImage) -> Result<Vec<Mask>, StudyError> {
+fn build_masks(
+    study: &Study,
+    scene: &Scene,
+    gt: &LayeredImage,
+    point: &ScenePoint,
+) -> Result<Vec<Mask>, StudyError> {
     let (w, h) = (gt.width as usize, gt.height as usize);
     let mut masks = vec![Mask::all(w, h)];
-    let input = |m: String| StudyError::Input(format!("{}: {m}", study.path.display()));
+    let at = match &point.value {
+        Some((k, v)) => format!(" (scene_sweep {k} = {v})"),
+        None => String::new(),
+    };
+    let input = |m: String| StudyError::Input(format!("{}{at}: {m}", study.path.display()));
     for spec in &study.masks {
         let mask = match spec {
             MaskSpec::Objects { name, objects } => {
@@ -349,13 +390,15 @@ fn measure_variant(
     renderer: &Renderer,
     scene: &Scene,
     variant: &Variant,
-    (reference, reference_image): (&RgbImage, &LayeredImage),
+    (reference, reference_image, gt_info): (&RgbImage, &LayeredImage, &GroundTruthInfo),
     masks: &[Mask],
     opts: &RunOptions,
 ) -> Result<(VariantResult, realtime::Timing), StudyError> {
-    let out = renderer
-        .render(scene, &raster_settings(study, scene, variant))
-        .map_err(raster_err)?;
+    let mut settings = raster_settings(study, scene, variant);
+    if let Some((warmup, timed)) = study.quick.frames.filter(|_| opts.quick) {
+        settings = settings.frames(warmup, timed);
+    }
+    let out = renderer.render(scene, &settings).map_err(raster_err)?;
     let mut image = out.image;
     let test = RgbImage::from_layered(&image, &variant.label()).map_err(StudyError::Run)?;
     let mut per_mask = Vec::new();
@@ -401,6 +444,9 @@ fn measure_variant(
         method: variant.method.clone(),
         params: variant.params.clone(),
         swept: variant.swept.clone(),
+        scene: variant.scene.clone(),
+        ground_truth_exr: gt_info.exr.clone(),
+        ground_truth_png: gt_info.png.clone(),
         cost: Cost {
             frame_ms: out.timing.frame_ms(),
             gpu_ms: out.timing.gpu_ms,
@@ -465,21 +511,42 @@ fn visibility_metrics(
         .collect()
 }
 
-/// Every threshold against every variant it applies to.
-fn check_thresholds(study: &Study, variants: &[Variant], result: &StudyResult) -> Vec<ThresholdCheck> {
+/// Every threshold against every variant it applies to (flicker bounds: the variants of the
+/// first scene point, `at_first`, the only ones flicker is measured on).
+fn check_thresholds(
+    study: &Study,
+    variants: &[Variant],
+    at_first: &[Variant],
+    result: &StudyResult,
+) -> Vec<ThresholdCheck> {
     let mut checks = Vec::new();
     for th in &study.thresholds {
-        for v in variants.iter().filter(|v| th.applies_to(v)) {
-            let value = result
-                .value_on(&v.label(), th.on.name(), &th.mask, th.metric.name())
-                .unwrap_or(f64::NAN);
+        let candidates = if th.on == Target::Flicker {
+            at_first
+        } else {
+            variants
+        };
+        for v in candidates.iter().filter(|v| th.applies_to(v)) {
+            let value = match th.metric {
+                Some(metric) => result.value_on(&v.label(), th.on.name(), &th.mask, metric.name()),
+                None => result
+                    .flicker
+                    .iter()
+                    .find(|f| f.variant == v.label())
+                    .map(|f| f.flicker),
+            }
+            .unwrap_or(f64::NAN);
             let passed =
                 value.is_finite() && th.max.is_none_or(|m| value <= m) && th.min.is_none_or(|m| value >= m);
             checks.push(ThresholdCheck {
                 variant: v.label(),
-                metric: th.metric.name().into(),
+                metric: th.metric.map_or("flicker", |m| m.name()).into(),
                 on: th.on.name().into(),
-                mask: th.mask.clone(),
+                mask: if th.on == Target::Flicker {
+                    "interior".into()
+                } else {
+                    th.mask.clone()
+                },
                 value,
                 max: th.max,
                 min: th.min,

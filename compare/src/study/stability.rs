@@ -1,11 +1,14 @@
-//! Stability analysis: error against each swept parameter with its break point, and temporal
-//! flicker under a small camera motion.
+//! Stability analysis: error against each swept parameter with its break point, error
+//! against a scene parameter, and temporal flicker under a slow camera or light motion.
 //!
 //! - **Break point**: walking a sweep in the order listed (from the method's good regime into
 //!   its failure regime), the first value whose error exceeds `factor` × the sweep's best
-//!   error, or whose image has NaN/Inf pixels.
-//! - **Flicker**: F frames with the camera orbiting the point `orbit_distance` ahead of it by
-//!   `orbit_degrees` per frame about world +Y. With e_k = a_k − r_k the signed error of frame k,
+//!   error, or whose image has NaN/Inf pixels. The same rule runs along a scene sweep for
+//!   each method grid point (a light growing, a blocker rising).
+//! - **Flicker**: F frames of a slow motion — the camera orbiting the point `orbit_distance`
+//!   ahead of it by `orbit_degrees` per frame about world +Y, or scene fields (a light's
+//!   position) shifted by `step` per frame, each frame with its own ground truth. With
+//!   e_k = a_k − r_k the signed error of frame k,
 //!   flicker = mean over k, pixels and channels of |e_{k+1} − e_k| / (|r_k| + 0.01): how much the
 //!   error pattern changes between frames, relative to the signal. Only pixels interior in both
 //!   frames count ([`Mask::interior`]): a moving silhouette changes every method's error, and
@@ -17,9 +20,11 @@ use glam::{Affine3A, Quat, Vec3};
 use realtime::Renderer;
 use scenes::{RenderSettings, Scene};
 
-use super::result::{FlickerResult, StudyResult, SweepResult};
-use super::run::{ground_truth, raster_settings, RunOptions, StudyError};
-use super::{Flicker, Study, Variant};
+use super::result::{
+    FlickerResult, GroundTruthInfo, SceneSeries, SceneSweepResult, SeriesErrors, StudyResult, SweepResult,
+};
+use super::run::{ground_truth, prepare, raster_settings, RunOptions, StudyError};
+use super::{shifted, Flicker, Motion, ScenePoint, Study, Variant};
 use crate::metrics::{Mask, RELATIVE_EPSILON};
 
 /// One [`SweepResult`] per method and swept parameter, the other swept parameters at their
@@ -83,6 +88,68 @@ pub fn sweeps(study: &Study, variants: &[Variant], result: &StudyResult) -> Vec<
     out
 }
 
+/// Every method grid point (`at_first`, the variants of the first scene point) along the
+/// study's scene sweep, on the image and (with `visibility_of`) on the visibility factor.
+pub fn scene_sweep(
+    study: &Study,
+    at_first: &[Variant],
+    ground_truths: Vec<GroundTruthInfo>,
+    result: &StudyResult,
+) -> Option<SceneSweepResult> {
+    let sweep = study.scene_sweep.as_ref()?;
+    let metric = study.stability.metric.name();
+    let mask = study.stability.mask.as_str();
+    let factor = study.stability.breakpoint_factor;
+    let values: Vec<String> = sweep.values.iter().map(|(v, _)| v.clone()).collect();
+    let series = at_first
+        .iter()
+        .map(|v| {
+            let along = |on: &str| {
+                let mut errors = Vec::new();
+                let mut non_finite = Vec::new();
+                for value in &values {
+                    let label = Variant {
+                        scene: vec![(sweep.name.clone(), value.clone())],
+                        ..v.clone()
+                    }
+                    .label();
+                    errors.push(result.value_on(&label, on, mask, metric).unwrap_or(f64::NAN));
+                    non_finite.push(
+                        result
+                            .variants
+                            .iter()
+                            .find(|r| r.label == label)
+                            .map_or(0, |r| r.non_finite_pixels),
+                    );
+                }
+                let (best, at) = breakpoint(&errors, &non_finite, factor);
+                SeriesErrors {
+                    errors,
+                    non_finite,
+                    best,
+                    breakpoint: at.map(|i| values[i].clone()),
+                }
+            };
+            SceneSeries {
+                variant: v.method_label(),
+                method: v.method.clone(),
+                image: along("image"),
+                visibility: study.visibility_of.as_ref().map(|_| along("visibility")),
+            }
+        })
+        .collect();
+    Some(SceneSweepResult {
+        parameter: sweep.name.clone(),
+        fields: sweep.set.clone(),
+        values,
+        ground_truths,
+        metric: metric.into(),
+        mask: mask.into(),
+        factor,
+        series,
+    })
+}
+
 /// The best finite error and the index of the first value past `factor` × best (or non-finite).
 pub fn breakpoint(errors: &[f64], non_finite: &[usize], factor: f64) -> (f64, Option<usize>) {
     let best = errors
@@ -110,15 +177,15 @@ pub fn orbit(scene: &Scene, degrees: f32, distance: f32) -> Scene {
     s
 }
 
-/// Flicker of every variant over `f.frames` orbiting frames (ground truths cached like the
-/// study's own).
+/// Flicker of every variant (of the first scene point, whose scene, oracle settings and
+/// point `base` are) over `f.frames` frames of its motion; ground truths cached like the
+/// study's own, frame 0 being the study's own view.
 pub fn flicker(
     study: &Study,
     renderer: &Renderer,
-    scene: &Scene,
-    settings: RenderSettings,
+    (scene, settings, point): (&Scene, RenderSettings, &ScenePoint),
     variants: &[Variant],
-    f: Flicker,
+    f: &Flicker,
     opts: &RunOptions,
 ) -> Result<Vec<FlickerResult>, StudyError> {
     let frame_opts = RunOptions {
@@ -127,13 +194,22 @@ pub fn flicker(
     };
     std::fs::create_dir_all(&frame_opts.out_dir)
         .map_err(|e| StudyError::Run(format!("{}: {e}", frame_opts.out_dir.display())))?;
-    let frames: Vec<Scene> = (0..f.frames)
-        .map(|k| orbit(scene, k as f32 * f.orbit_degrees, f.orbit_distance))
-        .collect();
+    let mut frames: Vec<Scene> = Vec::new();
+    for k in 0..f.frames {
+        frames.push(match &f.motion {
+            Motion::Orbit { degrees, distance } => orbit(scene, k as f32 * degrees, *distance),
+            Motion::Shift { .. } if k == 0 => scene.clone(),
+            Motion::Shift { .. } => {
+                let mut edits = point.overrides.clone();
+                edits.extend(shifted(&f.motion, k));
+                prepare(study, opts.quick, &edits)?.0
+            }
+        });
+    }
     let mut refs = Vec::new();
     let mut interiors = Vec::new();
-    for s in &frames {
-        let (img, _) = ground_truth(s, settings, &frame_opts)?;
+    for (k, s) in frames.iter().enumerate() {
+        let (img, _) = ground_truth(s, settings, &frame_opts, &format!("frame-{k}"))?;
         let rgb = img
             .rgb("")
             .ok_or_else(|| StudyError::Run("ground truth without RGB".into()))?;
@@ -161,6 +237,7 @@ pub fn flicker(
         let value = mean_over_pairs(&refs, &interiors, |k, i| (errors[k + 1][i] - errors[k][i]).abs());
         out.push(FlickerResult {
             variant: v.label(),
+            motion: f.motion.describe(),
             frames: f.frames,
             flicker: value,
             noise_floor,
