@@ -127,7 +127,7 @@ fn mesh_surface(in: MeshVarying, s: Shape) -> SurfacePoint {
 fn shaded_output(f: FrameUniforms, sp: SurfacePoint, frag: vec2<f32>) -> ShadedOut {
     let xy = film_position(f, frag);
     let wo = -camera_ray_direction(f, xy.x, xy.y);
-    let sh = shade_surface(f, sp, wo);
+    let sh = shade_surface(f, sp, wo, frag);
     return ShadedOut(
         vec4<f32>(sh.color, 1.0),
         vec4<f32>(sp.ns, view_depth(f, sp.p)),
@@ -204,36 +204,37 @@ fn fs_lighting(@builtin(position) pos: vec4<f32>) -> ShadedOut {
 }
 
 // ---- The shadow pass: depth from each light, one render pass per map layer ----
-// The layer (light slot) is the instance index: each draw is `draw(0..n, slot..slot + 1)`.
+// The map layer (a light slot's, or one of its cascades) is the instance index: each draw is
+// `draw(0..n, layer..layer + 1)`.
 
 struct ShadowVarying {
     @builtin(position) clip: vec4<f32>,
     @location(0) @interpolate(flat) shape: u32,
-    @location(1) @interpolate(flat) slot: u32,
+    @location(1) @interpolate(flat) layer: u32,
 }
 
 @vertex
-fn vs_shadow_mesh(@location(0) position: vec3<f32>, @builtin(instance_index) slot: u32) -> @builtin(position) vec4<f32> {
-    return shadow.lights[slot].view_proj * vec4<f32>(position, 1.0);
+fn vs_shadow_mesh(@location(0) position: vec3<f32>, @builtin(instance_index) layer: u32) -> @builtin(position) vec4<f32> {
+    return shadow.layers[layer].view_proj * vec4<f32>(position, 1.0);
 }
 
 // Analytic proxies; the light's own shape collapses to a point outside the clip volume, so an
 // emitter never shadows its own light (meshes are never lights here).
 @vertex
-fn vs_shadow_analytic(v: AnalyticVertexIn, @builtin(instance_index) slot: u32) -> ShadowVarying {
-    let sl = shadow.lights[slot];
+fn vs_shadow_analytic(v: AnalyticVertexIn, @builtin(instance_index) layer: u32) -> ShadowVarying {
+    let sl = shadow.layers[layer];
     var clip = sl.view_proj * vec4<f32>(v.position, 1.0);
     if v.shape == sl.info.y {
         clip = vec4<f32>(0.0, 0.0, 2.0, 1.0);
     }
-    return ShadowVarying(clip, v.shape, slot);
+    return ShadowVarying(clip, v.shape, layer);
 }
 
 // The ray from the light through the texel centre, traced with the camera passes'
 // `intersect_analytic`; the depth of its hit.
 @fragment
 fn fs_shadow_analytic(in: ShadowVarying) -> @builtin(frag_depth) f32 {
-    let sl = shadow.lights[in.slot];
+    let sl = shadow.layers[in.layer];
     let side = shadow.settings.bias.w;
     let ndc = vec2<f32>(2.0 * in.clip.x / side - 1.0, 1.0 - 2.0 * in.clip.y / side);
     let ray = shadow_ray(sl, ndc);
@@ -282,7 +283,7 @@ fn fs_visibility(in: ChunkVarying) {
     for (var j = first; j < last; j++) {
         var v = 0.0;
         if g0.w >= 0.5 {
-            v = light_slot_visibility(frame, sp, j);
+            v = light_slot_visibility(frame, sp, j, in.pos.xy);
         }
         visibility_out[(j - first) * aov.dims.w + pixel] = v;
     }

@@ -11,14 +11,16 @@
 //   a box of k texels (V in steps of 1/k²);
 // - `pcf_poisson`: N bilinear comparisons at Poisson-disk taps of radius R texels, averaged
 //   (the tap pattern: poisson.rs `poisson_disk`, Mitchell 1991 best candidate; a fixed
-//   pattern, not rotated per pixel, so undersampling shows as banding rather than noise).
+//   pattern, so undersampling shows as banding, unless `rotate` turns it per pixel by
+//   interleaved gradient noise, Jimenez 2014 — shadow_map_common.wgsl — trading it for noise).
 // Each tap compares against the receiver plane's depth there when the receiver-plane bias is
 // on (shadow_map_common.wgsl); the single-comparison `pcf_hw_2x2` cannot.
 // Failure mode: the penumbra width is the kernel's, fixed in texels — it does not grow with the
 // blocker–receiver distance (no contact hardening) and shrinks in world units as the map's
 // resolution rises; wide kernels on receivers tilted to the light self-shadow (one reference
 // depth for the whole kernel), and light leaks under thin blockers.
-// Inputs: the receiver's lookup, the map layer and side, the kernel size / tap count and radius.
+// Inputs: the receiver's lookup, the map layer and side, the kernel size / tap count and radius,
+// the taps' rotation.
 
 fn pcf_hw_2x2(r: ShadowReceiver, layer: u32) -> f32 {
     return shadow_compare_bilinear(layer, r.uv, r.depth);
@@ -39,12 +41,13 @@ fn pcf_box(r: ShadowReceiver, layer: u32, k: u32, side: f32) -> f32 {
     return lit / f32(k * k);
 }
 
-// `taps` bilinear comparisons on the Poisson disk of radius `radius_uv` (map coordinates).
-fn pcf_poisson(r: ShadowReceiver, layer: u32, taps: u32, radius_uv: f32) -> f32 {
+// `taps` bilinear comparisons on the Poisson disk of radius `radius_uv` (map coordinates),
+// turned by `rot` = (cos φ, sin φ).
+fn pcf_poisson(r: ShadowReceiver, layer: u32, taps: u32, radius_uv: f32, rot: vec2<f32>) -> f32 {
     var lit = 0.0;
     for (var k = 0u; k < taps; k++) {
         count_iteration();
-        let offset = poisson_tap(k) * radius_uv;
+        let offset = poisson_tap(k, rot) * radius_uv;
         lit += shadow_compare_bilinear(layer, r.uv + offset, shadow_tap_depth(r, offset));
     }
     return lit / f32(taps);

@@ -16,6 +16,7 @@
 //    w_p = (z_r − z_b)·w_light/z_b (perspective), (z_r − z_b)·2tan(θ/2) (orthographic).
 // 3. PCF with `filter_samples` bilinear comparisons on the Poisson disk of diameter w_p at the
 //    receiver (pcf.wgsl `pcf_poisson`).
+// Both tap sets turn by the same per-pixel rotation under `rotate` (shadow_map_common.wgsl).
 // `blocker_depth = ignore` skips step 1 and takes z_b = PCSS_IGNORED_BLOCKER_FRACTION·z_r —
 // a deliberately broken PCSS (constant penumbra w_p = w_light, no contact hardening), kept as
 // a test device for the study thresholds, not as a technique.
@@ -23,9 +24,11 @@
 // (the penumbra of the nearer one is sized by the mean), the search misses blockers that fewer
 // than one tap lands on (thin casters), the estimate assumes planar parallel blocker and
 // receiver; the search misses blockers nearer the light than z_n (parts of shapes crossing the
-// light's plane), and grows without bound as z_n → 0; fixed tap patterns band.
+// light's plane), and grows without bound as z_n → 0; fixed tap patterns band (rotated ones
+// are noisy instead).
 // Inputs: the light's map (ShadowLight: near plane, texel footprint, light-size term), the
-// receiver's lookup, the map layer and side, the two tap counts, the blocker-depth mode.
+// receiver's lookup, the map layer and side, the two tap counts, the blocker-depth mode, the
+// taps' rotation.
 
 // z_b/z_r when the blocker search is ignored: 1/2 gives w_p = w_light (chosen here: the light's
 // own size, twice the soft-shadow scene's true penumbra, so the broken method is clearly off).
@@ -41,7 +44,7 @@ fn pcss_penumbra_width(sl: ShadowLight, zr: f32, zb: f32) -> f32 {
 }
 
 // Step 1: (average blocker view depth, blockers found).
-fn pcss_blocker_search(sl: ShadowLight, r: ShadowReceiver, layer: u32, samples: u32, side: f32) -> vec2<f32> {
+fn pcss_blocker_search(sl: ShadowLight, r: ShadowReceiver, layer: u32, samples: u32, side: f32, rot: vec2<f32>) -> vec2<f32> {
     let zn = sl.search.x;
     var width = max(r.z - zn, 0.0) * sl.axis.w;
     if shadow_is_perspective(sl) {
@@ -53,7 +56,7 @@ fn pcss_blocker_search(sl: ShadowLight, r: ShadowReceiver, layer: u32, samples: 
     var found = 0.0;
     for (var k = 0u; k < samples; k++) {
         count_iteration();
-        let offset = poisson_tap(k) * radius_uv;
+        let offset = poisson_tap(k, rot) * radius_uv;
         let d = shadow_depth_nearest(layer, r.uv + offset, side);
         if d < shadow_tap_depth(r, offset) {
             sum += shadow_linear_depth(sl, d);
@@ -63,10 +66,10 @@ fn pcss_blocker_search(sl: ShadowLight, r: ShadowReceiver, layer: u32, samples: 
     return vec2<f32>(sum / max(found, 1.0), found);
 }
 
-fn pcss(sl: ShadowLight, r: ShadowReceiver, layer: u32, blocker_samples: u32, filter_samples: u32, side: f32, ignore_blockers: bool) -> f32 {
+fn pcss(sl: ShadowLight, r: ShadowReceiver, layer: u32, blocker_samples: u32, filter_samples: u32, side: f32, ignore_blockers: bool, rot: vec2<f32>) -> f32 {
     var zb = PCSS_IGNORED_BLOCKER_FRACTION * r.z;
     if !ignore_blockers {
-        let search = pcss_blocker_search(sl, r, layer, blocker_samples, side);
+        let search = pcss_blocker_search(sl, r, layer, blocker_samples, side, rot);
         if search.y == 0.0 {
             return 1.0;
         }
@@ -74,5 +77,5 @@ fn pcss(sl: ShadowLight, r: ShadowReceiver, layer: u32, blocker_samples: u32, fi
     }
     let wp = pcss_penumbra_width(sl, r.z, zb);
     let radius_uv = 0.5 * wp / (side * shadow_texel_size(sl, r.z));
-    return pcf_poisson(r, layer, filter_samples, radius_uv);
+    return pcf_poisson(r, layer, filter_samples, radius_uv, rot);
 }

@@ -18,12 +18,13 @@
 // are the only readers besides the leaf samplers), a surface point and ωo.
 
 // The unshadowed `term` of light slot `slot` (area emitters first, then scene lights) at sp,
-// times its visibility under the pipeline's shadow method; `term` itself when unshadowed.
-fn shadowed(term: vec3<f32>, slot: u32, sp: SurfacePoint) -> vec3<f32> {
+// seen through target pixel `frag`, times its visibility under the pipeline's shadow method;
+// `term` itself when unshadowed.
+fn shadowed(f: FrameUniforms, term: vec3<f32>, slot: u32, sp: SurfacePoint, frag: vec2<f32>) -> vec3<f32> {
     if SHADOW_METHOD == SHADOW_NONE || all(term == vec3<f32>(0.0)) {
         return term;
     }
-    return term * shadow_visibility(shadow.lights[slot], slot, shadow.settings, sp.p, sp.ng);
+    return term * slot_shadow_visibility(f, sp, slot, frag);
 }
 
 // Shaded colour and the albedo AOV of a surface point.
@@ -32,8 +33,9 @@ struct Shaded {
     albedo: vec3<f32>,
 }
 
-// Light reaching ωo from the surface point `sp` (ωo = −camera ray direction).
-fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>) -> Shaded {
+// Light reaching ωo from the surface point `sp` (ωo = −camera ray direction) seen through
+// target pixel `frag` (the shadow taps' rotation).
+fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>, frag: vec2<f32>) -> Shaded {
     let shape = shapes[sp.shape];
     let b = resolve_bsdf(materials[shape.material], sp.uv);
     var color = vec3<f32>(0.0);
@@ -53,14 +55,14 @@ fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>) -> Shaded {
         let slot = f.counts.y + i;
         if is_sun_disk(l) {
             if AREA_METHOD == AREA_REPRESENTATIVE_POINT {
-                color += shadowed(sun_representative(l, b, n, wo), slot, sp);
+                color += shadowed(f, sun_representative(l, b, n, wo), slot, sp, frag);
             } else {
-                color += shadowed(sun_quadrature(l, b, n, wo, nq), slot, sp);
+                color += shadowed(f, sun_quadrature(l, b, n, wo, nq), slot, sp, frag);
             }
         } else {
             let inc = punctual_incident(l, sp.p);
             if any(inc.li > vec3<f32>(0.0)) {
-                color += shadowed(bsdf_eval(b, n, wo, inc.wi) * inc.li, slot, sp);
+                color += shadowed(f, bsdf_eval(b, n, wo, inc.wi) * inc.li, slot, sp, frag);
             }
         }
     }
@@ -68,9 +70,9 @@ fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>) -> Shaded {
         count_iteration();
         let s = shapes[emitters[i]];
         if AREA_METHOD == AREA_REPRESENTATIVE_POINT {
-            color += shadowed(area_light_representative(s, b, n, wo, sp.p), i, sp);
+            color += shadowed(f, area_light_representative(s, b, n, wo, sp.p), i, sp, frag);
         } else {
-            color += shadowed(area_light_quadrature(s, b, n, wo, sp.p, nq), i, sp);
+            color += shadowed(f, area_light_quadrature(s, b, n, wo, sp.p, nq), i, sp, frag);
         }
     }
     if f.env_info.x != ENV_NONE && f.env_info.z > 0u {

@@ -8,6 +8,17 @@
 // rectangle's or disk's centre along its normal, from a sphere or point light towards the
 // scene, along a spot's axis; orthographic over the scene for directional lights), depth in
 // [0, 1] (near → 0), cleared to 1, compared with `LessEqual` (1 = lit).
+// Cascaded shadow maps (Zhang et al. 2006, "Parallel-Split Shadow Maps for Large-scale Virtual
+// Environments", VRCIA 2006, https://doi.org/10.1145/1128923.1128975; Dimitrov 2007, "Cascaded
+// Shadow Maps", NVIDIA whitepaper): under `cascades = k` a directional light has k layers, each
+// an orthographic map over one slice [z_i, z_{i+1}] of the camera's view depth (shadow.rs,
+// "Cascades"); a receiver at camera view depth d takes the first cascade with d ≤ z_{i+1}
+// (`shadow_layer`), and that layer's texel size sizes every footprint.
+// Rotated Poisson taps (`rotate`): the disk turned per pixel by 2π·IGN(x, y), interleaved
+// gradient noise (Jimenez 2014, "Next Generation Post Processing in Call of Duty: Advanced
+// Warfare", SIGGRAPH 2014 Advances in Real-Time Rendering course,
+// https://advances.realtimerendering.com/s2014/): the fixed pattern's banding turns into
+// per-pixel noise with the same mean.
 // Bias, three terms, applied to the lookup point q of a receiver p with geometric normal n
 // (turned towards the light) and texel footprint τ = world size of one texel at p's depth:
 // - normal offset: q = p + n·normal_offset·τ (Holbein 2011, "Normal Offset Shadows", GDC 2011
@@ -31,9 +42,10 @@
 // receiver-plane bias, wide kernels on receivers tilted to the light self-shadow (one reference
 // depth for the whole kernel), and with it curved receivers still do (the tangent plane leaves
 // the surface across a wide kernel).
-// Inputs: `shadow` (group 0, binding 8: settings, Poisson taps, one ShadowLight per light
-// slot — area emitters first, then scene lights), the map array and two comparison samplers
-// (group 2). Only the leaf samplers below and the entry points read these bindings.
+// Inputs: `shadow` (group 0, binding 8: settings, Poisson taps, per light slot — area emitters
+// first, then scene lights — its first map layer and layer count, one ShadowLight per layer),
+// the map array and two comparison samplers (group 2). Only the leaf samplers below and the
+// entry points read these bindings.
 
 // Shadow methods, picked per pipeline (method.rs `ShadowTechnique::shader_code`).
 const SHADOW_NONE: u32 = 0u;
@@ -68,7 +80,8 @@ struct ShadowLight {
     axis: vec4<f32>,
     // Near and far view depth, and the texel footprint τ(z) = z·depth.z + depth.w.
     depth: vec4<f32>,
-    // PCSS's search near plane (the nearest blocker depth it assumes), unused ×3.
+    // PCSS's search near plane (the nearest blocker depth it assumes); a cascade's far split
+    // z_{i+1} in camera view depth (f32 max for a map over the whole scene); unused ×2.
     search: vec4<f32>,
     // Shadowed (0/1), the light's own shape (NONE for scene lights), unused, unused.
     info: vec4<u32>,
@@ -81,7 +94,7 @@ struct ShadowSettings {
     // pcf_box kernel k, pcf_poisson taps, pcss blocker samples, pcss filter samples.
     taps: vec4<u32>,
     // pcf_poisson radius (texels), pcss blocker depth (0 search, 1 ignore), receiver-plane
-    // depth bias (0/1), unused.
+    // depth bias (0/1), Poisson taps rotated per pixel (0/1).
     filtering: vec4<f32>,
 }
 
@@ -89,7 +102,10 @@ struct ShadowUniforms {
     settings: ShadowSettings,
     // 64 taps in the unit disk, two per vec4 (poisson.rs `poisson_disk`).
     poisson: array<vec4<f32>, 32>,
-    lights: array<ShadowLight, 64>,
+    // Per light slot: first map layer, layer count (1, or its cascades), unused ×2.
+    slots: array<vec4<u32>, 64>,
+    // One projection per map layer (shadow.rs MAX_SHADOW_LAYERS).
+    layers: array<ShadowLight, 128>,
 }
 
 @group(0) @binding(8) var<uniform> shadow: ShadowUniforms;
@@ -222,8 +238,39 @@ fn shadow_depth_nearest(layer: u32, uv: vec2<f32>, side: f32) -> f32 {
     return textureLoad(shadow_maps, texel, layer, 0);
 }
 
-// Tap k of the Poisson disk in the unit disk.
-fn poisson_tap(k: u32) -> vec2<f32> {
+// Tap k of the Poisson disk in the unit disk, turned by `rot` = (cos φ, sin φ).
+fn poisson_tap(k: u32, rot: vec2<f32>) -> vec2<f32> {
     let v = shadow.poisson[k / 2u];
-    return select(v.xy, v.zw, (k & 1u) == 1u);
+    let t = select(v.xy, v.zw, (k & 1u) == 1u);
+    return vec2<f32>(rot.x * t.x - rot.y * t.y, rot.y * t.x + rot.x * t.y);
+}
+
+// The map layer of light slot `slot` for a receiver at camera view depth `view_depth`: the
+// first of its cascades whose far split z_{i+1} is at or beyond it (its last one past them
+// all), or its one layer (Dimitrov 2007's interval-based selection).
+fn shadow_layer(slot: u32, view_depth: f32) -> u32 {
+    let m = shadow.slots[slot];
+    let last = m.x + max(m.y, 1u) - 1u;
+    var layer = m.x;
+    while layer < last && view_depth > shadow.layers[layer].search.y {
+        layer += 1u;
+    }
+    return layer;
+}
+
+// Interleaved gradient noise at target pixel (x, y) (Jimenez 2014, the slides' constants):
+// fract(52.9829189·fract(0.06711056·x + 0.00583715·y)), on integer pixel coordinates.
+fn interleaved_gradient_noise(frag: vec2<f32>) -> f32 {
+    let p = floor(frag);
+    return fract(52.9829189 * fract(dot(p, vec2<f32>(0.06711056, 0.00583715))));
+}
+
+// The Poisson taps' rotation (cos φ, sin φ) at target pixel `frag`: φ = 2π·IGN when the
+// settings rotate them, else none.
+fn shadow_tap_rotation(s: ShadowSettings, frag: vec2<f32>) -> vec2<f32> {
+    if s.filtering.w < 0.5 {
+        return vec2<f32>(1.0, 0.0);
+    }
+    let phi = 6.283185307 * interleaved_gradient_noise(frag);
+    return vec2<f32>(cos(phi), sin(phi));
 }

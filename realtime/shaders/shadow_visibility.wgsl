@@ -13,11 +13,14 @@
 // uncorrelated over the light (a small light, or a penumbra whose occluded part is lit like the
 // rest) — a large light half hidden, its bright part behind the blocker, is wrong even with
 // the exact visible fraction; the environment is never shadowed.
-// Inputs: the light slot's ShadowLight and settings, the point and its front geometric normal;
-// for the AOV the emitter or light and the surface point.
+// Each light slot's map is its one layer, or under cascades the layer `shadow_layer` picks by
+// the point's camera view depth (shadow_map_common.wgsl).
+// Inputs: the map layer's ShadowLight and settings, the point and its front geometric normal,
+// the Poisson taps' rotation; for the AOV the emitter or light and the surface point.
 
-// V of light slot `slot` (its map layer) at p with front geometric normal ng.
-fn shadow_visibility(sl: ShadowLight, slot: u32, s: ShadowSettings, p: vec3<f32>, ng: vec3<f32>) -> f32 {
+// V from map layer `layer` (projection sl) at p with front geometric normal ng, the Poisson
+// taps turned by `rot`.
+fn shadow_visibility(sl: ShadowLight, layer: u32, s: ShadowSettings, p: vec3<f32>, ng: vec3<f32>, rot: vec2<f32>) -> f32 {
     if SHADOW_METHOD == SHADOW_NONE || sl.info.x == 0u {
         return 1.0;
     }
@@ -28,21 +31,29 @@ fn shadow_visibility(sl: ShadowLight, slot: u32, s: ShadowSettings, p: vec3<f32>
     let side = s.bias.w;
     switch SHADOW_METHOD {
         case SHADOW_HARD: {
-            return shadow_hard(r, slot);
+            return shadow_hard(r, layer);
         }
         case SHADOW_PCF_HW_2X2: {
-            return pcf_hw_2x2(r, slot);
+            return pcf_hw_2x2(r, layer);
         }
         case SHADOW_PCF_BOX: {
-            return pcf_box(r, slot, s.taps.x, side);
+            return pcf_box(r, layer, s.taps.x, side);
         }
         case SHADOW_PCF_POISSON: {
-            return pcf_poisson(r, slot, s.taps.y, s.filtering.x / side);
+            return pcf_poisson(r, layer, s.taps.y, s.filtering.x / side, rot);
         }
         default: {
-            return pcss(sl, r, slot, s.taps.z, s.taps.w, side, s.filtering.y > 0.5);
+            return pcss(sl, r, layer, s.taps.z, s.taps.w, side, s.filtering.y > 0.5, rot);
         }
     }
+}
+
+// V of light slot `slot` at the surface point sp seen through target pixel `frag`: its map
+// layer picked by sp's camera view depth, the taps' rotation by the pixel.
+fn slot_shadow_visibility(f: FrameUniforms, sp: SurfacePoint, slot: u32, frag: vec2<f32>) -> f32 {
+    let layer = shadow_layer(slot, view_depth(f, sp.p));
+    let s = shadow.settings;
+    return shadow_visibility(shadow.layers[layer], layer, s, sp.p, sp.ng, shadow_tap_rotation(s, frag));
 }
 
 // Whether emitter `s` lights p at all (Rectangle/Disk/SphereLight::sample_li give a sample).
@@ -64,8 +75,9 @@ fn light_reaches(l: Light, p: vec3<f32>) -> bool {
     return any(punctual_incident(l, p).li > vec3<f32>(0.0));
 }
 
-// The AOV value of light slot `slot` at surface point sp: 0 where it cannot reach, else V.
-fn light_slot_visibility(f: FrameUniforms, sp: SurfacePoint, slot: u32) -> f32 {
+// The AOV value of light slot `slot` at surface point sp (target pixel `frag`): 0 where it
+// cannot reach, else V.
+fn light_slot_visibility(f: FrameUniforms, sp: SurfacePoint, slot: u32, frag: vec2<f32>) -> f32 {
     var reaches: bool;
     if slot < f.counts.y {
         let shape = emitters[slot];
@@ -76,5 +88,5 @@ fn light_slot_visibility(f: FrameUniforms, sp: SurfacePoint, slot: u32) -> f32 {
     if !reaches {
         return 0.0;
     }
-    return shadow_visibility(shadow.lights[slot], slot, shadow.settings, sp.p, sp.ng);
+    return slot_shadow_visibility(f, sp, slot, frag);
 }

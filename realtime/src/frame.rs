@@ -1,8 +1,8 @@
 //! One frame's GPU work: the frame uniform and scene bind group, the passes it records (a
 //! labelled render pass per stage, debug groups per draw), and the timestamp queries around
 //! each pass. Under a shadow method the frame starts with the shadow pass: one depth-only
-//! render pass per light (`shadow pass: <light>`), timed together as `shadow pass` (the first
-//! one's start to the last one's end).
+//! render pass per map layer (`shadow pass: <light>`, or `<light> cascade i/k`), timed
+//! together as `shadow pass` (the first one's start to the last one's end).
 
 use std::sync::{Arc, Mutex};
 
@@ -22,6 +22,11 @@ use crate::upload::SceneGpu;
 /// Near-plane distance as a fraction of the scene's bounding radius (reversed-Z keeps the
 /// depth precise anyway; only geometry closer than this to the camera is clipped).
 const NEAR_FRACTION: f32 = 1e-4;
+
+/// The camera's near-plane distance for `scene`: [`NEAR_FRACTION`] × its bounding radius.
+pub(crate) fn camera_near(scene: &Scene) -> f32 {
+    NEAR_FRACTION * scene.bounding_sphere().1
+}
 
 /// The per-render uniform, counter buffer and scene bind group.
 pub(crate) struct Frame {
@@ -87,14 +92,14 @@ fn frame_uniforms(scene: &Scene, sg: &SceneGpu, settings: &RasterSettings, k: u3
     let (w, h) = (settings.width, settings.height);
     let aspect = w as f32 / h as f32;
     let fov = cam.fov_y_deg.to_radians();
-    let (_, radius) = scene.bounding_sphere();
-    let proj = Mat4::perspective_infinite_reverse_rh(fov, aspect, NEAR_FRACTION * radius);
+    let near = camera_near(scene);
+    let proj = Mat4::perspective_infinite_reverse_rh(fov, aspect, near);
     let view = Mat4::from(cam.to_world.inverse());
     let m = cam.to_world.matrix3;
     let (env_kind, env_tex, env_radiance) = sg.env;
     FrameUniforms {
         view_proj: (proj * view).to_cols_array_2d(),
-        cam_pos: vec4(cam.position(), NEAR_FRACTION * radius),
+        cam_pos: vec4(cam.position(), near),
         cam_x: vec4(Vec3::from(m.x_axis), 0.0),
         cam_y: vec4(Vec3::from(m.y_axis), 0.0),
         cam_z: vec4(Vec3::from(m.z_axis), 0.0),
@@ -160,8 +165,8 @@ pub(crate) fn encode_passes(
     }
 }
 
-/// The shadow pass: for each light slot, a depth-only render pass into its layer drawing the
-/// meshes and the analytic proxies with instance index = slot.
+/// The shadow pass: for each map layer (a light slot's, or one of its cascades), a depth-only
+/// render pass into it drawing the meshes and the analytic proxies with instance index = layer.
 fn encode_shadow_passes(
     encoder: &mut wgpu::CommandEncoder,
     frame: &Frame,
@@ -171,7 +176,7 @@ fn encode_shadow_passes(
     queries: Option<(&Timestamps, u32)>,
 ) {
     let last = shadow.layers.len() - 1;
-    for (slot, (name, view)) in shadow.layers.iter().enumerate() {
+    for (layer, (name, view)) in shadow.layers.iter().enumerate() {
         let depth = wgpu::RenderPassDepthStencilAttachment {
             view,
             depth_ops: Some(wgpu::Operations {
@@ -185,11 +190,11 @@ fn encode_shadow_passes(
             label: Some(&label),
             color_attachments: &[],
             depth_stencil_attachment: Some(depth),
-            timestamp_writes: queries.and_then(|(q, i)| q.span_writes(i, slot == 0, slot == last)),
+            timestamp_writes: queries.and_then(|(q, i)| q.span_writes(i, layer == 0, layer == last)),
             occlusion_query_set: None,
         });
         pass.set_bind_group(0, &frame.bind_group, &[]);
-        let instance = slot as u32..slot as u32 + 1;
+        let instance = layer as u32..layer as u32 + 1;
         for (stage, pipeline) in stages {
             let (group, vertices) = match stage {
                 Stage::ShadowMesh => ("meshes (depth)", sg.mesh_vertices.as_ref()),

@@ -8,16 +8,28 @@
 //! | `shadow_hard` | N×N quadrature × V | one depth comparison, nearest texel (Williams 1978) | common |
 //! | `pcf_hw_2x2` | N×N quadrature × V | one hardware bilinear comparison: 2×2 PCF | common |
 //! | `pcf_box` | N×N quadrature × V | k×k nearest comparisons averaged (Reeves et al. 1987) | common, `kernel` (3: 3 or 5), `receiver_plane` |
-//! | `pcf_poisson` | N×N quadrature × V | N bilinear comparisons on a Poisson disk | common, `taps` (16: 1..=64), `radius` (2 texels: 0..=64), `receiver_plane` |
-//! | `pcss` | N×N quadrature × V | Fernando 2005 blocker search + penumbra-sized PCF | common, `blocker_samples` (16: 1..=64), `filter_samples` (32: 1..=64), `light_size` (the light's), `blocker_depth` (`search` / `ignore`), `receiver_plane` |
+//! | `pcf_poisson` | N×N quadrature × V | N bilinear comparisons on a Poisson disk | common, `taps` (16: 1..=64), `radius` (2 texels: 0..=64), `receiver_plane`, `rotate` |
+//! | `pcss` | N×N quadrature × V | Fernando 2005 blocker search + penumbra-sized PCF | common, `blocker_samples` (16: 1..=64), `filter_samples` (32: 1..=64), `light_size` (the light's), `blocker_depth` (`search` / `ignore`), `receiver_plane`, `rotate` |
 //!
 //! Common parameters of the shadow methods: `n` (8: 1..=64), `env_n` (0: 0..=64), `map` (shadow
 //! map side, 1024: 64..=4096), `bias` (constant bias in world metres along the light ray,
 //! 0.002: 0..=10), `slope_bias` (slope-scaled bias in texel footprints × tan θ, 1: 0..=100),
-//! `normal_offset` (offset along the geometric normal in texel footprints, 1: 0..=100).
+//! `normal_offset` (offset along the geometric normal in texel footprints, 1: 0..=100),
+//! `cascades` (cascaded shadow maps per directional light, 1: 1..=[`MAX_CASCADES`]) and
+//! `split_lambda` (λ of the parallel-split rule, 0.5: 0..=1).
+//! `cascades = k ≥ 2` splits the camera's view depth range [n, f] of a directional light into k
+//! slices by the practical split scheme of Zhang et al. 2006 ("Parallel-Split Shadow Maps for
+//! Large-scale Virtual Environments", VRCIA 2006, <https://doi.org/10.1145/1128923.1128975>),
+//! z_i = λ·n·(f/n)^(i/k) + (1 − λ)·(n + (f − n)·i/k), each slice with its own orthographic map
+//! (Dimitrov 2007, "Cascaded Shadow Maps", NVIDIA whitepaper): λ = 0 uniform, λ = 1
+//! logarithmic splits (shadow.rs, "Cascades"). `cascades = 1` is the one map over the scene;
+//! other light kinds ignore both.
 //! `receiver_plane` (`on` / `off`, default on) gives each tap of the multi-tap kernels the
 //! depth of the receiver's tangent plane there (receiver-plane depth bias, Isidoro 2006);
 //! without it wide kernels self-shadow receivers tilted to the light.
+//! `rotate` (`on` / `off`, default off) rotates `pcf_poisson`'s and PCSS's Poisson taps (blocker
+//! search and filter) per pixel by the angle 2π·IGN(x, y), interleaved gradient noise (Jimenez
+//! 2014, shadow_map_common.wgsl): the fixed pattern's banding becomes per-pixel noise.
 //! `light_size` is metres for local lights and the angular diameter in degrees for directional
 //! lights; `blocker_depth = ignore` replaces the blocker search by half the receiver depth
 //! (a constant penumbra of the light's size): a deliberately broken PCSS, a test device for
@@ -37,6 +49,9 @@ pub const MAX_QUADRATURE_N: u32 = 64;
 pub const MAX_SHADOW_TAPS: u32 = 64;
 /// Shadow-map sides accepted.
 pub const SHADOW_MAP_SIZES: std::ops::RangeInclusive<u32> = 64..=4096;
+/// Most cascades per directional light (`cascades`), as Dimitrov 2007's examples (and most
+/// engines) use.
+pub const MAX_CASCADES: u32 = 4;
 
 /// The area-light technique (WGSL `AREA_METHOD`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -160,10 +175,18 @@ pub struct Shadow {
     /// Receiver-plane depth bias for the multi-tap kernels (`pcf_box`, `pcf_poisson`, `pcss`):
     /// each tap compares against the receiver's tangent plane's depth there (Isidoro 2006).
     pub receiver_plane: bool,
+    /// Per-pixel rotation of the Poisson taps (`pcf_poisson`, `pcss`) by interleaved gradient
+    /// noise (Jimenez 2014).
+    pub rotate: bool,
+    /// Cascades per directional light, 1..=[`MAX_CASCADES`] (1: one map over the scene).
+    pub cascades: u32,
+    /// λ of the parallel-split rule (Zhang et al. 2006), 0 (uniform) ..= 1 (logarithmic).
+    pub split_lambda: f32,
 }
 
 impl Shadow {
-    /// `technique` with the default map (1024²) and biases (0.002 m, 1, 1).
+    /// `technique` with the default map (1024²), biases (0.002 m, 1, 1), receiver-plane bias
+    /// on, fixed taps, one cascade (λ = 0.5).
     pub fn new(technique: ShadowTechnique) -> Shadow {
         Shadow {
             technique,
@@ -172,7 +195,19 @@ impl Shadow {
             slope_bias: 1.0,
             normal_offset: 1.0,
             receiver_plane: true,
+            rotate: false,
+            cascades: 1,
+            split_lambda: 0.5,
         }
+    }
+
+    /// Whether the technique filters with Poisson taps (`pcf_poisson`, `pcss`): the ones
+    /// `rotate` applies to.
+    pub fn uses_poisson_taps(&self) -> bool {
+        matches!(
+            self.technique,
+            ShadowTechnique::PcfPoisson { .. } | ShadowTechnique::Pcss { .. }
+        )
     }
 }
 
@@ -304,17 +339,25 @@ impl Method {
         }
         names.push("env_n");
         if let Some(s) = &self.shadow {
-            names.extend(["map", "bias", "slope_bias", "normal_offset"]);
+            names.extend([
+                "map",
+                "bias",
+                "slope_bias",
+                "normal_offset",
+                "cascades",
+                "split_lambda",
+            ]);
             names.extend(match s.technique {
                 ShadowTechnique::Hard | ShadowTechnique::PcfHw2x2 => &[][..],
                 ShadowTechnique::PcfBox { .. } => &["kernel", "receiver_plane"],
-                ShadowTechnique::PcfPoisson { .. } => &["taps", "radius", "receiver_plane"],
+                ShadowTechnique::PcfPoisson { .. } => &["taps", "radius", "receiver_plane", "rotate"],
                 ShadowTechnique::Pcss { .. } => &[
                     "blocker_samples",
                     "filter_samples",
                     "light_size",
                     "blocker_depth",
                     "receiver_plane",
+                    "rotate",
                 ],
             });
         }
@@ -339,7 +382,9 @@ impl Method {
             "light_size" => Param::Real(0.0, 1e6),
             "blocker_depth" => Param::Keyword(&["search", "ignore"]),
             // true/false too: a study file's TOML booleans arrive as such.
-            "receiver_plane" => Param::Keyword(&["on", "off", "true", "false"]),
+            "receiver_plane" | "rotate" => Param::Keyword(&["on", "off", "true", "false"]),
+            "cascades" => Param::Whole(1..=MAX_CASCADES),
+            "split_lambda" => Param::Real(0.0, 1.0),
             _ => return None,
         })
     }
@@ -361,6 +406,11 @@ impl Method {
                 _ => None,
             }
         };
+        let switch = |value: &str| match value {
+            "on" | "true" => Some(true),
+            "off" | "false" => Some(false),
+            _ => None,
+        };
         match key {
             "n" => self.area_n = whole()?,
             "env_n" => self.env_n = whole()?,
@@ -371,13 +421,10 @@ impl Method {
                     ("bias", _) => s.bias = real()?,
                     ("slope_bias", _) => s.slope_bias = real()?,
                     ("normal_offset", _) => s.normal_offset = real()?,
-                    ("receiver_plane", _) => {
-                        s.receiver_plane = match value {
-                            "on" | "true" => true,
-                            "off" | "false" => false,
-                            _ => return None,
-                        }
-                    }
+                    ("receiver_plane", _) => s.receiver_plane = switch(value)?,
+                    ("rotate", _) => s.rotate = switch(value)?,
+                    ("cascades", _) => s.cascades = whole()?,
+                    ("split_lambda", _) => s.split_lambda = real()?,
                     ("kernel", ShadowTechnique::PcfBox { kernel }) => *kernel = whole()?,
                     ("taps", ShadowTechnique::PcfPoisson { taps, .. }) => *taps = whole()?,
                     ("radius", ShadowTechnique::PcfPoisson { radius, .. }) => *radius = real()?,
@@ -446,17 +493,21 @@ impl Method {
             push("bias", s.bias.to_string());
             push("slope_bias", s.slope_bias.to_string());
             push("normal_offset", s.normal_offset.to_string());
-            let plane = if s.receiver_plane { "on" } else { "off" };
+            push("cascades", s.cascades.to_string());
+            push("split_lambda", s.split_lambda.to_string());
+            let on_off = |b: bool| if b { "on" } else { "off" }.to_string();
+            let plane = on_off(s.receiver_plane);
             match s.technique {
                 ShadowTechnique::Hard | ShadowTechnique::PcfHw2x2 => {}
                 ShadowTechnique::PcfBox { kernel } => {
                     push("kernel", kernel.to_string());
-                    push("receiver_plane", plane.to_string());
+                    push("receiver_plane", plane);
                 }
                 ShadowTechnique::PcfPoisson { taps, radius } => {
                     push("taps", taps.to_string());
                     push("radius", radius.to_string());
-                    push("receiver_plane", plane.to_string());
+                    push("receiver_plane", plane);
+                    push("rotate", on_off(s.rotate));
                 }
                 ShadowTechnique::Pcss {
                     blocker_samples,
@@ -474,7 +525,8 @@ impl Method {
                         BlockerDepth::Ignore => "ignore",
                     };
                     push("blocker_depth", mode.to_string());
-                    push("receiver_plane", plane.to_string());
+                    push("receiver_plane", plane);
+                    push("rotate", on_off(s.rotate));
                 }
             }
         }
@@ -547,15 +599,16 @@ mod tests {
     /// Every shadow method's defaults as the method table lists them, and names round-trip.
     #[test]
     fn shadow_methods_have_the_documented_defaults() {
-        let common = "n=8, env_n=0, map=1024, bias=0.002, slope_bias=1, normal_offset=1";
+        let common =
+            "n=8, env_n=0, map=1024, bias=0.002, slope_bias=1, normal_offset=1, cascades=1, split_lambda=0.5";
         for (name, own) in [
             ("shadow_hard", ""),
             ("pcf_hw_2x2", ""),
             ("pcf_box", ", kernel=3, receiver_plane=on"),
-            ("pcf_poisson", ", taps=16, radius=2, receiver_plane=on"),
+            ("pcf_poisson", ", taps=16, radius=2, receiver_plane=on, rotate=off"),
             (
                 "pcss",
-                ", blocker_samples=16, filter_samples=32, blocker_depth=search, receiver_plane=on",
+                ", blocker_samples=16, filter_samples=32, blocker_depth=search, receiver_plane=on, rotate=off",
             ),
         ] {
             let m = Method::parse(name, &[]).unwrap();
@@ -597,12 +650,15 @@ mod tests {
         let m = Method::parse("pcss", &[kv("light_size", "0.25"), kv("blocker_depth", "ignore")]).unwrap();
         assert!(
             m.to_string()
-                .ends_with("light_size=0.25, blocker_depth=ignore, receiver_plane=on)"),
+                .ends_with("light_size=0.25, blocker_depth=ignore, receiver_plane=on, rotate=off)"),
             "{m}"
         );
         assert!(ok("pcf_box", "receiver_plane", "off") && !ok("pcf_hw_2x2", "receiver_plane", "off"));
         let off = Method::parse("pcss", &[kv("receiver_plane", "false")]).unwrap();
-        assert!(off.to_string().ends_with("receiver_plane=off)"), "{off}");
+        assert!(
+            off.to_string().ends_with("receiver_plane=off, rotate=off)"),
+            "{off}"
+        );
         let e = Method::parse("pcf_box", &[kv("kernel", "4")]).unwrap_err();
         assert!(e.contains("kernel") && e.contains("one of 3, 5"), "{e}");
         let e = Method::parse("pcss", &[kv("radius", "1")]).unwrap_err();
@@ -613,5 +669,43 @@ mod tests {
             radius: 1.0,
         }));
         assert!(bad.validate().unwrap_err().contains("taps"));
+    }
+
+    /// `cascades` and `split_lambda` on every shadow method, `rotate` on the Poisson-tap ones,
+    /// each range-checked with the accepted values in the error.
+    #[test]
+    fn cascade_and_rotation_parameters() {
+        let ok = |name: &str, k: &str, v: &str| Method::parse(name, &[kv(k, v)]).is_ok();
+        for name in ["shadow_hard", "pcf_hw_2x2", "pcf_box", "pcf_poisson", "pcss"] {
+            assert!(ok(name, "cascades", "1") && ok(name, "cascades", "4"), "{name}");
+            assert!(!ok(name, "cascades", "0") && !ok(name, "cascades", "5"), "{name}");
+            assert!(
+                ok(name, "split_lambda", "0") && ok(name, "split_lambda", "1"),
+                "{name}"
+            );
+            assert!(
+                !ok(name, "split_lambda", "1.5") && !ok(name, "split_lambda", "NaN"),
+                "{name}"
+            );
+        }
+        assert!(!ok("area_quadrature", "cascades", "2"));
+        for name in ["pcf_poisson", "pcss"] {
+            assert!(ok(name, "rotate", "on") && ok(name, "rotate", "true") && !ok(name, "rotate", "yes"));
+        }
+        for name in ["shadow_hard", "pcf_hw_2x2", "pcf_box"] {
+            assert!(!ok(name, "rotate", "on"), "{name} has no Poisson taps to rotate");
+        }
+        let e = Method::parse("pcss", &[kv("cascades", "8")]).unwrap_err();
+        assert!(e.contains("cascades") && e.contains("1..=4"), "{e}");
+        let e = Method::parse("pcf_box", &[kv("rotate", "on")]).unwrap_err();
+        assert!(e.contains("no parameter `rotate`"), "{e}");
+        let m = Method::parse(
+            "pcss",
+            &[kv("cascades", "3"), kv("split_lambda", "0.9"), kv("rotate", "on")],
+        )
+        .unwrap();
+        let s = m.shadow.unwrap();
+        assert_eq!((s.cascades, s.split_lambda, s.rotate), (3, 0.9, true));
+        assert_eq!(Method::parse("pcss", &m.params()).unwrap(), m);
     }
 }

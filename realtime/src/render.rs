@@ -2,10 +2,10 @@
 //! optional counting frame, the object-id pass at pixel centres and the visibility AOV.
 //!
 //! One frame is one command buffer: under a shadow method the shadow pass (one depth-only
-//! render pass per light), then the forward pass, or the G-buffer pass and the lighting pass,
-//! each a labelled render pass with debug groups and, when the adapter has them, timestamp
-//! writes at its start and end. Frames are submitted one at a time and waited for, so wall
-//! time around submit-and-wait is one frame's latency.
+//! render pass per map layer: per light, or per cascade), then the forward pass, or the
+//! G-buffer pass and the lighting pass, each a labelled render pass with debug groups and,
+//! when the adapter has them, timestamp writes at its start and end. Frames are submitted one
+//! at a time and waited for, so wall time around submit-and-wait is one frame's latency.
 
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
@@ -209,6 +209,7 @@ impl Renderer {
             &self.pipelines.shadow_layout,
             scene,
             &settings.method,
+            settings.width as f32 / settings.height as f32,
             self.gpu.limits(),
         )
         .map_err(RasterError::Settings)?;

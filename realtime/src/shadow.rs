@@ -1,17 +1,42 @@
-//! Shadow maps (Williams 1978): one Depth32Float layer per light, rendered every frame in a
-//! depth-only pass from the light, then filtered into a visibility factor V by the method's
-//! technique (`shaders/shadow_*.wgsl`, `pcf.wgsl`, `pcss.wgsl`).
+//! Shadow maps (Williams 1978): Depth32Float layers, one per light (k per directional light
+//! under `cascades = k`), rendered every frame in a depth-only pass from the light, then
+//! filtered into a visibility factor V by the method's technique (`shaders/shadow_*.wgsl`,
+//! `pcf.wgsl`, `pcss.wgsl`).
 //!
-//! Light slots — the layers, and the shaders' `shadow.lights[slot]` — are the realtime light
-//! order: the area emitters (spheres, rectangles, disks) in scene order, then the scene
-//! lights. Emissive meshes light nothing here and get no map.
+//! Light slots are the realtime light order: the area emitters (spheres, rectangles, disks) in
+//! scene order, then the scene lights. Emissive meshes light nothing here and get no map. Each
+//! slot owns consecutive map layers (the shaders' `shadow.slots[slot]` = first layer, count;
+//! `shadow.layers[layer]` = that layer's projection): one, or one per cascade.
 //!
 //! | light | projection | field of view / extent |
 //! |---|---|---|
 //! | rectangle, disk | perspective from the centre along the emitting normal | fitted to the other shapes' bounding boxes in front of the light, at most [`MAX_FOV_DEG`] |
 //! | sphere, point | perspective from the centre towards the centre of the other shapes' bounding box | the same fit |
 //! | spot | perspective along the spot axis | the fit, at most 2 × the cutoff angle |
-//! | directional (delta or sun disk) | orthographic along the light's direction | the scene's bounding box, square |
+//! | directional (delta or sun disk), `cascades = 1` | orthographic along the light's direction | the scene's bounding box, square |
+//! | directional, `cascades = k ≥ 2` | k orthographic maps along the light's direction (cascades) | cascade i: the camera frustum between view depths z_i and z_{i+1}, clipped to the scene's box, square, snapped to texels |
+//!
+//! Cascades (Zhang et al. 2006, "Parallel-Split Shadow Maps for Large-scale Virtual
+//! Environments", VRCIA 2006, <https://doi.org/10.1145/1128923.1128975>; Dimitrov 2007,
+//! "Cascaded Shadow Maps", NVIDIA whitepaper): the camera's view depth range [n, f] — n its
+//! near plane, f the farthest corner of the scene's bounding box along its view direction (at
+//! least n) — is split by the practical split scheme
+//! z_i = λ·n·(f/n)^(i/k) + (1 − λ)·(n + (f − n)·i/k), i = 0..=k ([`pssm_splits`]; λ =
+//! `split_lambda`: 0 uniform; 1 logarithmic, the split that spreads perspective aliasing
+//! evenly over depth, but with a near plane close to the eye spends cascades on the first
+//! metres). Cascade i is an orthographic map along the light fitted to the eight
+//! corners of the camera frustum between z_i and z_{i+1} in light space ([`frustum_slice`]),
+//! clipped to the scene's light-space box (every receiver of the slice lies in both), squared;
+//! its depth range is the whole scene's, so casters outside the slice still shadow it. The
+//! square is snapped to its texels (Valient 2008, "Stable Rendering of Cascaded Shadow Maps",
+//! ShaderX6): texel size t = 2·half/(side − 2), the centre a whole number of texels, the side
+//! t·side — so the centre's shift (≤ t/2) never uncovers the fit, and a camera moving without
+//! changing the extent moves the texel grid by whole texels. A receiver takes the first cascade
+//! whose far split is at or beyond its camera view depth (interval-based selection, Dimitrov
+//! 2007), and each cascade's own texel size t sizes the normal offset, the slope bias and the
+//! PCF/PCSS footprints in texels; the penumbra term 2·tan(θ/2) per metre is the same in every
+//! cascade. Cascade edges are not blended: a kernel reaching past a cascade's square is clamped
+//! to its edge texels.
 //!
 //! The fit: every corner of every other shape's bounding box, in light view space, must lie
 //! inside the square frustum; a shape whose box crosses the light's plane (depth ≤ 0 — a wall
@@ -48,8 +73,16 @@ use crate::method::{BlockerDepth, Method, Shadow, ShadowTechnique, MAX_SHADOW_TA
 use crate::pipelines::DEPTH_FORMAT;
 use crate::poisson::poisson_disk;
 
-/// Light slots the shadow uniform holds (WGSL `array<ShadowLight, 64>`).
+mod cascades;
+pub use cascades::{cascade_range, frustum_slice, pssm_splits};
+use cascades::{cascade_square, cascades};
+
+/// Light slots the shadow uniform holds (WGSL `slots: array<vec4<u32>, 64>`).
 pub const MAX_SHADOWED_LIGHTS: usize = 64;
+/// Map layers the shadow uniform holds (WGSL `layers: array<ShadowLight, 128>`): every slot's
+/// one layer, or its cascades. Chosen here: room for every slot plus cascades for a few suns,
+/// the uniform well under wgpu's default 64 KiB binding limit.
+pub const MAX_SHADOW_LAYERS: usize = 128;
 /// Poisson taps in the table (WGSL `poisson`, two per vec4).
 pub const POISSON_TAPS: usize = MAX_SHADOW_TAPS as usize;
 /// Widest perspective field of view (the brief's rule for lights whose frustum cannot be fitted:
@@ -68,7 +101,8 @@ pub const MIN_NEAR_FRACTION: f32 = 1e-3;
 /// Largest total size of the shadow-map array accepted (bytes), chosen here: 1 GiB.
 pub const MAX_SHADOW_MAP_BYTES: u64 = 1 << 30;
 
-/// One light slot's map (WGSL `ShadowLight`, shadow_map_common.wgsl).
+/// One map layer's projection (WGSL `ShadowLight`, shadow_map_common.wgsl): a light slot's one
+/// map, or one of its cascades.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuShadowLight {
@@ -82,7 +116,8 @@ pub struct GpuShadowLight {
     pub axis: [f32; 4],
     /// Near, far, texel footprint τ(z) = z·depth[2] + depth[3].
     pub depth: [f32; 4],
-    /// PCSS's search near plane, unused, unused, unused.
+    /// PCSS's search near plane, the far end of the camera view-depth slice of a cascade
+    /// (f32::MAX for a map over the whole scene), unused, unused.
     pub search: [f32; 4],
     /// Shadowed (0/1), own shape or NONE, unused, unused.
     pub info: [u32; 4],
@@ -98,7 +133,7 @@ pub struct GpuShadowSettings {
     /// pcf_box kernel, pcf_poisson taps, pcss blocker samples, pcss filter samples.
     pub taps: [u32; 4],
     /// pcf_poisson radius (texels), pcss blocker depth (0 search, 1 ignore), receiver-plane
-    /// depth bias (0/1), unused.
+    /// depth bias (0/1), Poisson taps rotated per pixel (0/1).
     pub filtering: [f32; 4],
 }
 const _: () = assert!(std::mem::size_of::<GpuShadowSettings>() == 3 * 16);
@@ -111,18 +146,25 @@ pub struct GpuShadowUniforms {
     pub settings: GpuShadowSettings,
     /// The Poisson taps, two per entry.
     pub poisson: [[f32; 4]; POISSON_TAPS / 2],
-    /// One map per light slot.
-    pub lights: [GpuShadowLight; MAX_SHADOWED_LIGHTS],
+    /// Per light slot: its first layer, its layer count (1, or the cascades), unused, unused.
+    pub slots: [[u32; 4]; MAX_SHADOWED_LIGHTS],
+    /// One projection per map layer.
+    pub layers: [GpuShadowLight; MAX_SHADOW_LAYERS],
 }
 const _: () = assert!(
     std::mem::size_of::<GpuShadowUniforms>()
-        == 3 * 16 + POISSON_TAPS * 8 + MAX_SHADOWED_LIGHTS * std::mem::size_of::<GpuShadowLight>()
+        == 3 * 16
+            + POISSON_TAPS * 8
+            + MAX_SHADOWED_LIGHTS * 16
+            + MAX_SHADOW_LAYERS * std::mem::size_of::<GpuShadowLight>()
 );
+// wgpu's default `max_uniform_buffer_binding_size` (the limit gpu.rs requests).
+const _: () = assert!(std::mem::size_of::<GpuShadowUniforms>() <= 64 << 10);
 
-/// A light's frustum, as built on the CPU.
+/// One map layer's frustum (a light's, or one cascade of it), as built on the CPU.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LightFrustum {
-    /// The light's name (the pass label).
+    /// The light's name, with `cascade i/k` for cascades (the pass label).
     pub name: String,
     /// World to clip.
     pub view_proj: Mat4,
@@ -144,6 +186,8 @@ pub struct LightFrustum {
     pub size: f32,
     /// The emitter's own shape.
     pub own_shape: Option<usize>,
+    /// A cascade's camera view-depth slice [z_i, z_{i+1}]; None for a map over the scene.
+    pub slice: Option<(f32, f32)>,
 }
 
 impl LightFrustum {
@@ -156,16 +200,19 @@ impl LightFrustum {
         }
     }
 
-    /// `name: perspective 123.4°, depth 0.9–1.5 m, w_light 0.5 m`.
+    /// `name: perspective 123.4°, depth 0.9–1.5 m, w_light 0.5 m`; cascades add their slice.
     pub fn describe(&self) -> String {
+        let slice = self.slice.map_or(String::new(), |(z0, z1)| {
+            format!(", camera depth {z0:.4}–{z1:.4} m")
+        });
         if self.perspective {
             format!(
-                "{}: perspective {:.1}°, depth {:.4}–{:.4} m (search from {:.4}), w_light {} m",
+                "{}: perspective {:.1}°, depth {:.4}–{:.4} m (search from {:.4}), w_light {} m{slice}",
                 self.name, self.extent, self.near, self.far, self.search_near, self.size
             )
         } else {
             format!(
-                "{}: orthographic {:.4} m square, depth {:.4}–{:.4} m (search from {:.4}), penumbra {} m/m",
+                "{}: orthographic {:.4} m square, depth {:.4}–{:.4} m (search from {:.4}), penumbra {} m/m{slice}",
                 self.name, self.extent, self.near, self.far, self.search_near, self.size
             )
         }
@@ -182,15 +229,18 @@ impl LightFrustum {
                 .to_array(),
             axis: self.axis.extend(self.size).to_array(),
             depth: [self.near, self.far, a, b],
-            search: [self.search_near, 0.0, 0.0, 0.0],
+            search: [self.search_near, self.slice.map_or(f32::MAX, |s| s.1), 0.0, 0.0],
             info: [1, self.own_shape.map_or(NONE, |s| s as u32), 0, 0],
         }
     }
 }
 
-/// The frustum of every light slot of `scene` (area emitters, then scene lights), with the
-/// PCSS light size overridden by `light_size` where given.
-pub fn light_frusta(scene: &Scene, light_size: Option<f32>) -> Vec<LightFrustum> {
+/// The frusta of every light slot of `scene` (area emitters, then scene lights), one per map
+/// layer of the slot: one, or `shadow.cascades` for a directional light (module docs) seen
+/// through a `aspect` (width / height) film. The PCSS light size is overridden by the method's
+/// `light_size` where given.
+pub fn light_frusta(scene: &Scene, shadow: &Shadow, aspect: f32) -> Vec<Vec<LightFrustum>> {
+    let light_size = light_size_override(shadow);
     let mut out = Vec::new();
     for (i, shape) in scene.shapes.iter().enumerate() {
         if shape.emission.is_none() {
@@ -218,7 +268,7 @@ pub fn light_frusta(scene: &Scene, light_size: Option<f32>) -> Vec<LightFrustum>
             }
         };
         let size = light_size.unwrap_or(size);
-        out.push(perspective(
+        out.push(vec![perspective(
             scene,
             &shape.name,
             Some(i),
@@ -227,14 +277,14 @@ pub fn light_frusta(scene: &Scene, light_size: Option<f32>) -> Vec<LightFrustum>
             up,
             MAX_FOV_DEG,
             size,
-        ));
+        )]);
     }
     for light in &scene.lights {
         let name = light.name();
         out.push(match light {
             Light::Point { position, .. } => {
                 let axis = towards_scene(scene, None, *position);
-                perspective(
+                vec![perspective(
                     scene,
                     name,
                     None,
@@ -243,7 +293,7 @@ pub fn light_frusta(scene: &Scene, light_size: Option<f32>) -> Vec<LightFrustum>
                     None,
                     MAX_FOV_DEG,
                     light_size.unwrap_or(0.0),
-                )
+                )]
             }
             Light::Spot {
                 position,
@@ -253,7 +303,7 @@ pub fn light_frusta(scene: &Scene, light_size: Option<f32>) -> Vec<LightFrustum>
             } => {
                 let axis = direction.normalize_or(Vec3::NEG_Y);
                 let fov = (2.0 * cutoff_deg).min(MAX_FOV_DEG);
-                perspective(
+                vec![perspective(
                     scene,
                     name,
                     None,
@@ -262,7 +312,7 @@ pub fn light_frusta(scene: &Scene, light_size: Option<f32>) -> Vec<LightFrustum>
                     None,
                     fov,
                     light_size.unwrap_or(0.0),
-                )
+                )]
             }
             Light::Directional {
                 direction,
@@ -271,7 +321,12 @@ pub fn light_frusta(scene: &Scene, light_size: Option<f32>) -> Vec<LightFrustum>
             } => {
                 let theta = light_size.unwrap_or(*angular_diameter_deg);
                 let size = 2.0 * (0.5 * theta.to_radians()).tan();
-                orthographic(scene, name, direction.normalize_or(Vec3::NEG_Y), size)
+                let axis = direction.normalize_or(Vec3::NEG_Y);
+                if shadow.cascades <= 1 {
+                    vec![orthographic(scene, name, axis, size, None)]
+                } else {
+                    cascades(scene, name, axis, size, shadow, aspect)
+                }
             }
         });
     }
@@ -379,22 +434,45 @@ fn perspective(
         search_near,
         size,
         own_shape: own,
+        slice: None,
     }
 }
 
-/// An orthographic frustum along the travel direction `axis` over the scene's bounding box.
-fn orthographic(scene: &Scene, name: &str, axis: Vec3, size: f32) -> LightFrustum {
+/// The light-space (`view`) bounding box of `points`.
+fn light_box(view: &Mat4, points: &[Vec3]) -> (Vec3, Vec3) {
+    points
+        .iter()
+        .map(|c| view.transform_point3(*c))
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p), hi.max(p))
+        })
+}
+
+/// An orthographic frustum along the travel direction `axis`, its depth range over the whole
+/// scene; its square over the scene's bounding box, or with `cascade` = (the eight corners of
+/// a camera-frustum slice, the map side) over that slice (module docs, "Cascades").
+fn orthographic(
+    scene: &Scene,
+    name: &str,
+    axis: Vec3,
+    size: f32,
+    cascade: Option<(&[Vec3; 8], u32)>,
+) -> LightFrustum {
     let (centre, radius) = scene.bounding_sphere();
     let eye = centre - axis * (2.0 * radius);
     let view = Mat4::look_to_rh(eye, axis, axis.any_orthonormal_vector());
-    let v = corners(scene.bounds()).map(|c| view.transform_point3(c));
-    let (lo, hi) = v
-        .iter()
-        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
-            (lo.min(*p), hi.max(*p))
-        });
-    let half = 0.5 * (hi.x - lo.x).max(hi.y - lo.y) * FAR_MARGIN;
-    let (cx, cy) = (0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y));
+    let (lo, hi) = light_box(&view, &corners(scene.bounds()));
+    let (cx, cy, half) = match cascade {
+        None => (
+            0.5 * (lo.x + hi.x),
+            0.5 * (lo.y + hi.y),
+            0.5 * (hi.x - lo.x).max(hi.y - lo.y) * FAR_MARGIN,
+        ),
+        Some((slice, side)) => {
+            let (slo, shi) = light_box(&view, slice);
+            cascade_square((lo, hi), (slo, shi), side, radius)
+        }
+    };
     let margin = 0.01 * radius;
     let (near, far) = (-hi.z - margin, -lo.z + margin);
     let proj = Mat4::orthographic_rh(cx - half, cx + half, cy - half, cy + half, near, far);
@@ -410,11 +488,14 @@ fn orthographic(scene: &Scene, name: &str, axis: Vec3, size: f32) -> LightFrustu
         search_near: near,
         size,
         own_shape: None,
+        slice: None,
     }
 }
 
-/// The shadow uniform of `method` over `frusta` (all zero when unshadowed: V = 1 everywhere).
-pub fn shadow_uniforms(method: &Method, frusta: &[LightFrustum]) -> GpuShadowUniforms {
+/// The shadow uniform of `method` over `frusta` (per light slot, its layers' frusta; at most
+/// [`MAX_SHADOWED_LIGHTS`] slots and [`MAX_SHADOW_LAYERS`] layers, the rest ignored — `ShadowMaps`
+/// refuses more); all zero when unshadowed: V = 1 everywhere.
+pub fn shadow_uniforms(method: &Method, frusta: &[Vec<LightFrustum>]) -> GpuShadowUniforms {
     let mut u = GpuShadowUniforms::zeroed();
     let Some(s) = method.shadow else {
         return u;
@@ -441,6 +522,7 @@ pub fn shadow_uniforms(method: &Method, frusta: &[LightFrustum]) -> GpuShadowUni
     }
     let multi_tap = !matches!(s.technique, ShadowTechnique::Hard | ShadowTechnique::PcfHw2x2);
     filter[2] = f32::from(u8::from(s.receiver_plane && multi_tap));
+    filter[3] = f32::from(u8::from(s.rotate && s.uses_poisson_taps()));
     u.settings = GpuShadowSettings {
         bias: [s.bias, s.slope_bias, s.normal_offset, s.map as f32],
         taps,
@@ -455,8 +537,15 @@ pub fn shadow_uniforms(method: &Method, frusta: &[LightFrustum]) -> GpuShadowUni
             disk[2 * k + 1][1],
         ];
     }
-    for (slot, f) in frusta.iter().enumerate() {
-        u.lights[slot] = f.gpu(s.map);
+    let mut first = 0;
+    for (slot, layers) in frusta.iter().enumerate().take(MAX_SHADOWED_LIGHTS) {
+        u.slots[slot] = [first as u32, layers.len() as u32, 0, 0];
+        for f in layers {
+            if let Some(layer) = u.layers.get_mut(first) {
+                *layer = f.gpu(s.map);
+            }
+            first += 1;
+        }
     }
     u
 }
@@ -474,32 +563,44 @@ fn light_size_override(shadow: &Shadow) -> Option<f32> {
 pub(crate) struct ShadowMaps {
     /// `GpuShadowUniforms` (group 0, binding 8).
     pub(crate) uniform: wgpu::Buffer,
-    /// (light name, depth view of its layer), in slot order; empty when unshadowed.
+    /// (layer name, depth view of the layer), in layer order; empty when unshadowed.
     pub(crate) layers: Vec<(String, wgpu::TextureView)>,
     /// The array view and the two comparison samplers.
     pub(crate) bind_group: wgpu::BindGroup,
-    /// The frusta (empty when unshadowed).
+    /// The frusta, in layer order (empty when unshadowed).
     pub(crate) frusta: Vec<LightFrustum>,
 }
 
 impl ShadowMaps {
-    /// The maps of `method` for `scene` (a 1×1 placeholder layer when it is unshadowed);
-    /// `layout` is the group-2 layout. Errors: too many lights, too large an array.
+    /// The maps of `method` for `scene` seen through a film of aspect `aspect` (width / height;
+    /// the cascades' camera frustum), or a 1×1 placeholder layer when it is unshadowed;
+    /// `layout` is the group-2 layout. Errors: too many lights or layers, too large an array.
     pub(crate) fn new(
         device: &wgpu::Device,
         layout: &wgpu::BindGroupLayout,
         scene: &Scene,
         method: &Method,
+        aspect: f32,
         limits: &wgpu::Limits,
     ) -> Result<ShadowMaps, String> {
-        let frusta = match &method.shadow {
-            Some(s) => light_frusta(scene, light_size_override(s)),
+        let per_slot = match &method.shadow {
+            Some(s) => light_frusta(scene, s, aspect),
             None => Vec::new(),
         };
         let side = method.shadow.map_or(1, |s| s.map);
-        if frusta.len() > MAX_SHADOWED_LIGHTS {
+        if per_slot.len() > MAX_SHADOWED_LIGHTS {
             return Err(format!(
                 "method {method}: the scene has {} lights, at most {MAX_SHADOWED_LIGHTS} can be shadowed",
+                per_slot.len()
+            ));
+        }
+        let frusta: Vec<LightFrustum> = per_slot.iter().flatten().cloned().collect();
+        let cascades = method.shadow.map_or(1, |s| s.cascades);
+        if frusta.len() > MAX_SHADOW_LAYERS {
+            return Err(format!(
+                "method {method}: the scene's {} lights need {} shadow-map layers ({cascades} per \
+                 directional light), at most {MAX_SHADOW_LAYERS} fit the shadow uniform; lower `cascades`",
+                per_slot.len(),
                 frusta.len()
             ));
         }
@@ -510,15 +611,16 @@ impl ShadowMaps {
             || bytes > MAX_SHADOW_MAP_BYTES
         {
             return Err(format!(
-                "method {method}: {layers} shadow maps of {side}² texels ({} MiB) exceed the adapter's \
-                 texture limits ({} texels per side, {} layers) or {} MiB",
+                "method {method}: {layers} shadow maps of {side}² texels ({} MiB; {cascades} per \
+                 directional light) exceed the adapter's texture limits ({} texels per side, {} \
+                 layers) or {} MiB",
                 bytes >> 20,
                 limits.max_texture_dimension_2d,
                 limits.max_texture_array_layers,
                 MAX_SHADOW_MAP_BYTES >> 20
             ));
         }
-        let uniforms = shadow_uniforms(method, &frusta);
+        let uniforms = shadow_uniforms(method, &per_slot);
         let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("shadow uniforms (settings, Poisson taps, light frusta)"),
             contents: bytemuck::bytes_of(&uniforms),
@@ -528,7 +630,7 @@ impl ShadowMaps {
             label: Some(if frusta.is_empty() {
                 "shadow maps (placeholder: unshadowed method)"
             } else {
-                "shadow maps (one layer per light)"
+                "shadow maps (one layer per light, or per cascade)"
             }),
             size: wgpu::Extent3d {
                 width: side,
@@ -607,7 +709,7 @@ mod tests {
     use scenes::{Camera, Emission, Film, Material, RenderSettings, Shape, TexRgb};
     use std::path::PathBuf;
 
-    fn scene(shapes: Vec<(Geometry, bool)>, lights: Vec<Light>) -> Scene {
+    pub(super) fn scene(shapes: Vec<(Geometry, bool)>, lights: Vec<Light>) -> Scene {
         Scene {
             source: PathBuf::from("<shadow test>"),
             camera: Camera::look_at(Vec3::new(0.0, 1.0, 3.0), Vec3::ZERO, Vec3::Y, 40.0),
@@ -636,7 +738,22 @@ mod tests {
         }
     }
 
-    fn rect(center: Vec3, half: f32, normal_down: bool) -> Geometry {
+    /// Every slot's frusta for `shadow`, each slot asserted to have one layer.
+    pub(super) fn single_layers(s: &Scene, shadow: &Shadow) -> Vec<LightFrustum> {
+        light_frusta(s, shadow, 1.0)
+            .into_iter()
+            .map(|layers| {
+                assert_eq!(layers.len(), 1, "{layers:?}");
+                layers[0].clone()
+            })
+            .collect()
+    }
+
+    pub(super) fn hard() -> Shadow {
+        Shadow::new(ShadowTechnique::Hard)
+    }
+
+    pub(super) fn rect(center: Vec3, half: f32, normal_down: bool) -> Geometry {
         let (u, v) = (Vec3::X * half, Vec3::Z * half);
         Geometry::Rectangle {
             center,
@@ -658,7 +775,7 @@ mod tests {
             ],
             Vec::new(),
         );
-        let f = light_frusta(&s, None);
+        let f = single_layers(&s, &hard());
         assert_eq!(f.len(), 1);
         let f = &f[0];
         assert!(f.perspective && f.axis.abs_diff_eq(Vec3::NEG_Y, 1e-6), "{f:?}");
@@ -719,7 +836,7 @@ mod tests {
             ],
             vec![spot, sun],
         );
-        let f = light_frusta(&s, None);
+        let f = single_layers(&s, &hard());
         assert_eq!(f.len(), 3);
         let radius = s.bounding_sphere().1;
         assert!(
@@ -741,8 +858,63 @@ mod tests {
             );
         }
         // light_size overrides every light: metres, degrees for the sun.
-        let g = light_frusta(&s, Some(4.0));
+        let pcss = Shadow::new(ShadowTechnique::Pcss {
+            blocker_samples: 16,
+            filter_samples: 16,
+            light_size: Some(4.0),
+            blocker_depth: BlockerDepth::Search,
+        });
+        let g = single_layers(&s, &pcss);
         assert_eq!((g[0].size, g[1].size), (4.0, 4.0));
         assert!((g[2].size - 2.0 * 2f32.to_radians().tan()).abs() < 1e-7);
+    }
+
+    pub(super) fn sun(direction: Vec3) -> Light {
+        Light::Directional {
+            name: "sun".into(),
+            direction,
+            irradiance: Vec3::ONE,
+            angular_diameter_deg: 1.0,
+        }
+    }
+
+    pub(super) fn cascaded(k: u32, lambda: f32) -> Shadow {
+        Shadow {
+            cascades: k,
+            split_lambda: lambda,
+            map: 512,
+            ..hard()
+        }
+    }
+
+    /// The uniform: each slot's first layer and layer count, each cascade's far split in
+    /// `search[1]`, the rotation flag only for the Poisson-tap techniques.
+    #[test]
+    fn uniform_maps_slots_to_layers() {
+        let s = scene(
+            vec![
+                (rect(Vec3::ZERO, 2.0, false), false),
+                (rect(Vec3::new(0.0, 1.5, 0.0), 0.25, true), true),
+            ],
+            vec![sun(Vec3::new(0.0, -1.0, -1.0))],
+        );
+        let mut shadow = cascaded(3, 0.5);
+        shadow.rotate = true;
+        let frusta = light_frusta(&s, &shadow, 1.0);
+        let u = shadow_uniforms(&Method::shadowed(shadow), &frusta);
+        assert_eq!((u.slots[0], u.slots[1]), ([0, 1, 0, 0], [1, 3, 0, 0]));
+        assert_eq!(u.layers[0].search[1], f32::MAX);
+        assert_eq!(frusta[1].len(), 3);
+        for (layer, f) in u.layers[1..4].iter().zip(&frusta[1]) {
+            assert_eq!(layer.search[1], f.slice.unwrap().1);
+        }
+        assert_eq!(u.layers[4].info[0], 0, "unused layers are unshadowed");
+        assert_eq!(u.settings.filtering[3], 0.0, "shadow_hard has no taps to rotate");
+        let poisson = Shadow {
+            technique: ShadowTechnique::PcfPoisson { taps: 8, radius: 2.0 },
+            ..shadow
+        };
+        let u = shadow_uniforms(&Method::shadowed(poisson), &frusta);
+        assert_eq!(u.settings.filtering[3], 1.0);
     }
 }

@@ -1,6 +1,7 @@
 //! The shadow methods end to end on the adapter at hand: their cost counters against the
 //! kernels they run, the shadow pass in the timing and the header, forward = deferred with
-//! shadows, the visibility channels, and bad settings as errors. Accuracy against the oracle
+//! shadows (cascaded and rotated too), the visibility channels, rotated Poisson taps against
+//! fixed ones, and bad settings as errors. Accuracy against the oracle
 //! is tested in tests/tests/parity_shadow.rs.
 
 use std::path::PathBuf;
@@ -168,8 +169,9 @@ fn shadow_pass_is_timed_and_described() {
         assert_eq!(
             img.attribute("parameters"),
             Some(
-                "n=8 env_n=0 map=256 bias=0.002 slope_bias=1 normal_offset=1 blocker_samples=16 \
-                 filter_samples=32 blocker_depth=search receiver_plane=on"
+                "n=8 env_n=0 map=256 bias=0.002 slope_bias=1 normal_offset=1 cascades=1 \
+                 split_lambda=0.5 blocker_samples=16 filter_samples=32 blocker_depth=search \
+                 receiver_plane=on rotate=off"
             )
         );
         let maps = img.attribute("shadow_maps").unwrap_or_default();
@@ -243,4 +245,155 @@ fn bad_shadow_settings_are_errors() {
             ),
         }
     }
+}
+
+/// The long sunlit field of the cascade study (scenes/studies/scenes/long-sun-field.toml) at
+/// `size`².
+fn long_sun_field(size: u32) -> Scene {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/studies/scenes/long-sun-field.toml");
+    let mut s = scenes::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    s.film = Film {
+        width: size,
+        height: size,
+    };
+    s
+}
+
+/// Cascades: the header lists one orthographic map per cascade with its camera-depth slice,
+/// forward and deferred agree with cascades and rotated taps (the same pixel, the same
+/// rotation), and the visibility stays in [0, 1] with both shadow and light.
+#[test]
+fn cascades_are_described_and_forward_and_deferred_agree() {
+    let scene = long_sun_field(32);
+    let one = renderer()
+        .render(
+            &scene,
+            &RasterSettings::new(32, 32)
+                .method(method("pcf_hw_2x2", &[("map", "256")]))
+                .frames(0, 1),
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+    let maps = one.image.attribute("shadow_maps").unwrap_or_default();
+    assert!(
+        maps.starts_with("sun: orthographic") && !maps.contains("cascade"),
+        "{maps}"
+    );
+    for (name, extra) in [
+        ("pcf_hw_2x2", None),
+        ("pcss", Some(("rotate", "on"))),
+        ("pcf_poisson", Some(("rotate", "on"))),
+    ] {
+        let mut params = vec![("map", "256"), ("cascades", "4")];
+        params.extend(extra);
+        let s = RasterSettings::new(32, 32)
+            .method(method(name, &params))
+            .frames(0, 1);
+        let f = renderer().render(&scene, &s).unwrap_or_else(|e| panic!("{e}"));
+        let d = renderer()
+            .render(&scene, &s.pipeline(PipelineKind::Deferred))
+            .unwrap_or_else(|e| panic!("{e}"));
+        let maps = f.image.attribute("shadow_maps").unwrap_or_default();
+        let parts: Vec<&str> = maps.split("; ").collect();
+        assert_eq!(parts.len(), 4, "{maps}");
+        for (i, p) in parts.iter().enumerate() {
+            let want = format!("sun cascade {}/4: orthographic", i + 1);
+            assert!(p.starts_with(&want) && p.contains("camera depth"), "{p}");
+        }
+        for c in ["R", "G", "B", "visibility.sun.Y"] {
+            let (a, b) = (f.image.channel(c).unwrap(), d.image.channel(c).unwrap());
+            for (x, y) in a.iter().zip(b) {
+                assert!((x - y).abs() <= 1e-5 * y.abs().max(1.0), "{name} {c}: {x} vs {y}");
+            }
+        }
+        let v = f.image.channel("visibility.sun.Y").unwrap_or_default();
+        assert!(v.iter().all(|x| (0.0..=1.0).contains(x)), "{name}: {v:?}");
+        assert!(
+            v.contains(&1.0) && v.iter().any(|&x| x < 0.5),
+            "{name}: shadow and light: {v:?}"
+        );
+    }
+}
+
+/// Rotating the Poisson taps per pixel (interleaved gradient noise) moves each pixel's V —
+/// banding becomes noise — but not its mean over the penumbra: the same kernel, turned.
+#[test]
+fn rotated_taps_change_the_pattern_but_keep_the_mean() {
+    let scene = floor_scene(true);
+    for (name, params) in [
+        (
+            "pcf_poisson",
+            vec![("taps", "8"), ("radius", "12"), ("map", "512")],
+        ),
+        (
+            "pcss",
+            vec![("blocker_samples", "8"), ("filter_samples", "8"), ("map", "512")],
+        ),
+    ] {
+        let render = |rotate: &str| {
+            let mut p = params.clone();
+            p.push(("rotate", rotate));
+            let s = RasterSettings::new(64, 64).method(method(name, &p)).frames(0, 1);
+            let out = renderer().render(&scene, &s).unwrap_or_else(|e| panic!("{e}"));
+            out.image
+                .channel("visibility.light.Y")
+                .unwrap_or_default()
+                .to_vec()
+        };
+        let (fixed, turned) = (render("off"), render("on"));
+        let soft: Vec<usize> = (0..fixed.len())
+            .filter(|&i| fixed[i] > 0.0 && fixed[i] < 1.0 || turned[i] > 0.0 && turned[i] < 1.0)
+            .collect();
+        let n = soft.len() as f64;
+        let mean = |v: &[f32]| soft.iter().map(|&i| f64::from(v[i])).sum::<f64>() / n;
+        let moved = soft
+            .iter()
+            .filter(|&&i| (fixed[i] - turned[i]).abs() > 0.05)
+            .count() as f64
+            / n;
+        let (a, b) = (mean(&fixed), mean(&turned));
+        println!(
+            "{name}: {n} penumbra pixels, mean V fixed {a:.4}, rotated {b:.4}, {:.1} % moved by > 0.05",
+            100.0 * moved
+        );
+        assert!(n >= 100.0, "{name}: only {n} penumbra pixels");
+        assert!(
+            (a - b).abs() < 0.02,
+            "{name}: mean V {a:.4} fixed vs {b:.4} rotated"
+        );
+        assert!(
+            moved > 0.2,
+            "{name}: rotation moved only {:.1} % of the penumbra",
+            100.0 * moved
+        );
+    }
+}
+
+/// More map layers than the shadow uniform holds — 40 suns at 4 cascades each — is a settings
+/// error naming the layers and the cascades, before anything renders.
+#[test]
+fn too_many_cascade_layers_are_an_error() {
+    let mut scene = floor_scene(true);
+    for i in 0..40 {
+        scene.lights.push(Light::Directional {
+            name: format!("sun{i}"),
+            direction: Vec3::new(0.1, -1.0, 0.0),
+            irradiance: Vec3::ONE,
+            angular_diameter_deg: 0.5,
+        });
+    }
+    let m = method("shadow_hard", &[("cascades", "4")]);
+    match renderer().render(&scene, &RasterSettings::new(4, 4).method(m)) {
+        Err(RasterError::Settings(e)) => {
+            assert!(
+                e.contains("161 shadow-map layers") && e.contains("cascades"),
+                "{e}"
+            )
+        }
+        other => panic!("expected a settings error, got {:?}", other.map(|o| o.timing)),
+    }
+    let m = method("shadow_hard", &[("cascades", "2"), ("map", "64")]);
+    assert!(renderer()
+        .render(&scene, &RasterSettings::new(4, 4).method(m).frames(0, 1))
+        .is_ok());
 }

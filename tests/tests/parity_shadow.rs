@@ -16,6 +16,9 @@
 //!    bit (V = 1 exactly), and unshadowed methods write V = 1 wherever the light reaches;
 //! 5. the point light's, the spot's and the directional light's maps agree with exact
 //!    visibility; for a 20° sun disk `pcss` is close to the oracle and `shadow_hard` is not.
+//! 6. cascaded shadow maps (Zhang et al. 2006): over the cascade study's long sunlit field the
+//!    sun's visibility with 4 cascades is several times closer to the oracle's than with the
+//!    one map over the scene at the same map side, whose undersampled near field fails.
 
 mod parity_support;
 
@@ -395,5 +398,44 @@ fn parity_shadow_point_spot_and_sun_maps() {
     assert!(
         hard_mae > 3.0 * pcss_mae,
         "sun disk: shadow_hard MAE {hard_mae:.4} should clearly exceed pcss's {pcss_mae:.4}"
+    );
+}
+
+/// Check 6, cascaded shadow maps: the long sunlit field (scenes/studies/scenes/long-sun-field.toml,
+/// 16 cm posts within 9 m of a low camera, a 60 m ground) with `pcf_hw_2x2` at a 256² map:
+/// visibility MSE over the ground (away from edges) with 4 cascades against 1. 2×2
+/// supersampled, as the study: one sample per pixel aliases the resolved hard edges.
+#[test]
+fn parity_shadow_cascades_resolve_the_near_field() {
+    let scene = builtin_scene("studies/scenes/long-sun-field.toml", SIZE);
+    let r = oracle_direct(&scene, 256);
+    let name = "visibility.sun.Y";
+    let render = |k: &str| {
+        let m = method("pcf_hw_2x2", &[("map", "256"), ("cascades", k)]);
+        raster(&scene, RasterSettings::new(SIZE, SIZE).method(m).ssaa(2)).image
+    };
+    let (one, four) = (render("1"), render("4"));
+    let ground = floor_interior(&four, &r);
+    let (_, rmse1) = channel_errors(&one, &r, name, &ground);
+    let (_, rmse4) = channel_errors(&four, &r, name, &ground);
+    let (mse1, mse4) = (rmse1 * rmse1, rmse4 * rmse4);
+    let maps = four.attribute("shadow_maps").unwrap_or_default();
+    println!(
+        "long sun field, {} ground pixels: visibility MSE 1 cascade {mse1:.3e}, 4 cascades \
+         {mse4:.3e} ({:.1}×)\n  {maps}",
+        count(&ground),
+        mse1 / mse4
+    );
+    assert!(count(&ground) >= 1000, "only {} ground pixels", count(&ground));
+    // Measured on lavapipe over 1470 pixels: 1 cascade 5.1e-3, 4 cascades 3.3e-4 (15×); the
+    // first cascade covers camera depths to 7.4 m with a 7.1 m square (2.8 cm texels).
+    if mse4 >= 1e-3 {
+        let dir = write_failure_images("cascades-long-sun-field", &four, &r);
+        panic!("4 cascades: visibility MSE {mse4:.3e} ≥ 1e-3 (images in {dir})");
+    }
+    assert!(
+        mse1 > 2.5e-3 && mse1 > 4.0 * mse4,
+        "one map over the scene (MSE {mse1:.3e}) should fail: lower bounds 2.5e-3 and 4× the \
+         4 cascades' {mse4:.3e}"
     );
 }
