@@ -36,6 +36,10 @@ const NOT_EXPRESSIBLE: &[(&str, &str)] = &[
         "studies/scenes/slatted-screen",
         "angular diameter of 0.5° (a sun disk)",
     ),
+    (
+        "studies/scenes/long-sun-field",
+        "angular diameter of 1° (a sun disk)",
+    ),
 ];
 
 fn agrees(name: &str, variant: Variant, size: u32, spp: u32) {

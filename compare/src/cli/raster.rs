@@ -37,7 +37,9 @@ pub struct RasterArgs {
     /// (1..=64), radius=2 (texels); pcss blocker_samples=16, filter_samples=32 (1..=64),
     /// light_size (metres; degrees for directional lights; default the light's own),
     /// blocker_depth=search|ignore (ignore: the deliberately broken PCSS); pcf_box,
-    /// pcf_poisson and pcss receiver_plane=on|off (receiver-plane depth bias).
+    /// pcf_poisson and pcss receiver_plane=on|off (receiver-plane depth bias); pcf_poisson
+    /// and pcss rotate=off|on (per-pixel rotated Poisson taps); every shadow method
+    /// cascades=1 (1..=4 cascaded maps per directional light) and split_lambda=0.5 (PSSM λ).
     #[arg(long = "param", value_name = "K=V", value_parser = parse_param)]
     pub params: Vec<(String, String)>,
 
