@@ -27,7 +27,6 @@ mod light;
 mod material;
 mod mesh;
 mod source;
-mod tangent;
 
 use std::collections::{BTreeSet, HashSet};
 use std::path::Path;
