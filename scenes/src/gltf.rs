@@ -237,6 +237,7 @@ fn node_shapes(
             material: r.material,
             emission: r.emission,
             normal_map: r.normal_map,
+            displacement: None,
         });
     }
     Ok(shapes)

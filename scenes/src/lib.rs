@@ -7,6 +7,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod displacement;
 pub mod error;
 pub mod gltf;
 pub mod layered;
