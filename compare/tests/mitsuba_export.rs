@@ -44,6 +44,7 @@ fn sphere(name: &str, material: usize) -> Shape {
         material,
         emission: None,
         normal_map: None,
+        displacement: None,
     }
 }
 

@@ -42,6 +42,7 @@ fn shape(name: &str, geometry: Geometry, material: usize) -> Shape {
         material,
         emission: None,
         normal_map: None,
+        displacement: None,
     }
 }
 

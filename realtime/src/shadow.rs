@@ -731,6 +731,7 @@ mod tests {
                         two_sided: false,
                     }),
                     normal_map: None,
+                    displacement: None,
                 })
                 .collect(),
             lights,

@@ -38,6 +38,7 @@ fn floor_scene(textured: bool) -> Scene {
         material: 0,
         emission,
         normal_map: None,
+        displacement: None,
     };
     Scene {
         source: PathBuf::from("<floor scene>"),

@@ -34,6 +34,7 @@ fn shape(name: &str, geometry: Geometry, emission: Option<f32>) -> Shape {
             two_sided: false,
         }),
         normal_map: None,
+        displacement: None,
     }
 }
 

@@ -27,7 +27,6 @@ mod light;
 mod material;
 mod mesh;
 mod source;
-mod tangent;
 
 use std::collections::{BTreeSet, HashSet};
 use std::path::Path;
@@ -238,6 +237,7 @@ fn node_shapes(
             material: r.material,
             emission: r.emission,
             normal_map: r.normal_map,
+            displacement: None,
         });
     }
     Ok(shapes)

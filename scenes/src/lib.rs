@@ -7,10 +7,12 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod displacement;
 pub mod error;
 pub mod gltf;
 pub mod layered;
 pub mod model;
+pub mod tangent;
 pub mod texture;
 pub mod toml;
 

@@ -343,6 +343,32 @@ pub struct Shape {
     pub emission: Option<Emission>,
     /// Optional tangent-space normal map.
     pub normal_map: Option<NormalMap>,
+    /// Optional true displacement of the surface (rectangles and meshes only; never on an
+    /// emitting shape). See [`Displacement`].
+    pub displacement: Option<Displacement>,
+}
+
+/// True displacement p' = p + scale·h(u, v)·n of a shape's surface (DESIGN.md "Ground truth":
+/// surface detail), h one channel of a height texture at the surface's texture coordinates.
+///
+/// - On a [`Geometry::Rectangle`] (a heightfield patch) n is the front normal and h is
+///   bilinear between texel centres, as [`Texture::sample`] reads it, so the surface is a
+///   grid of bilinear patches ([`crate::displacement::HeightGrid`]).
+/// - On a [`Geometry::Mesh`] (a displaced mesh, which needs uvs and vertex normals) n is the
+///   interpolated vertex normal and the surface is the uniform micro-triangle tessellation of
+///   [`crate::displacement::displace_mesh`].
+///
+/// The realtime renderer draws the undisplaced base surface (its displacement-mapping
+/// techniques read the same height texture); the oracle traces the displaced one.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Displacement {
+    /// Index into [`Scene::textures`] (a linear texture: a file, or a procedural heightfield
+    /// sampled at texel centres at load time).
+    pub texture: usize,
+    /// Channel 0..=3 holding h.
+    pub channel: usize,
+    /// Metres per unit of h (negative displaces against the normal).
+    pub scale: f32,
 }
 
 /// Delta and distant lights (area lights are emissive shapes).
@@ -519,6 +545,9 @@ impl Scene {
             if let Some(n) = &mut s.normal_map {
                 n.texture += tex_off;
             }
+            if let Some(d) = &mut s.displacement {
+                d.texture += tex_off;
+            }
             self.shapes.push(s);
         }
         self.lights.extend(other.lights);
@@ -616,13 +645,31 @@ impl Geometry {
     }
 }
 
+impl Shape {
+    /// World-space bounds (min, max) of the surface as rendered by the oracle: the geometry's
+    /// bounds grown by the largest displacement |scale·h| when the shape is displaced (h over
+    /// every texel: bilinear lookups stay within the texels' range). Conservative.
+    pub fn bounds(&self, textures: &[Arc<Texture>]) -> (Vec3, Vec3) {
+        let (lo, hi) = self.geometry.bounds();
+        let Some(d) = &self.displacement else {
+            return (lo, hi);
+        };
+        let reach = textures.get(d.texture).map_or(0.0, |t| {
+            let height = |texel: &glam::Vec4| texel.to_array().get(d.channel).map_or(0.0, |h| h.abs());
+            t.texels.iter().fold(0.0f32, |m, texel| m.max(height(texel)))
+        }) * d.scale.abs();
+        (lo - Vec3::splat(reach), hi + Vec3::splat(reach))
+    }
+}
+
 impl Scene {
-    /// World-space bounds of all shapes, or a unit box at the origin for an empty scene.
+    /// World-space bounds of all shapes (displacement included), or a unit box at the origin
+    /// for an empty scene.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         let (lo, hi) = self
             .shapes
             .iter()
-            .map(|s| s.geometry.bounds())
+            .map(|s| s.bounds(&self.textures))
             .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), (a, b)| {
                 (lo.min(a), hi.max(b))
             });

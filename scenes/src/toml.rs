@@ -7,6 +7,7 @@
 //! non-finite numbers, out-of-range values, degenerate geometry, duplicate names, unknown
 //! material names and missing or unreadable files are all errors; nothing panics.
 
+mod displacement;
 mod inputs;
 mod lights;
 mod materials;
@@ -213,9 +214,10 @@ impl Names {
 }
 
 /// `[[include]] file = "model.glb"`: loads a glTF asset and appends its materials, shapes
-/// and lights; the scene file's camera, film, render settings and environment win.
+/// and lights; the scene file's camera, film, render settings and environment win. With
+/// `displacement = { … }` every mesh of the asset is displaced (each needs uvs and normals).
 fn include(t: &Table, scene: &mut Scene, names: &mut Names) -> Result<(), SceneError> {
-    t.only(&["file"], "an include")?;
+    t.only(&["file", "displacement"], "an include")?;
     let file = t.req("file")?;
     let path = file.ctx.resolve(file.str()?);
     let ext = path
@@ -256,6 +258,10 @@ fn include(t: &Table, scene: &mut Scene, names: &mut Names) -> Result<(), SceneE
                 .hint("shapes and lights share one namespace; rename one of them"));
         }
     }
+    let first_new = scene.shapes.len();
     scene.merge(included);
+    if let Some(d) = t.get("displacement") {
+        displacement::include(&d, scene, first_new)?;
+    }
     Ok(())
 }

@@ -37,6 +37,7 @@ pub fn add_shape(scene: &mut Scene, name: &str, geometry: Geometry, material: Ma
         material: scene.materials.len() - 1,
         emission: None,
         normal_map: None,
+        displacement: None,
     });
     scene.shapes.len() - 1
 }

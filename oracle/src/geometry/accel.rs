@@ -1,6 +1,7 @@
 //! The acceleration structure: one compressed wide BVH over every primitive of the scene.
 //!
-//! Triangles of all meshes and the analytic shapes are primitives of a single CWBVH
+//! Triangles of all meshes (displaced meshes as their micro-triangles), the analytic shapes
+//! and the heightfield patches (displaced rectangles) are primitives of a single CWBVH
 //! (Ylitie, Karras & Laine 2017, "Efficient Incoherent Ray Traversal on GPUs Through
 //! Compressed Wide BVHs", HPG) built from their bounding boxes by PLOC (Meister & Bittner 2018,
 //! "Parallel Locally-Ordered Clustering for Bounding Volume Hierarchy Construction", TVCG)
@@ -31,9 +32,11 @@ use obvhs::cwbvh::CwBvh;
 use obvhs::ploc::PlocBuilder;
 use obvhs::ray::Ray as BvhRay;
 use obvhs::BvhBuildParams;
-use scenes::{Geometry, Mesh, Scene, Shape};
+use scenes::displacement::{displace_mesh, HeightGrid};
+use scenes::{Displacement, Geometry, Mesh, Scene, Shape};
 
 use super::disk::Disk;
+use super::heightfield::{Heightfield, PatchHit};
 use super::normal_map::{shading, NormalMapTex};
 use super::rectangle::Rectangle;
 use super::sphere::Sphere;
@@ -79,6 +82,19 @@ enum Prim {
     Triangle(Triangle),
     /// Index into `Accel::analytic`.
     Analytic(u32),
+    /// Index into `Accel::patches`.
+    Patch(u32),
+}
+
+/// The primitive of the nearest hit so far, with where on it the hit lies.
+#[derive(Clone, Copy, Debug)]
+enum Local {
+    /// A triangle and the barycentrics.
+    Triangle(Triangle, Vec3),
+    /// Index into `Accel::analytic` (the shape recomputes the hit from t).
+    Analytic(u32),
+    /// Index into `Accel::patches`, and the cell and cell coordinates.
+    Patch(u32, PatchHit),
 }
 
 /// Which scene shape (and which of its triangles) a primitive is.
@@ -102,6 +118,7 @@ struct Gathered {
     ids: Vec<PrimId>,
     aabbs: Vec<Aabb>,
     analytic: Vec<Analytic>,
+    patches: Vec<Heightfield>,
     triangles: usize,
     dropped: usize,
 }
@@ -112,6 +129,7 @@ pub struct Accel {
     prims: Vec<Prim>,
     ids: Vec<PrimId>,
     analytic: Vec<Analytic>,
+    patches: Vec<Heightfield>,
     shapes: Vec<ShapeData>,
     triangles: usize,
     dropped: usize,
@@ -123,6 +141,7 @@ impl std::fmt::Debug for Accel {
         f.debug_struct("Accel")
             .field("primitives", &self.prims.len())
             .field("triangles", &self.triangles)
+            .field("heightfield_patches", &self.patches.len())
             .field("dropped_degenerate", &self.dropped)
             .field("bvh_nodes", &self.bvh.nodes.len())
             .field("build_seconds", &self.build_seconds)
@@ -132,7 +151,9 @@ impl std::fmt::Debug for Accel {
 
 impl Accel {
     /// Builds over all scene shapes with the default [`BuildQuality`]: triangles of every
-    /// mesh plus analytic spheres, rectangles and disks as their own primitives. Degenerate
+    /// mesh (a displaced mesh's micro-triangles, `scenes::displacement::displace_mesh`) plus
+    /// analytic spheres, rectangles and disks and heightfield patches (displaced rectangles)
+    /// as their own primitives. Degenerate
     /// (zero-area) triangles are dropped and counted; NaN/Inf or absurd (> 10¹⁵ m)
     /// coordinates, out-of-range indices and malformed analytic shapes are errors naming the
     /// shape and the field.
@@ -168,6 +189,7 @@ impl Accel {
             prims,
             ids,
             analytic: g.analytic,
+            patches: g.patches,
             shapes,
             triangles: g.triangles,
             dropped: g.dropped,
@@ -179,25 +201,29 @@ impl Accel {
     pub fn intersect(&self, ray: &Ray, tmax: f32) -> Option<SurfaceHit> {
         let node_ray = self.node_ray(ray, tmax)?;
         let wr = WatertightRay::new(ray);
-        let (mut best_t, mut best_slot, mut best_b) = (tmax, usize::MAX, Vec3::ZERO);
+        let mut best: Option<(f32, usize, Local)> = None;
         traverse(&self.bvh, node_ray, |slot| {
-            let t = match &self.prims[slot] {
-                Prim::Triangle(tri) => tri.intersect(&wr, best_t).map(|(t, b)| {
-                    best_b = b;
-                    t
-                }),
-                Prim::Analytic(i) => self.analytic[*i as usize].intersect(ray, best_t),
+            let tmax = best.map_or(tmax, |b| b.0);
+            let found = match self.prims[slot] {
+                Prim::Triangle(tri) => tri
+                    .intersect(&wr, tmax)
+                    .map(|(t, b)| (t, Local::Triangle(tri, b))),
+                Prim::Analytic(i) => self.analytic[i as usize]
+                    .intersect(ray, tmax)
+                    .map(|t| (t, Local::Analytic(i))),
+                Prim::Patch(i) => self.patches[i as usize]
+                    .intersect(ray, tmax, false)
+                    .map(|(t, h)| (t, Local::Patch(i, h))),
             };
-            match t {
-                Some(t) => {
-                    best_t = t;
-                    best_slot = slot;
+            match found {
+                Some((t, local)) => {
+                    best = Some((t, slot, local));
                     Visit::Shrink(node_t(t))
                 }
                 None => Visit::Continue,
             }
         });
-        (best_slot != usize::MAX).then(|| self.hit(ray, best_t, best_slot, best_b))
+        best.map(|(t, slot, local)| self.hit(ray, t, slot, local))
     }
 
     /// Whether anything is hit with t ∈ (0, tmax); stops at the first hit found.
@@ -211,6 +237,7 @@ impl Accel {
             found = match &self.prims[slot] {
                 Prim::Triangle(tri) => tri.intersect(&wr, tmax).is_some(),
                 Prim::Analytic(i) => self.analytic[*i as usize].intersect(ray, tmax).is_some(),
+                Prim::Patch(i) => self.patches[*i as usize].intersect(ray, tmax, true).is_some(),
             };
             if found {
                 Visit::Stop
@@ -221,9 +248,20 @@ impl Accel {
         found
     }
 
-    /// Number of triangles in the BVH (degenerate ones excluded).
+    /// Number of triangles in the BVH (degenerate ones excluded; displaced meshes count their
+    /// micro-triangles).
     pub fn triangle_count(&self) -> usize {
         self.triangles
+    }
+
+    /// Number of heightfield patches (displaced rectangles) in the BVH.
+    pub fn heightfield_count(&self) -> usize {
+        self.patches.len()
+    }
+
+    /// Bytes of the heightfield patches' grids and min/max hierarchies.
+    pub fn heightfield_bytes(&self) -> usize {
+        self.patches.iter().map(Heightfield::bytes).sum()
     }
 
     /// Number of zero-area triangles dropped at build time.
@@ -254,16 +292,20 @@ impl Accel {
         ))
     }
 
-    /// The full hit record of primitive `slot` hit at `t` with barycentrics `b` (triangles).
-    fn hit(&self, ray: &Ray, t: f32, slot: usize, b: Vec3) -> SurfaceHit {
+    /// The full hit record of primitive `slot` hit at `t`, at `local` on it.
+    fn hit(&self, ray: &Ray, t: f32, slot: usize, local: Local) -> SurfaceHit {
         let id = self.ids[slot];
         let shape = &self.shapes[id.shape as usize];
-        let (surface, prim) = match &self.prims[slot] {
-            Prim::Triangle(tri) => {
+        let (surface, prim) = match local {
+            Local::Triangle(tri, b) => {
                 let attrs = shape.mesh.as_deref().map(|m| (m, id.prim as usize));
                 (tri.surface(attrs, b), id.prim)
             }
-            Prim::Analytic(i) => (self.analytic[*i as usize].surface(ray, t), 0),
+            Local::Analytic(i) => (self.analytic[i as usize].surface(ray, t), 0),
+            Local::Patch(i, h) => {
+                let patch = &self.patches[i as usize];
+                (patch.surface(&h), patch.cell_index(&h))
+            }
         };
         let (ns, dpdu) = shading(&surface, shape.normal_map.as_ref());
         SurfaceHit {
@@ -310,6 +352,9 @@ fn gather_shape(scene: &Scene, shape: &Shape, index: usize, g: &mut Gathered) ->
             Some(NormalMapTex::new(texture.clone(), nm.scale))
         }
     };
+    if let Some(d) = &shape.displacement {
+        return gather_displaced(scene, shape, d, index, normal_map, g);
+    }
     let analytic = match &shape.geometry {
         Geometry::Mesh(mesh) => {
             gather_mesh(mesh, index as u32, g)?;
@@ -345,6 +390,72 @@ fn gather_shape(scene: &Scene, shape: &Shape, index: usize, g: &mut Gathered) ->
         mesh: None,
         normal_map,
     })
+}
+
+/// Adds a displaced shape to `g`: a rectangle as one heightfield patch, a mesh as its
+/// micro-triangles (`scenes::displacement`).
+fn gather_displaced(
+    scene: &Scene,
+    shape: &Shape,
+    d: &Displacement,
+    index: usize,
+    normal_map: Option<NormalMapTex>,
+    g: &mut Gathered,
+) -> Result<ShapeData, String> {
+    let texture = scene.textures.get(d.texture).ok_or_else(|| {
+        format!(
+            "`displacement.texture` {} is out of range ({} textures)",
+            d.texture,
+            scene.textures.len()
+        )
+    })?;
+    if d.channel > 3 {
+        return Err(format!(
+            "`displacement.channel` {} is not one of 0..=3",
+            d.channel
+        ));
+    }
+    if !d.scale.is_finite() {
+        return Err(format!("`displacement.scale` is not finite: {}", d.scale));
+    }
+    match &shape.geometry {
+        Geometry::Rectangle {
+            center,
+            half_u,
+            half_v,
+        } => {
+            let grid = HeightGrid::new(texture, d.channel, d.scale);
+            let patch = Heightfield::new(*center, *half_u, *half_v, grid)?;
+            let (lo, hi) = patch.bounds();
+            if !(lo.is_finite() && hi.is_finite() && lo.abs().max(hi.abs()).max_element() <= MAX_COORD) {
+                return Err(format!("extends beyond ±{MAX_COORD:e} m (bounds {lo} .. {hi})"));
+            }
+            g.prims.push(Prim::Patch(g.patches.len() as u32));
+            g.ids.push(PrimId {
+                shape: index as u32,
+                prim: 0,
+            });
+            g.aabbs.push(padded_aabb(lo, hi));
+            g.patches.push(patch);
+            Ok(ShapeData {
+                mesh: None,
+                normal_map,
+            })
+        }
+        Geometry::Mesh(mesh) => {
+            let (micro, _level) = displace_mesh(mesh, texture, d.channel, d.scale)
+                .map_err(|e| format!("`displacement`: {e}"))?;
+            let micro = Arc::new(micro);
+            gather_mesh(&micro, index as u32, g)?;
+            Ok(ShapeData {
+                mesh: Some(micro),
+                normal_map,
+            })
+        }
+        Geometry::Sphere { .. } | Geometry::Disk { .. } => {
+            Err("`displacement` applies to rectangles and meshes only".to_string())
+        }
+    }
 }
 
 /// Checks a mesh and adds its non-degenerate triangles to `g`.

@@ -1,9 +1,11 @@
 //! Ray/surface geometry: rays, the shapes of the scene model, and the acceleration structure.
 //!
-//! Every surface of a [`scenes::Scene`] — each triangle of every mesh and each analytic sphere,
-//! rectangle and disk — is one primitive of a single compressed wide BVH ([`Accel`], obvhs'
-//! CWBVH built by PLOC). A closest hit comes back as a [`SurfaceHit`]: position, geometric and
-//! shading normals, tangent and texture coordinates, computed by the primitive's own file:
+//! Every surface of a [`scenes::Scene`] — each triangle of every mesh (of a displaced mesh:
+//! each micro-triangle), each analytic sphere, rectangle and disk, and each heightfield patch
+//! (a displaced rectangle) — is one primitive of a single compressed wide BVH ([`Accel`],
+//! obvhs' CWBVH built by PLOC). A closest hit comes back as a [`SurfaceHit`]: position,
+//! geometric and shading normals, tangent and texture coordinates, computed by the
+//! primitive's own file:
 //!
 //! | shape | file | intersection |
 //! |---|---|---|
@@ -11,12 +13,15 @@
 //! | sphere | `sphere.rs` | precise quadratic (Haines et al. 2019) |
 //! | rectangle | `rectangle.rs` | plane + dual-basis local coordinates |
 //! | disk | `disk.rs` | plane + dual-basis local coordinates |
+//! | heightfield patch | `heightfield.rs` | min/max quadtree of bilinear cells (`bilinear.rs`, Reshetov 2019) |
 //!
 //! Rays leaving a surface are offset with [`spawn_ray`] / [`spawn_ray_to`]
 //! (Wächter & Binder 2019).
 
 mod accel;
+mod bilinear;
 mod disk;
+mod heightfield;
 mod normal_map;
 mod plane;
 mod ray;
@@ -42,7 +47,8 @@ pub struct SurfaceHit {
     /// Hit point, computed from the primitive's parametrisation (not o + t·d).
     pub p: Vec3,
     /// Unit geometric normal on the shape's FRONT side: rectangle/disk half_u × half_v,
-    /// triangle (p₁ − p₀) × (p₂ − p₀) (counter-clockwise front), sphere outward.
+    /// triangle (p₁ − p₀) × (p₂ − p₀) (counter-clockwise front), sphere outward, heightfield
+    /// patch ∂p/∂u × ∂p/∂v of the displaced surface.
     pub ng: Vec3,
     /// Unit shading normal: interpolated vertex normals with the normal map applied; not
     /// flipped towards the ray or `ng`; equal to `ng` when the shape has neither.
@@ -55,7 +61,9 @@ pub struct SurfaceHit {
     pub uv: Vec2,
     /// Index into `scene.shapes`.
     pub shape: u32,
-    /// Triangle index within its mesh (`Mesh::indices`); 0 for analytic shapes.
+    /// Triangle index within its mesh (`Mesh::indices`; of a displaced mesh, within its
+    /// micro-triangle mesh), cell index j·(cells along u) + i of a heightfield patch; 0 for
+    /// analytic shapes.
     pub prim: u32,
 }
 

@@ -49,6 +49,13 @@ impl LightSet {
             let Some(emission) = &shape.emission else {
                 continue;
             };
+            if shape.displacement.is_some() {
+                return Err(format!(
+                    "shape '{}' (shapes[{i}]): an emitting shape cannot be displaced (area lights are \
+                     sampled on their undisplaced surface)",
+                    shape.name
+                ));
+            }
             let emitter = area_emitter(scene, &shape.geometry, emission)
                 .map_err(|e| format!("shape '{}' (shapes[{i}]): {e}", shape.name))?;
             shape_to_emitter[i] = Some(emitters.len());
@@ -244,6 +251,7 @@ mod tests {
                 two_sided: false,
             }),
             normal_map: None,
+            displacement: None,
         }
     }
 

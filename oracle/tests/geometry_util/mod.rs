@@ -63,6 +63,7 @@ pub fn shape(name: &str, geometry: Geometry) -> Shape {
         material: 0,
         emission: None,
         normal_map: None,
+        displacement: None,
     }
 }
 

@@ -16,7 +16,7 @@
 //! Missing NORMAL → `normals` stays empty (flat shading). When the material has a normal map
 //! and the primitive has no NORMAL, glTF 2.0 §3.7.2.1 asks for flat normals and ignores
 //! TANGENT: the triangles are un-welded, each corner gets its face normal, and tangents are
-//! generated. A normal map without TANGENT gets generated tangents ([`super::tangent`]).
+//! generated. A normal map without TANGENT gets generated tangents ([`crate::tangent`]).
 
 use std::collections::BTreeSet;
 
@@ -26,9 +26,9 @@ use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 use super::accessor::{self, read_indices, read_vec};
 use super::source::Asset;
-use super::tangent;
 use crate::error::SceneError;
 use crate::model::Mesh;
+use crate::tangent;
 
 /// What the primitive's material needs from the geometry.
 pub(super) struct Needs {

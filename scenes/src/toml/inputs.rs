@@ -44,8 +44,17 @@ impl Bound {
 #[derive(Default)]
 pub(crate) struct Textures {
     pub list: Vec<Arc<Texture>>,
-    /// (file, colour space, wrap) of each entry of `list`.
-    keys: Vec<(PathBuf, ColorSpace, [WrapMode; 2])>,
+    /// (source, colour space, wrap) of each entry of `list`.
+    keys: Vec<(Source, ColorSpace, [WrapMode; 2])>,
+}
+
+/// Where a texture of the registry came from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+enum Source {
+    /// An image file (resolved path).
+    File(PathBuf),
+    /// Generated at load time, named by its parameters.
+    Generated(String),
 }
 
 impl Textures {
@@ -57,7 +66,7 @@ impl Textures {
         wrap: [WrapMode; 2],
     ) -> Result<usize, SceneError> {
         let path = file.ctx.resolve(file.str()?);
-        let key = (path.clone(), space, wrap);
+        let key = (Source::File(path.clone()), space, wrap);
         if let Some(i) = self.keys.iter().position(|k| *k == key) {
             return Ok(i);
         }
@@ -71,6 +80,18 @@ impl Textures {
         self.list.push(Arc::new(texture));
         self.keys.push(key);
         Ok(self.list.len() - 1)
+    }
+
+    /// Adds (or reuses) a linear texture generated at load time, named uniquely by `name`
+    /// (its generator and parameters).
+    pub fn generated(&mut self, name: String, wrap: [WrapMode; 2], make: impl FnOnce() -> Texture) -> usize {
+        let key = (Source::Generated(name), ColorSpace::Linear, wrap);
+        if let Some(i) = self.keys.iter().position(|k| *k == key) {
+            return i;
+        }
+        self.list.push(Arc::new(make()));
+        self.keys.push(key);
+        self.list.len() - 1
     }
 }
 

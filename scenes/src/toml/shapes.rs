@@ -1,19 +1,29 @@
 //! `[[shape]]` tables → [`Shape`]s in world space: spheres, rectangles, disks and boxes
 //! (boxes become 12-triangle meshes). Triangle meshes come from glTF files (`[[include]]`).
+//! Rectangles may be displaced (heightfield patches, [`super::displacement`]).
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
 use glam::{Affine3A, Vec2, Vec3};
 
+use super::displacement;
 use super::inputs::{normal_map, rgb_input, Bound, Textures};
 use super::read::{did_you_mean, Field, Table};
 use super::transform;
-use crate::model::{Emission, Geometry, Mesh, Shape};
+use crate::model::{Displacement, Emission, Geometry, Mesh, Shape};
 use crate::SceneError;
 
 const TYPES: &[&str] = &["sphere", "rectangle", "disk", "box", "mesh"];
-const COMMON: &[&str] = &["name", "type", "material", "emission", "transform", "normal_map"];
+const COMMON: &[&str] = &[
+    "name",
+    "type",
+    "material",
+    "emission",
+    "transform",
+    "normal_map",
+    "displacement",
+];
 
 /// A shape read from the file, before names are checked and generated.
 pub(crate) struct Draft {
@@ -85,6 +95,10 @@ fn read_one(
         Some(f) => Some(normal_map(&f, textures)?),
         None => None,
     };
+    let displacement = match t.get("displacement") {
+        Some(f) => Some(displaced(&f, kind, emission.is_some(), textures)?),
+        None => None,
+    };
     let m = match t.get("transform") {
         Some(f) => Some((transform::read(&f)?, f)),
         None => None,
@@ -101,10 +115,40 @@ fn read_one(
             material,
             emission,
             normal_map,
+            displacement,
         },
         name,
         kind,
     })
+}
+
+/// A shape's `displacement`: rectangles only (meshes get theirs on `[[include]]`), never on
+/// an emitter.
+fn displaced(
+    f: &Field,
+    kind: &str,
+    emissive: bool,
+    textures: &mut Textures,
+) -> Result<Displacement, SceneError> {
+    match kind {
+        "rectangle" => {}
+        "box" => {
+            return Err(f
+                .err("a box cannot be displaced")
+                .hint("its faces share no vertices, so displaced faces would tear apart at the edges; displace six rectangles, or a glTF mesh with vertex normals ([[include]] displacement)"))
+        }
+        _ => {
+            return Err(f
+                .err(format!("a {kind} cannot be displaced"))
+                .hint("displacement applies to rectangles (heightfield patches) and to meshes ([[include]] displacement)"))
+        }
+    }
+    if emissive {
+        return Err(f.err("an emitting shape cannot be displaced").hint(
+            "area lights are sampled on their undisplaced surface; drop `emission` or `displacement`",
+        ));
+    }
+    displacement::read(f, textures)
 }
 
 /// `material = "name"` → index.
