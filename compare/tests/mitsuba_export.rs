@@ -7,8 +7,8 @@ use compare::mitsuba::export::{export, Asset, Export};
 use glam::{Vec2, Vec3, Vec4};
 use scenes::texture::Texture;
 use scenes::{
-    Camera, Emission, Environment, Film, Geometry, IntegratorKind, Light, Masking, Material, Mesh, NormalMap,
-    RenderSettings, Scene, Shape, TexRgb, TexScalar, WrapMode,
+    Camera, Displacement, Emission, Environment, Film, Geometry, IntegratorKind, Light, Masking, Material,
+    Mesh, NormalMap, RenderSettings, Scene, Shape, TexRgb, TexScalar, WrapMode,
 };
 
 fn scene(materials: Vec<Material>, shapes: Vec<Shape>) -> Scene {
@@ -432,6 +432,25 @@ fn refusals_of_shapes_lights_textures_and_integrators() {
         scale: 1.0,
     });
     assert!(refusal(&s).contains("shape `s`: normal map"));
+
+    let mut s = base();
+    s.shapes[0].geometry = Geometry::Rectangle {
+        center: Vec3::ZERO,
+        half_u: Vec3::X,
+        half_v: Vec3::Y,
+    };
+    s.textures = vec![Arc::new(Texture::from_texels(
+        1,
+        1,
+        vec![Vec4::ONE],
+        [WrapMode::Clamp, WrapMode::Clamp],
+    ))];
+    s.shapes[0].displacement = Some(Displacement {
+        texture: 0,
+        channel: 0,
+        scale: 0.1,
+    });
+    assert!(refusal(&s).contains("shape `s`: displacement"));
 
     let mut s = base();
     s.lights.push(Light::Directional {

@@ -38,6 +38,12 @@ impl Exporter<'_> {
                  MikkTSpace tangents as glTF (and we) do"
             ));
         }
+        if shape.displacement.is_some() {
+            self.refuse(format!(
+                "{what}: displacement; the exporter writes the base surface only (export \
+                 `scenes::displacement::patch_mesh` as a mesh to cross-check a displaced patch)"
+            ));
+        }
         let mut el = match &shape.geometry {
             Geometry::Sphere { center, radius } => Element::plugin("shape", "sphere")
                 .child(Element::point("center", *center))
