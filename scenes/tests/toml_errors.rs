@@ -259,6 +259,21 @@ fn camera_errors() {
         load_text(&dir, &replace_line(4, "up = [0, 0, 0]")),
         &["`camera.up`", "non-zero direction"],
     );
+    expect_error(
+        load_text(&dir, &replace_line(3, "target = [0, 0, 0]\nazimuth = 30")),
+        &["bad.toml:4:", "`camera.azimuth`", "both `eye` and an orbit field"],
+    );
+    expect_error(
+        load_text(&dir, &replace_line(2, "azimuth = 30")),
+        &["the camera needs `eye`, or `distance`"],
+    );
+    for (line, field, message) in [
+        ("distance = 0", "`camera.distance`", "finite distance > 0"),
+        ("distance = 2\nelevation = 90", "`camera.elevation`", "(−90, 90)"),
+        ("distance = 2\nazimuth = nan", "`camera.azimuth`", ""),
+    ] {
+        expect_error(load_text(&dir, &replace_line(2, line)), &[field, message]);
+    }
     let no_camera: String = BASE.lines().skip(5).collect::<Vec<_>>().join("\n");
     expect_error(
         load_text(&dir, &no_camera),

@@ -3,7 +3,7 @@
 use glam::Vec3;
 
 use super::inputs::{rgb_const, Bound, Textures};
-use super::read::Table;
+use super::read::{Field, Table};
 use crate::model::{Camera, Environment, Film, IntegratorKind, RenderSettings, SamplerKind, WrapMode};
 use crate::texture::ColorSpace;
 use crate::SceneError;
@@ -14,12 +14,62 @@ const MAX_PIXELS: u64 = 1 << 28;
 /// Default film side when `[film]` leaves it out.
 const DEFAULT_SIDE: u32 = 256;
 
-/// `[camera]`: eye, target, up (default +Y), fov (vertical, degrees, in (0, 180)).
+/// `[camera]`: eye, target, up (default +Y), fov (vertical, degrees, in (0, 180)). Instead of
+/// `eye`, an orbit about the target: `distance` (m, > 0), `azimuth` and `elevation` (degrees,
+/// default 0; elevation in (−90, 90)) put the eye at
+/// target + distance·(cos e·sin a, sin e, cos e·cos a): azimuth about +Y from +Z, elevation
+/// above the XZ plane (what a view-angle sweep turns).
 pub(crate) fn camera(t: &Table) -> Result<Camera, SceneError> {
-    t.only(&["eye", "target", "up", "fov"], "the camera")?;
-    let eye = t.req("eye")?.vec3()?;
+    t.only(
+        &["eye", "target", "up", "fov", "distance", "azimuth", "elevation"],
+        "the camera",
+    )?;
     let target_field = t.req("target")?;
     let target = target_field.vec3()?;
+    let orbit = ["distance", "azimuth", "elevation"].map(|k| t.get(k));
+    let eye = match (t.get("eye"), &orbit) {
+        (Some(eye), [None, None, None]) => eye.vec3()?,
+        (Some(_), _) => {
+            let extra = orbit.iter().flatten().next().expect("an orbit field is present");
+            return Err(extra
+                .err("the camera has both `eye` and an orbit field")
+                .hint("give either `eye`, or `distance` with optional `azimuth`/`elevation`"));
+        }
+        (None, [distance, azimuth, elevation]) => {
+            let Some(distance_field) = distance else {
+                return Err(t
+                    .err("the camera needs `eye`, or `distance` (with optional `azimuth`/`elevation`)")
+                    .hint("add `eye = [x, y, z]`"));
+            };
+            let d = distance_field.f32()?;
+            if !(d > 0.0 && d.is_finite()) {
+                return Err(distance_field.err(format!("must be a finite distance > 0 m, got {d}")));
+            }
+            let degrees = |f: &Option<Field>| -> Result<f32, SceneError> {
+                match f {
+                    Some(f) => {
+                        let v = f.f32()?;
+                        if v.is_finite() {
+                            Ok(v)
+                        } else {
+                            Err(f.err(format!("must be finite degrees, got {v}")))
+                        }
+                    }
+                    None => Ok(0.0),
+                }
+            };
+            let a = degrees(azimuth)?.to_radians();
+            let e_deg = degrees(elevation)?;
+            if !(e_deg > -90.0 && e_deg < 90.0) {
+                let f = elevation.as_ref().expect("a nonzero elevation was given");
+                return Err(f
+                    .err(format!("must be in (−90, 90) degrees, got {e_deg}"))
+                    .hint("looking straight down or up needs `eye` and an `up` not along the view"));
+            }
+            let e = e_deg.to_radians();
+            target + d * Vec3::new(e.cos() * a.sin(), e.sin(), e.cos() * a.cos())
+        }
+    };
     let up = match t.get("up") {
         Some(f) => f.direction()?,
         None => Vec3::Y,
