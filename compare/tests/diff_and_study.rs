@@ -270,3 +270,41 @@ fn scene_sweeps_make_one_scene_per_value_and_thresholds_select_them() {
         .describe()
         .contains("shape.light.center[0] moving by 0.01 per frame"));
 }
+
+/// `[scene_set]` edits the scene before every scene-sweep value; `within` narrows an
+/// `objects` mask to a rectangle.
+#[test]
+fn scene_set_and_masks_within_a_rectangle() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/studies/test-bad.toml");
+    let set = SWEPT.replace(
+        "[scene_sweep]",
+        "[scene_set]\n\"shape.light.center[1]\" = 1.25\n\"camera.fov\" = 30\n[[mask]]\nname = \"right\"\nobjects = [\"floor\"]\nwithin = [0.5, 0.0, 1.0, 1.0]\n[scene_sweep]",
+    );
+    let s = compare::study::load_str(&set, &path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.scene_set.len(), 2);
+    for point in s.scene_points() {
+        let (scene, _) = compare::study::run::prepare(&s, true, &point.overrides).unwrap();
+        assert_eq!(scene.camera.fov_y_deg, 30.0, "{}", point.label());
+        let light = scene.shapes.iter().find(|x| x.name == "light").unwrap();
+        let (lo, hi) = light.geometry.bounds();
+        assert!(((lo.y + hi.y) * 0.5 - 1.25).abs() < 1e-5, "{}", point.label());
+    }
+    let cases = [
+        (
+            set.replace("\"camera.fov\" = 30", "\"camera.fov\" = 300"),
+            "scene_set: the scene does not load",
+        ),
+        (
+            set.replace("objects = [\"floor\"]\n", ""),
+            "`within` narrows an `objects` mask",
+        ),
+        (
+            set.replace("within = [0.5, 0.0, 1.0, 1.0]", "within = [0.5, 0.0, 0.4, 1.0]"),
+            "0 ≤ x0 < x1 ≤ 1",
+        ),
+    ];
+    for (text, want) in cases {
+        let e = study_error(&text);
+        assert!(e.contains(want), "expected `{want}` in: {e}");
+    }
+}

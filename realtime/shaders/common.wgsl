@@ -65,6 +65,11 @@ struct FrameUniforms {
     env_info: vec4<u32>,
     // Punctual/directional lights, area emitters, area quadrature n, unused.
     counts: vec4<u32>,
+    // Surface detail: height multiplier k, parallax bias, bump step (texels), unused.
+    detail: vec4<f32>,
+    // Surface detail: linear steps (POM: at normal incidence), POM's steps at grazing
+    // incidence, binary steps, self-shadow steps (0: none).
+    detail_steps: vec4<u32>,
 }
 
 struct Shape {
@@ -85,6 +90,10 @@ struct Shape {
     emission: vec4<f32>,
     // Emits (0/1), two-sided (0/1), radiance texture or NONE, mesh has authored tangents (0/1).
     emission_info: vec4<u32>,
+    // Displacement: height texture or NONE, channel, derivative map, cone map or NONE.
+    detail: vec4<u32>,
+    // Displacement scale s (metres per unit h), min and max of s·h over the texels, unused.
+    detail_range: vec4<f32>,
 }
 
 struct Material {

@@ -117,10 +117,10 @@ fn vs_fullscreen(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> 
     return fullscreen_vertex(i);
 }
 
-// The surface point of a mesh fragment.
-fn mesh_surface(in: MeshVarying, s: Shape) -> SurfacePoint {
+// The surface point of a mesh fragment, after surface detail (`hit` false: discard).
+fn mesh_surface(in: MeshVarying, s: Shape) -> AnalyticHit {
     let d = mesh_differential(in.world, in.normal, in.uv, in.tangent, in.ng, in.dpdu, in.dpdv, s.emission_info.w != 0u);
-    return surface_point(d, s, in.shape);
+    return detailed_surface(frame, d, s, in.shape);
 }
 
 // Shading and AOVs of a surface point seen through target pixel `frag`.
@@ -144,7 +144,7 @@ fn background_output(f: FrameUniforms, frag: vec2<f32>) -> ShadedOut {
 
 fn gbuffer_output(sp: SurfacePoint) -> GBufferOut {
     return GBufferOut(
-        vec4<f32>(sp.p, f32(sp.shape + 1u)),
+        vec4<f32>(sp.p, gbuffer_tag(sp.shape)),
         vec4<f32>(sp.ns, sp.uv.x),
         vec4<f32>(sp.ng, sp.uv.y),
     );
@@ -152,7 +152,11 @@ fn gbuffer_output(sp: SurfacePoint) -> GBufferOut {
 
 @fragment
 fn fs_mesh_forward(in: MeshVarying) -> ShadedOut {
-    return shaded_output(frame, mesh_surface(in, shapes[in.shape]), in.clip.xy);
+    let hit = mesh_surface(in, shapes[in.shape]);
+    if !hit.hit {
+        discard;
+    }
+    return shaded_output(frame, hit.surface, in.clip.xy);
 }
 
 @fragment
@@ -172,7 +176,11 @@ fn fs_background(@builtin(position) pos: vec4<f32>) -> ShadedOut {
 
 @fragment
 fn fs_mesh_gbuffer(in: MeshVarying) -> GBufferOut {
-    return gbuffer_output(mesh_surface(in, shapes[in.shape]));
+    let hit = mesh_surface(in, shapes[in.shape]);
+    if !hit.hit {
+        discard;
+    }
+    return gbuffer_output(hit.surface);
 }
 
 @fragment
@@ -195,8 +203,7 @@ fn fs_lighting(@builtin(position) pos: vec4<f32>) -> ShadedOut {
     } else {
         let g1 = textureLoad(gbuffer1, px, 0);
         let g2 = textureLoad(gbuffer2, px, 0);
-        let sp = SurfacePoint(g0.xyz, g2.xyz, g1.xyz, vec2<f32>(g1.w, g2.w), u32(g0.w) - 1u);
-        count_surface_fetches(shapes[sp.shape]);
+        let sp = SurfacePoint(g0.xyz, g2.xyz, g1.xyz, vec2<f32>(g1.w, g2.w), gbuffer_shape(g0.w));
         out = shaded_output(frame, sp, pos.xy);
     }
     flush_counters(u32(pos.y));
@@ -278,7 +285,7 @@ fn fs_visibility(in: ChunkVarying) {
     if g0.w >= 0.5 {
         let g1 = textureLoad(gbuffer1, px, 0);
         let g2 = textureLoad(gbuffer2, px, 0);
-        sp = SurfacePoint(g0.xyz, g2.xyz, g1.xyz, vec2<f32>(g1.w, g2.w), u32(g0.w) - 1u);
+        sp = SurfacePoint(g0.xyz, g2.xyz, g1.xyz, vec2<f32>(g1.w, g2.w), gbuffer_shape(g0.w));
     }
     for (var j = first; j < last; j++) {
         var v = 0.0;

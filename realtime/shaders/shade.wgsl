@@ -27,6 +27,15 @@ fn shadowed(f: FrameUniforms, term: vec3<f32>, slot: u32, sp: SurfacePoint, frag
     return term * slot_shadow_visibility(f, sp, slot, frag);
 }
 
+// `term` of a light in unit direction `wi` with angular radius tan⁻¹(tan_alpha), times the
+// heightfield's own visibility under POM's self-shadowing (detail_ray_march.wgsl; 1 otherwise).
+fn self_shadowed(f: FrameUniforms, term: vec3<f32>, sp: SurfacePoint, wi: vec3<f32>, tan_alpha: f32) -> vec3<f32> {
+    if DETAIL_METHOD != DETAIL_POM || all(term == vec3<f32>(0.0)) {
+        return term;
+    }
+    return term * detail_self_shadow(f, sp, wi, tan_alpha);
+}
+
 // Shaded colour and the albedo AOV of a surface point.
 struct Shaded {
     color: vec3<f32>,
@@ -54,26 +63,38 @@ fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>, frag: vec2<f
         let l = lights[i];
         let slot = f.counts.y + i;
         if is_sun_disk(l) {
+            var term: vec3<f32>;
             if AREA_METHOD == AREA_REPRESENTATIVE_POINT {
-                color += shadowed(f, sun_representative(l, b, n, wo), slot, sp, frag);
+                term = sun_representative(l, b, n, wo);
             } else {
-                color += shadowed(f, sun_quadrature(l, b, n, wo, nq), slot, sp, frag);
+                term = sun_quadrature(l, b, n, wo, nq);
             }
+            let tan_alpha = sqrt(l.params.y / max(1.0 - l.params.y, 1e-12));
+            term = self_shadowed(f, term, sp, l.direction.xyz, tan_alpha);
+            color += shadowed(f, term, slot, sp, frag);
         } else {
             let inc = punctual_incident(l, sp.p);
             if any(inc.li > vec3<f32>(0.0)) {
-                color += shadowed(f, bsdf_eval(b, n, wo, inc.wi) * inc.li, slot, sp, frag);
+                let term = self_shadowed(f, bsdf_eval(b, n, wo, inc.wi) * inc.li, sp, inc.wi, 0.0);
+                color += shadowed(f, term, slot, sp, frag);
             }
         }
     }
     for (var i = 0u; i < f.counts.y; i++) {
         count_iteration();
         let s = shapes[emitters[i]];
+        var term: vec3<f32>;
         if AREA_METHOD == AREA_REPRESENTATIVE_POINT {
-            color += shadowed(f, area_light_representative(s, b, n, wo, sp.p), i, sp, frag);
+            term = area_light_representative(s, b, n, wo, sp.p);
         } else {
-            color += shadowed(f, area_light_quadrature(s, b, n, wo, sp.p, nq), i, sp, frag);
+            term = area_light_quadrature(s, b, n, wo, sp.p, nq);
         }
+        // Towards the light's centre, its size as the disk of equal area (a sphere's radius).
+        let to_light = s.center.xyz - sp.p;
+        let dist = length(to_light);
+        let radius = select(sqrt(s.normal.w / PI), s.center.w, s.kind == SHAPE_SPHERE);
+        term = self_shadowed(f, term, sp, to_light / max(dist, 1e-30), radius / max(dist, 1e-30));
+        color += shadowed(f, term, i, sp, frag);
     }
     if f.env_info.x != ENV_NONE && f.env_info.z > 0u {
         color += environment_quadrature(f, b, n, wo, f.env_info.z);

@@ -204,8 +204,9 @@ fn surface_point(d: Differential, s: Shape, shape: u32) -> SurfacePoint {
     return SurfacePoint(d.p, d.ng, shading_normal(d, s.normal_map, s.normal_scale), d.uv, shape);
 }
 
-// A fragment of an analytic proxy: the camera ray through `frag` (target pixel coordinates),
-// traced against shape `s` (index `shape`); `hit` is false where the ray misses (the fragment is discarded).
+// A fragment's surface point: of an analytic proxy, the camera ray through `frag` (target pixel
+// coordinates) traced against shape `s` (index `shape`); of either kind, after surface detail
+// (detail_common.wgsl). `hit` is false where the ray misses (the fragment is discarded).
 struct AnalyticHit {
     hit: bool,
     surface: SurfacePoint,
@@ -267,7 +268,7 @@ fn trace_analytic(f: FrameUniforms, s: Shape, shape: u32, frag: vec2<f32>) -> An
     if !(t > 0.0) {
         return AnalyticHit(false, SurfacePoint(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec2<f32>(0.0), 0u));
     }
-    return AnalyticHit(true, surface_point(analytic_differential(s, o, d, t), s, shape));
+    return detailed_surface(f, analytic_differential(s, o, d, t), s, shape);
 }
 
 // Depth-buffer value of world point p (reversed-Z, infinite far plane).

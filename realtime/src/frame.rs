@@ -97,6 +97,10 @@ fn frame_uniforms(scene: &Scene, sg: &SceneGpu, settings: &RasterSettings, k: u3
     let view = Mat4::from(cam.to_world.inverse());
     let m = cam.to_world.matrix3;
     let (env_kind, env_tex, env_radiance) = sg.env;
+    let (detail, detail_steps) = settings
+        .method
+        .detail
+        .map_or(([1.0, 0.0, 1.0, 0.0], [0; 4]), |d| d.uniforms());
     FrameUniforms {
         view_proj: (proj * view).to_cols_array_2d(),
         cam_pos: vec4(cam.position(), near),
@@ -109,6 +113,8 @@ fn frame_uniforms(scene: &Scene, sg: &SceneGpu, settings: &RasterSettings, k: u3
         env_radiance,
         env_info: [env_kind as u32, env_tex, settings.method.env_n, 0],
         counts: [sg.light_count, sg.emitter_count, settings.method.area_n, 0],
+        detail,
+        detail_steps,
     }
 }
 

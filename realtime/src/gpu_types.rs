@@ -95,8 +95,14 @@ pub struct FrameUniforms {
     pub env_info: [u32; 4],
     /// Lights, area emitters, area quadrature n, unused.
     pub counts: [u32; 4],
+    /// Surface detail: height multiplier k, parallax bias, bump step (texels), unused
+    /// ([`crate::detail::Detail::uniforms`]).
+    pub detail: [f32; 4],
+    /// Surface detail: linear steps (POM: at normal incidence), POM's steps at grazing
+    /// incidence, binary steps, self-shadow steps (0: none).
+    pub detail_steps: [u32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 64 + 10 * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 64 + 12 * 16);
 
 /// One shape (WGSL `Shape`).
 #[repr(C)]
@@ -126,8 +132,13 @@ pub struct GpuShape {
     pub emission: [f32; 4],
     /// Emits (0/1), two-sided (0/1), radiance texture or [`NONE`], mesh has tangents (0/1).
     pub emission_info: [u32; 4],
+    /// Displacement: height texture or [`NONE`], its channel, the derivative map, the cone
+    /// map or [`NONE`] (only under `cone_step`).
+    pub detail: [u32; 4],
+    /// Displacement: scale s (metres per unit h), min and max of s·h over the texels, unused.
+    pub detail_range: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuShape>() == 16 + 8 * 16);
+const _: () = assert!(std::mem::size_of::<GpuShape>() == 16 + 10 * 16);
 
 /// One material (WGSL `Material`).
 #[repr(C)]

@@ -20,7 +20,9 @@
 //! | module | what |
 //! |---|---|
 //! | [`gpu`] | adapter and device selection |
-//! | [`method`] | methods (`area_quadrature`, `area_representative_point`, `shadow_hard`, `pcf_*`, `pcss`) and parameters |
+//! | [`method`] | methods (`area_quadrature`, `area_representative_point`, `shadow_hard`, `pcf_*`, `pcss`, the detail methods) and parameters |
+//! | [`detail`] | surface-detail methods (normal, bump, parallax, relief, POM, cone stepping) and their baked maps |
+//! | [`cone_map`] | cone maps for cone step mapping (Dummer 2006; relaxed, Policarpo & Oliveira 2007) |
 //! | [`render`] | settings, the frame loop, timing, read-back |
 //! | `frame` | one frame: uniforms, render passes, timestamp queries |
 //! | `upload` | the scene as GPU buffers (meshes de-indexed, analytic shapes as proxies) |
@@ -35,6 +37,8 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod cone_map;
+pub mod detail;
 pub mod error;
 mod frame;
 pub mod gpu;
@@ -50,6 +54,7 @@ pub mod timing;
 mod upload;
 pub mod visibility;
 
+pub use detail::{Detail, DetailTechnique};
 pub use error::{RasterError, INSTALL_HINT};
 pub use gpu::Gpu;
 pub use method::{AreaMethod, BlockerDepth, Method, PipelineKind, Shadow, ShadowTechnique};

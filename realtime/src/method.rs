@@ -35,12 +35,19 @@
 //! (a constant penumbra of the light's size): a deliberately broken PCSS, a test device for
 //! thresholds, not a technique.
 //!
+//! Surface-detail methods (`normal_mapping`, `bump_mapping`, `parallax`,
+//! `parallax_offset_limited`, `steep_parallax`, `relief_mapping`, `pom`, `cone_step`) are
+//! listed with their parameters in [`crate::detail`]; they shade by N×N quadrature, unshadowed
+//! by maps, and take `n` (8), `env_n` (8) and `height_scale` (1).
+//!
 //! Delta lights (point, spot, zero-diameter directional) are exact under every method, up to V.
 //! The environment lights surfaces by `env_n`×`env_n` cosine-weighted midpoint quadrature under
 //! every method, never shadowed (0 turns environment lighting off; the background is always
 //! drawn).
 
 use std::fmt;
+
+use crate::detail::{Detail, DetailTechnique, DETAIL_NAMES, MAX_BINARY_STEPS, MAX_DETAIL_STEPS};
 
 /// Largest `n` / `env_n` accepted (N² samples per light per pixel).
 pub const MAX_QUADRATURE_N: u32 = 64;
@@ -222,6 +229,8 @@ pub struct Method {
     pub env_n: u32,
     /// Shadow mapping, or None: every light unoccluded.
     pub shadow: Option<Shadow>,
+    /// Surface detail on displaced shapes, or None: they are drawn flat (their base surface).
+    pub detail: Option<Detail>,
 }
 
 impl Default for Method {
@@ -232,6 +241,7 @@ impl Default for Method {
             area_n: 16,
             env_n: 8,
             shadow: None,
+            detail: None,
         }
     }
 }
@@ -260,7 +270,7 @@ impl Param {
 
 impl Method {
     /// Every method name `parse` accepts.
-    pub const NAMES: [&'static str; 7] = [
+    pub const NAMES: [&'static str; 15] = [
         "area_quadrature",
         "area_representative_point",
         "shadow_hard",
@@ -268,6 +278,14 @@ impl Method {
         "pcf_box",
         "pcf_poisson",
         "pcss",
+        DETAIL_NAMES[0],
+        DETAIL_NAMES[1],
+        DETAIL_NAMES[2],
+        DETAIL_NAMES[3],
+        DETAIL_NAMES[4],
+        DETAIL_NAMES[5],
+        DETAIL_NAMES[6],
+        DETAIL_NAMES[7],
     ];
 
     /// `area_quadrature` with the given N (environment N 8).
@@ -294,6 +312,18 @@ impl Method {
             area_n: 8,
             env_n: 0,
             shadow: Some(shadow),
+            detail: None,
+        }
+    }
+
+    /// The surface-detail method `detail` over N×N quadrature (n = 8, env_n = 8), unshadowed.
+    pub fn detailed(detail: Detail) -> Self {
+        Method {
+            area: AreaMethod::Quadrature,
+            area_n: 8,
+            env_n: 8,
+            shadow: None,
+            detail: Some(detail),
         }
     }
 
@@ -308,9 +338,10 @@ impl Method {
         let mut m = match name {
             "area_quadrature" => Method::default(),
             "area_representative_point" => Method::representative_point(),
-            _ => match ShadowTechnique::by_name(name) {
-                Some(t) => Method::shadowed(Shadow::new(t)),
-                None => {
+            _ => match (ShadowTechnique::by_name(name), DetailTechnique::by_name(name)) {
+                (Some(t), _) => Method::shadowed(Shadow::new(t)),
+                (None, Some(t)) => Method::detailed(Detail::new(t)),
+                (None, None) => {
                     return Err(format!(
                         "unknown method `{name}`; methods: {}",
                         Method::NAMES.join(", ")
@@ -361,6 +392,10 @@ impl Method {
                 ],
             });
         }
+        if let Some(d) = &self.detail {
+            names.push("height_scale");
+            names.extend(d.technique.param_names());
+        }
         names
     }
 
@@ -374,6 +409,8 @@ impl Method {
             "n" => Param::Whole(1..=MAX_QUADRATURE_N),
             "env_n" => Param::Whole(0..=MAX_QUADRATURE_N),
             "map" => Param::Whole(SHADOW_MAP_SIZES),
+            // Parallax's scale-and-bias bias, as a fraction of the height range.
+            "bias" if self.detail.is_some() => Param::Real(-1.0, 1.0),
             "bias" => Param::Real(0.0, 10.0),
             "slope_bias" | "normal_offset" => Param::Real(0.0, 100.0),
             "kernel" => Param::OneOf(&[3, 5]),
@@ -385,6 +422,11 @@ impl Method {
             "receiver_plane" | "rotate" => Param::Keyword(&["on", "off", "true", "false"]),
             "cascades" => Param::Whole(1..=MAX_CASCADES),
             "split_lambda" => Param::Real(0.0, 1.0),
+            "height_scale" => Param::Real(0.0, 10.0),
+            "delta" => Param::Real(0.01, 16.0),
+            "steps" | "min_steps" | "max_steps" | "shadow_steps" => Param::Whole(1..=MAX_DETAIL_STEPS),
+            "binary_steps" => Param::Whole(0..=MAX_BINARY_STEPS),
+            "self_shadow" | "relaxed" => Param::Keyword(&["on", "off", "true", "false"]),
             _ => return None,
         })
     }
@@ -414,6 +456,30 @@ impl Method {
         match key {
             "n" => self.area_n = whole()?,
             "env_n" => self.env_n = whole()?,
+            _ if self.detail.is_some() => {
+                let d = self.detail.as_mut()?;
+                match (key, &mut d.technique) {
+                    ("height_scale", _) => d.height_scale = real()?,
+                    ("delta", DetailTechnique::BumpMapping { delta }) => *delta = real()?,
+                    ("bias", DetailTechnique::Parallax { bias })
+                    | ("bias", DetailTechnique::ParallaxOffsetLimited { bias }) => *bias = real()?,
+                    ("steps", DetailTechnique::SteepParallax { steps })
+                    | ("steps", DetailTechnique::ReliefMapping { steps, .. })
+                    | ("steps", DetailTechnique::ConeStep { steps, .. }) => *steps = whole()?,
+                    ("binary_steps", DetailTechnique::ReliefMapping { binary_steps, .. })
+                    | ("binary_steps", DetailTechnique::ConeStep { binary_steps, .. }) => {
+                        *binary_steps = whole()?
+                    }
+                    ("min_steps", DetailTechnique::Pom { min_steps, .. }) => *min_steps = whole()?,
+                    ("max_steps", DetailTechnique::Pom { max_steps, .. }) => *max_steps = whole()?,
+                    ("shadow_steps", DetailTechnique::Pom { shadow_steps, .. }) => *shadow_steps = whole()?,
+                    ("self_shadow", DetailTechnique::Pom { self_shadow, .. }) => {
+                        *self_shadow = switch(value)?
+                    }
+                    ("relaxed", DetailTechnique::ConeStep { relaxed, .. }) => *relaxed = switch(value)?,
+                    _ => return None,
+                }
+            }
             _ => {
                 let s = self.shadow.as_mut()?;
                 match (key, &mut s.technique) {
@@ -468,6 +534,9 @@ impl Method {
 
     /// The method's name.
     pub fn name(&self) -> &'static str {
+        if let Some(d) = &self.detail {
+            return d.technique.name();
+        }
         match (self.shadow, self.area) {
             (Some(s), _) => s.technique.name(),
             (None, AreaMethod::Quadrature) => "area_quadrature",
@@ -478,6 +547,11 @@ impl Method {
     /// The WGSL `SHADOW_METHOD` of this method (0: unshadowed).
     pub fn shadow_code(&self) -> u32 {
         self.shadow.map_or(0, |s| s.technique.shader_code())
+    }
+
+    /// The WGSL `DETAIL_METHOD` of this method (0: displaced shapes drawn flat).
+    pub fn detail_code(&self) -> u32 {
+        self.detail.map_or(0, |d| d.technique.shader_code())
     }
 
     /// Its parameters as `k=v` pairs (for headers and the timing line).
@@ -528,6 +602,12 @@ impl Method {
                     push("receiver_plane", plane);
                     push("rotate", on_off(s.rotate));
                 }
+            }
+        }
+        if let Some(d) = &self.detail {
+            push("height_scale", d.height_scale.to_string());
+            for (k, v) in d.technique.params() {
+                push(k, v);
             }
         }
         p
@@ -623,7 +703,7 @@ mod tests {
             .iter()
             .map(|n| Method::parse(n, &[]).unwrap().shadow_code())
             .collect();
-        assert_eq!(codes, [0, 0, 1, 2, 3, 4, 5]);
+        assert_eq!(codes, [0, 0, 1, 2, 3, 4, 5, 0, 0, 0, 0, 0, 0, 0, 0]);
     }
 
     #[test]
@@ -707,5 +787,52 @@ mod tests {
         let s = m.shadow.unwrap();
         assert_eq!((s.cascades, s.split_lambda, s.rotate), (3, 0.9, true));
         assert_eq!(Method::parse("pcss", &m.params()).unwrap(), m);
+    }
+
+    /// Every detail method parses with its defaults, round-trips through its parameter list,
+    /// and range-checks its own parameters only.
+    #[test]
+    fn detail_methods_have_the_documented_defaults() {
+        for (name, own) in [
+            ("normal_mapping", ""),
+            ("bump_mapping", ", delta=1"),
+            ("parallax", ", bias=0"),
+            ("parallax_offset_limited", ", bias=0"),
+            ("steep_parallax", ", steps=16"),
+            ("relief_mapping", ", steps=16, binary_steps=6"),
+            (
+                "pom",
+                ", min_steps=8, max_steps=32, self_shadow=off, shadow_steps=16",
+            ),
+            ("cone_step", ", steps=32, relaxed=off, binary_steps=6"),
+        ] {
+            let m = Method::parse(name, &[]).unwrap();
+            assert_eq!(
+                m.to_string(),
+                format!("{name}(n=8, env_n=8, height_scale=1{own})")
+            );
+            assert_eq!(m.name(), name);
+            assert_eq!(Method::parse(name, &m.params()).unwrap(), m);
+            assert!(m.validate().is_ok() && m.shadow.is_none() && m.detail_code() > 0);
+        }
+        let ok = |name: &str, k: &str, v: &str| Method::parse(name, &[kv(k, v)]).is_ok();
+        assert!(ok("pom", "self_shadow", "on") && !ok("pom", "self_shadow", "soft"));
+        assert!(
+            ok("pom", "max_steps", "256") && !ok("pom", "max_steps", "257") && !ok("pom", "min_steps", "0")
+        );
+        assert!(ok("relief_mapping", "binary_steps", "0") && !ok("relief_mapping", "binary_steps", "17"));
+        assert!(ok("cone_step", "relaxed", "on") && !ok("steep_parallax", "relaxed", "on"));
+        assert!(ok("parallax", "bias", "-0.5") && !ok("parallax", "bias", "2"));
+        assert!(
+            !ok("normal_mapping", "steps", "8"),
+            "normal mapping does not march"
+        );
+        assert!(!ok("pcss", "height_scale", "1") && !ok("parallax", "height_scale", "-1"));
+        let e = Method::parse("bump_mapping", &[kv("delta", "0")]).unwrap_err();
+        assert!(e.contains("delta") && e.contains("[0.01, 16]"), "{e}");
+        let m = Method::parse("cone_step", &[kv("relaxed", "true"), kv("height_scale", "0.5")]).unwrap();
+        let d = m.detail.unwrap();
+        assert_eq!(d.height_scale, 0.5);
+        assert_eq!(d.technique.cone_kind(), Some(crate::cone_map::ConeKind::Relaxed));
     }
 }

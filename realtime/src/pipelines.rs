@@ -1,5 +1,5 @@
 //! The shader module, its bind group layouts and the render pipelines, created lazily and
-//! cached per (entry point, area method, shadow method, counters) — lavapipe compiles each with LLVM, so a
+//! cached per (entry point, area method, shadow method, detail method, counters) — lavapipe compiles each with LLVM, so a
 //! pipeline is built once per process, not once per frame or render.
 //!
 //! | pipeline | vertex | fragment | targets | depth |
@@ -38,10 +38,30 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// The WGSL sources in dependency order; WGSL has no includes, so they form one module, with
 /// `counters_on.wgsl` or `counters_off.wgsl` appended.
-const SHADER_SOURCES: [(&str, &str); 15] = [
+const SHADER_SOURCES: [(&str, &str); 20] = [
     ("common.wgsl", include_str!("../shaders/common.wgsl")),
     ("texture.wgsl", include_str!("../shaders/texture.wgsl")),
     ("surface.wgsl", include_str!("../shaders/surface.wgsl")),
+    (
+        "detail_common.wgsl",
+        include_str!("../shaders/detail_common.wgsl"),
+    ),
+    (
+        "detail_normal.wgsl",
+        include_str!("../shaders/detail_normal.wgsl"),
+    ),
+    (
+        "detail_parallax.wgsl",
+        include_str!("../shaders/detail_parallax.wgsl"),
+    ),
+    (
+        "detail_ray_march.wgsl",
+        include_str!("../shaders/detail_ray_march.wgsl"),
+    ),
+    (
+        "detail_cone_step.wgsl",
+        include_str!("../shaders/detail_cone_step.wgsl"),
+    ),
     ("bsdf.wgsl", include_str!("../shaders/bsdf.wgsl")),
     (
         "lights_punctual.wgsl",
@@ -137,9 +157,9 @@ impl Stage {
     }
 }
 
-/// Cache key: the pipeline, the area method, the shadow method's WGSL code, whether it is the
-/// counting variant.
-type Key = (Stage, AreaMethod, u32, bool);
+/// Cache key: the pipeline, the area method, the shadow method's and the detail method's WGSL
+/// codes, whether it is the counting variant.
+type Key = (Stage, AreaMethod, u32, u32, bool);
 
 /// Layouts, the shader module and the pipeline cache.
 pub struct Pipelines {
@@ -321,11 +341,17 @@ impl Pipelines {
         counters: bool,
     ) -> Arc<wgpu::RenderPipeline> {
         let key = if stage.is_shadow() {
-            (stage, AreaMethod::Quadrature, 0, false)
+            (stage, AreaMethod::Quadrature, 0, 0, false)
         } else if stage.shades() {
-            (stage, method.area, method.shadow_code(), counters)
+            (
+                stage,
+                method.area,
+                method.shadow_code(),
+                method.detail_code(),
+                counters,
+            )
         } else {
-            (stage, method.area, 0, counters)
+            (stage, method.area, 0, method.detail_code(), counters)
         };
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
         cache
@@ -334,12 +360,19 @@ impl Pipelines {
             .clone()
     }
 
-    fn build(&self, device: &wgpu::Device, (stage, method, shadow, counters): Key) -> wgpu::RenderPipeline {
+    fn build(
+        &self,
+        device: &wgpu::Device,
+        (stage, method, shadow, detail, counters): Key,
+    ) -> wgpu::RenderPipeline {
         let (vs, fs) = stage.entry_points();
-        let label = format!("{vs}/{fs} ({method:?}, shadow method {shadow}, counters {counters})");
+        let label = format!(
+            "{vs}/{fs} ({method:?}, shadow method {shadow}, detail method {detail}, counters {counters})"
+        );
         let constants = [
             ("AREA_METHOD", f64::from(method.shader_code())),
             ("SHADOW_METHOD", f64::from(shadow)),
+            ("DETAIL_METHOD", f64::from(detail)),
         ];
         let module = if counters {
             &self.counting_module

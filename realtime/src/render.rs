@@ -13,6 +13,7 @@ use std::time::Instant;
 use scenes::layered::LayeredImage;
 use scenes::Scene;
 
+use crate::detail::ConeCache;
 use crate::error::RasterError;
 use crate::frame::{encode_passes, Frame, ShadingGroups, Timestamps};
 use crate::gpu::Gpu;
@@ -27,6 +28,9 @@ use crate::visibility::{encode_visibility_pass, named_sources, slots_per_chunk, 
 
 /// Largest supersampling factor accepted (k×k samples per pixel).
 pub const MAX_SSAA: u32 = 16;
+
+/// The counting G-buffer names shapes below this (counters_on.wgsl `COUNT_RANGE`).
+const COUNTED_SHAPES: u32 = 4095;
 
 /// How to render.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -155,6 +159,8 @@ pub struct Renderer {
     pipelines: Pipelines,
     errors: Arc<Mutex<Vec<String>>>,
     lock: Mutex<()>,
+    /// Cone maps of `cone_step`, built once per height texture.
+    cones: ConeCache,
 }
 
 impl Renderer {
@@ -173,6 +179,7 @@ impl Renderer {
             pipelines,
             errors,
             lock: Mutex::new(()),
+            cones: ConeCache::default(),
         };
         r.check_errors("compiling the shaders")?;
         Ok(r)
@@ -203,7 +210,14 @@ impl Renderer {
         let device = &self.gpu.device;
         settings.check(self.gpu.limits().max_texture_dimension_2d)?;
         let max_binding = u64::from(self.gpu.limits().max_storage_buffer_binding_size);
-        let scene_gpu = SceneGpu::new(device, scene, max_binding).map_err(RasterError::Scene)?;
+        let scene_gpu = SceneGpu::new(
+            device,
+            scene,
+            max_binding,
+            settings.method.detail.as_ref(),
+            &self.cones,
+        )
+        .map_err(RasterError::Scene)?;
         let shadow = ShadowMaps::new(
             device,
             &self.pipelines.shadow_layout,
@@ -491,13 +505,18 @@ impl Renderer {
     }
 
     /// The G-buffer stages of `settings`' method.
-    fn gbuffer_stages(&self, settings: &RasterSettings) -> Vec<(Stage, Arc<wgpu::RenderPipeline>)> {
+    fn gbuffer_stages(
+        &self,
+        settings: &RasterSettings,
+        counters: bool,
+    ) -> Vec<(Stage, Arc<wgpu::RenderPipeline>)> {
         [Stage::GBufferMesh, Stage::GBufferAnalytic]
             .into_iter()
             .map(|s| {
                 (
                     s,
-                    self.pipelines.get(&self.gpu.device, s, &settings.method, false),
+                    self.pipelines
+                        .get(&self.gpu.device, s, &settings.method, counters),
                 )
             })
             .collect()
@@ -505,6 +524,9 @@ impl Renderer {
 
     /// The counting frame: a G-buffer pass, then the lighting pass compiled with the counters,
     /// so each visible sample is shaded (and counted) once whatever the pipeline; sums the rows.
+    /// The G-buffer pass is the counting variant too: each sample carries the fetches its
+    /// surface cost (normal map, surface detail) to the lighting pass in its object id
+    /// (counters_on.wgsl), so only the visible surface's are counted.
     /// Shadow-map fetches are counted; the maps are those the timed frames left.
     fn counting_frame(
         &self,
@@ -515,9 +537,16 @@ impl Renderer {
         settings: &RasterSettings,
     ) -> Result<Counters, RasterError> {
         let device = &self.gpu.device;
+        if scene_gpu.shape_count >= COUNTED_SHAPES {
+            return Err(RasterError::Settings(format!(
+                "the counting frame names at most {} shapes (counters_on.wgsl); the scene has {}",
+                COUNTED_SHAPES - 1,
+                scene_gpu.shape_count
+            )));
+        }
         let mut holder = None;
         let targets = self.gbuffer_targets(targets, &mut holder);
-        let mut stages = self.gbuffer_stages(settings);
+        let mut stages = self.gbuffer_stages(settings, true);
         stages.push((
             Stage::Lighting,
             self.pipelines
@@ -570,7 +599,7 @@ impl Renderer {
         let pipeline = self
             .pipelines
             .get(device, Stage::VisibilityAov, &settings.method, false);
-        let stages = self.gbuffer_stages(settings);
+        let stages = self.gbuffer_stages(settings, false);
         let mut out = Vec::with_capacity(slots as usize);
         for c in 0..slots.div_ceil(per_chunk) {
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {

@@ -23,6 +23,7 @@ use scenes::{
 };
 use wgpu::util::DeviceExt;
 
+use crate::detail::{derivative_map, ConeCache, Detail};
 use crate::gpu_types::*;
 
 /// Relative enlargement of a sphere's bounding box proxy, so rasterisation never clips its
@@ -40,6 +41,7 @@ pub struct SceneGpu {
     pub(crate) mesh_vertices: Option<(wgpu::Buffer, u32)>,
     pub(crate) analytic_vertices: Option<(wgpu::Buffer, u32)>,
     pub(crate) light_count: u32,
+    pub(crate) shape_count: u32,
     pub(crate) emitter_count: u32,
     pub(crate) env: (EnvKind, u32, [f32; 4]),
     /// Shapes that emit but light nothing here (emissive meshes).
@@ -61,8 +63,16 @@ struct Arrays {
 }
 
 impl SceneGpu {
-    /// Checks and uploads `scene`; `max_binding` is the device's storage-binding limit.
-    pub fn new(device: &wgpu::Device, scene: &Scene, max_binding: u64) -> Result<SceneGpu, String> {
+    /// Checks and uploads `scene`; `max_binding` is the device's storage-binding limit. Displaced
+    /// shapes get the maps `detail` reads (a derivative map; a cone map from `cones` under
+    /// `cone_step`).
+    pub fn new(
+        device: &wgpu::Device,
+        scene: &Scene,
+        max_binding: u64,
+        detail: Option<&Detail>,
+        cones: &ConeCache,
+    ) -> Result<SceneGpu, String> {
         let src = scene.source.display().to_string();
         let mut a = Arrays::default();
         for (i, t) in scene.textures.iter().enumerate() {
@@ -73,7 +83,7 @@ impl SceneGpu {
                 .push(material(m, scene.textures.len()).map_err(|e| format!("{src}: materials[{i}]: {e}"))?);
         }
         for (i, s) in scene.shapes.iter().enumerate() {
-            add_shape(&mut a, scene, i)
+            add_shape(&mut a, scene, i, detail, cones)
                 .map_err(|e| format!("{src}: shape '{}' (shapes[{i}]): {e}", s.name))?;
         }
         for (i, l) in scene.lights.iter().enumerate() {
@@ -130,6 +140,7 @@ fn upload(device: &wgpu::Device, a: Arrays, env: (EnvKind, u32, [f32; 4])) -> Sc
         mesh_vertices: vertices(device, "mesh vertices (de-indexed)", &a.mesh),
         analytic_vertices: vertices(device, "analytic shape proxies", &a.analytic),
         light_count: a.lights.len() as u32,
+        shape_count: a.shapes.len() as u32,
         emitter_count: a.emitters.len() as u32,
         env,
         unlit_emitters: a.unlit_emitters,
@@ -293,10 +304,18 @@ fn blank_shape(kind: ShapeKind, material: u32) -> GpuShape {
         dual_v: [0.0; 4],
         emission: [0.0; 4],
         emission_info: [0, 0, NONE, 0],
+        detail: [NONE; 4],
+        detail_range: [0.0; 4],
     }
 }
 
-fn add_shape(a: &mut Arrays, scene: &Scene, index: usize) -> Result<(), String> {
+fn add_shape(
+    a: &mut Arrays,
+    scene: &Scene,
+    index: usize,
+    detail: Option<&Detail>,
+    cones: &ConeCache,
+) -> Result<(), String> {
     let shape = &scene.shapes[index];
     if shape.material >= scene.materials.len() {
         return Err(format!(
@@ -352,6 +371,38 @@ fn add_shape(a: &mut Arrays, scene: &Scene, index: usize) -> Result<(), String> 
         check_texture(map.texture, scene.textures.len(), "normal_map")?;
         g.normal_map = map.texture as u32;
         g.normal_scale = map.scale;
+    }
+    if let Some(d) = &shape.displacement {
+        check_texture(d.texture, scene.textures.len(), "displacement")?;
+        if d.channel > 3 || !d.scale.is_finite() {
+            return Err(format!(
+                "displacement: channel {} must be 0..=3 and scale {} finite",
+                d.channel, d.scale
+            ));
+        }
+        let height = &scene.textures[d.texture];
+        let (lo, hi) = height
+            .texels
+            .iter()
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), t| {
+                let w = t[d.channel] * d.scale;
+                (lo.min(w), hi.max(w))
+            });
+        if !(lo.is_finite() && hi.is_finite()) {
+            return Err("displacement: the height texture holds non-finite heights".into());
+        }
+        g.detail = [
+            d.texture as u32,
+            d.channel as u32,
+            a.texture_infos.len() as u32,
+            NONE,
+        ];
+        g.detail_range = [d.scale, lo, hi, 0.0];
+        add_texture(a, &Arc::new(derivative_map(height, d.channel)))?;
+        if let Some(kind) = detail.and_then(|m| m.technique.cone_kind()) {
+            g.detail[3] = a.texture_infos.len() as u32;
+            add_texture(a, &cones.get(height, d.channel, d.scale, kind))?;
+        }
     }
     if let Some(Emission { radiance, two_sided }) = &shape.emission {
         let (tex, value) = tex_rgb(radiance, scene.textures.len(), "emission.radiance")?;

@@ -44,11 +44,19 @@ fn orbit_camera() {
     let dir = scratch("orbit");
     let eye_of = |with: &str| load_text(&dir, &replace_line(2, with)).unwrap().camera.position();
     assert_vec("default angles", eye_of("distance = 5"), Vec3::new(0.0, 0.0, 5.0));
-    assert_vec("azimuth 90", eye_of("distance = 2\nazimuth = 90"), Vec3::new(2.0, 0.0, 0.0));
+    assert_vec(
+        "azimuth 90",
+        eye_of("distance = 2\nazimuth = 90"),
+        Vec3::new(2.0, 0.0, 0.0),
+    );
     let e = eye_of("distance = 2\nazimuth = 180\nelevation = 30");
     assert_vec("azimuth 180, elevation 30", e, Vec3::new(0.0, 1.0, -3f32.sqrt()));
     // The same camera as the equivalent eye.
-    let a = load_text(&dir, &replace_line(2, "distance = 5.0990195\nelevation = 11.309932")).unwrap();
+    let a = load_text(
+        &dir,
+        &replace_line(2, "distance = 5.0990195\nelevation = 11.309932"),
+    )
+    .unwrap();
     let b = load_text(&dir, BASE).unwrap();
     assert_vec("as eye", a.camera.position(), b.camera.position());
     assert_vec("forward", a.camera.forward(), b.camera.forward());

@@ -26,7 +26,10 @@ pub struct RasterArgs {
     /// Method: area_quadrature (N×N quadrature, converges to the exact unshadowed integral),
     /// area_representative_point (Karis 2013); shadow maps (N×N quadrature × visibility):
     /// shadow_hard (Williams 1978), pcf_hw_2x2, pcf_box, pcf_poisson (Reeves et al. 1987),
-    /// pcss (Fernando 2005).
+    /// pcss (Fernando 2005); surface detail on displaced shapes: normal_mapping, bump_mapping
+    /// (Blinn 1978), parallax (Kaneko 2001), parallax_offset_limited (Welsh 2004),
+    /// steep_parallax, relief_mapping (Policarpo 2005), pom (Tatarchuk 2006), cone_step
+    /// (Dummer 2006).
     #[arg(long, value_name = "NAME", default_value = "area_quadrature")]
     pub method: String,
 
@@ -40,6 +43,10 @@ pub struct RasterArgs {
     /// pcf_poisson and pcss receiver_plane=on|off (receiver-plane depth bias); pcf_poisson
     /// and pcss rotate=off|on (per-pixel rotated Poisson taps); every shadow method
     /// cascades=1 (1..=4 cascaded maps per directional light) and split_lambda=0.5 (PSSM λ).
+    /// Detail methods: height_scale=1 (0..=10); bump_mapping delta=1 (texels); parallax and
+    /// parallax_offset_limited bias=0 (−1..=1 of the height range); steep_parallax steps=16;
+    /// relief_mapping steps=16, binary_steps=6; pom min_steps=8, max_steps=32,
+    /// self_shadow=off|on, shadow_steps=16; cone_step steps=32, relaxed=off|on, binary_steps=6.
     #[arg(long = "param", value_name = "K=V", value_parser = parse_param)]
     pub params: Vec<(String, String)>,
 

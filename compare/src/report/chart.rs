@@ -10,7 +10,7 @@ pub struct CostPoint {
     /// Variant label.
     pub label: String,
     /// Cost, ms.
-    pub cost_ms: f64,
+    pub cost: f64,
     /// Error (lower is better).
     pub error: f64,
 }
@@ -18,16 +18,13 @@ pub struct CostPoint {
 /// Indices of the Pareto-optimal points: no other point has both lower-or-equal cost and
 /// lower-or-equal error with one of them strictly lower. Non-finite points are never optimal.
 pub fn pareto_front(points: &[CostPoint]) -> Vec<usize> {
-    let ok = |p: &CostPoint| p.cost_ms.is_finite() && p.error.is_finite();
+    let ok = |p: &CostPoint| p.cost.is_finite() && p.error.is_finite();
     (0..points.len())
         .filter(|&i| {
             let p = &points[i];
             ok(p)
                 && !points.iter().any(|q| {
-                    ok(q)
-                        && q.cost_ms <= p.cost_ms
-                        && q.error <= p.error
-                        && (q.cost_ms < p.cost_ms || q.error < p.error)
+                    ok(q) && q.cost <= p.cost && q.error <= p.error && (q.cost < p.cost || q.error < p.error)
                 })
         })
         .collect()
@@ -180,16 +177,22 @@ fn fmt_tick(v: f64) -> String {
 }
 
 /// Error against cost, Pareto-optimal points filled and joined.
-pub fn error_vs_cost(points: &[CostPoint], metric: &str, cost_title: &str, title: &str) -> String {
-    let x = Axis::fit(points.iter().map(|p| p.cost_ms), LEFT, W - RIGHT);
+pub fn error_vs_cost(
+    points: &[CostPoint],
+    metric: &str,
+    cost_title: &str,
+    unit: &str,
+    title: &str,
+) -> String {
+    let x = Axis::fit(points.iter().map(|p| p.cost), LEFT, W - RIGHT);
     let y = Axis::fit(points.iter().map(|p| p.error), H - BOTTOM, TOP);
     let mut svg = String::new();
     axes(&mut svg, &x, &y, cost_title, metric, title, 0);
     let mut front = pareto_front(points);
-    front.sort_by(|&a, &b| points[a].cost_ms.total_cmp(&points[b].cost_ms));
+    front.sort_by(|&a, &b| points[a].cost.total_cmp(&points[b].cost));
     let path: Vec<String> = front
         .iter()
-        .map(|&i| format!("{:.1},{:.1}", x.px(points[i].cost_ms), y.px(points[i].error)))
+        .map(|&i| format!("{:.1},{:.1}", x.px(points[i].cost), y.px(points[i].error)))
         .collect();
     let _ = writeln!(
         svg,
@@ -197,23 +200,23 @@ pub fn error_vs_cost(points: &[CostPoint], metric: &str, cost_title: &str, title
         path.join(" ")
     );
     for (i, p) in points.iter().enumerate() {
-        if !(p.cost_ms.is_finite() && p.error.is_finite()) {
+        if !(p.cost.is_finite() && p.error.is_finite()) {
             continue;
         }
         let on = front.contains(&i);
         // Labels of points in the right half go to their left, so they stay inside the chart.
-        let right_half = x.px(p.cost_ms) > (LEFT + W - RIGHT) / 2.0;
+        let right_half = x.px(p.cost) > (LEFT + W - RIGHT) / 2.0;
         let _ = writeln!(
             svg,
-            r##"<g><title>{} — {:.4} ms, {metric} {:.3e}{}</title><circle cx="{:.1}" cy="{:.1}" r="4.5" fill="{}" stroke="#d33"/><text x="{:.1}" y="{:.1}" font-size="9" text-anchor="{}">{}</text></g>"##,
+            r##"<g><title>{} — {:.4} {unit}, {metric} {:.3e}{}</title><circle cx="{:.1}" cy="{:.1}" r="4.5" fill="{}" stroke="#d33"/><text x="{:.1}" y="{:.1}" font-size="9" text-anchor="{}">{}</text></g>"##,
             esc(&p.label),
-            p.cost_ms,
+            p.cost,
             p.error,
             if on { " (Pareto-optimal)" } else { "" },
-            x.px(p.cost_ms),
+            x.px(p.cost),
             y.px(p.error),
             if on { "#d33" } else { "white" },
-            x.px(p.cost_ms) + if right_half { -6.0 } else { 6.0 },
+            x.px(p.cost) + if right_half { -6.0 } else { 6.0 },
             y.px(p.error) - 6.0,
             if right_half { "end" } else { "start" },
             esc(&p.label)
@@ -370,7 +373,7 @@ mod tests {
     fn p(cost: f64, error: f64) -> CostPoint {
         CostPoint {
             label: format!("{cost}/{error}"),
-            cost_ms: cost,
+            cost,
             error,
         }
     }
@@ -387,7 +390,7 @@ mod tests {
         ];
         // (3, 6) is dominated by (2, 5); the duplicate (2, 5) points do not dominate each other.
         assert_eq!(pareto_front(&pts), vec![0, 1, 3, 4]);
-        let svg = error_vs_cost(&pts, "relmse", "ms", "t");
+        let svg = error_vs_cost(&pts, "relmse", "ms", "ms", "t");
         assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
         assert_eq!(svg.matches("(Pareto-optimal)").count(), 4);
     }

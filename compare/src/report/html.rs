@@ -60,7 +60,7 @@ function flip(img, on) { img.src = on ? img.dataset.gt : img.dataset.approx; }
 "#;
 
 /// The whole page.
-pub fn page(r: &StudyResult, cost_svg: &str, sweep_svgs: &[(String, String)]) -> String {
+pub fn page(r: &StudyResult, cost_svgs: &[String], sweep_svgs: &[(String, String)]) -> String {
     let mut h = String::new();
     let _ = write!(
         h,
@@ -70,7 +70,7 @@ pub fn page(r: &StudyResult, cost_svg: &str, sweep_svgs: &[(String, String)]) ->
     let _ = writeln!(h, "<h1>{}</h1><p>{}</p>", esc(&r.title), esc(&r.description));
     header(&mut h, r);
     thresholds(&mut h, r);
-    let _ = writeln!(h, "<h2>Error against cost</h2>{cost_svg}");
+    let _ = writeln!(h, "<h2>Error against cost</h2>{}", cost_svgs.join("\n"));
     if !sweep_svgs.is_empty() {
         h += "<h2>Error against parameter</h2>\n";
         for (caption, svg) in sweep_svgs {
@@ -279,8 +279,19 @@ fn images(h: &mut String, r: &StudyResult) {
     }
 }
 
-/// The error-vs-cost chart of the study's chart metric over its chart mask.
-pub fn cost_chart(r: &StudyResult) -> String {
+/// What a cost chart puts on its x axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CostAxis {
+    /// Median frame time (`charts/error-vs-cost.svg`).
+    FrameTime,
+    /// Texel fetches per pixel from the counting frame (`charts/error-vs-fetches.svg`); drawn
+    /// only when every variant was counted.
+    TexelFetches,
+}
+
+/// The error-vs-cost chart of the study's chart metric over its chart mask, against `axis`;
+/// None when a variant lacks that cost.
+pub fn cost_chart(r: &StudyResult, axis: CostAxis) -> Option<String> {
     let (metric, mask) = (r.chart.metric.as_str(), r.chart.mask.as_str());
     // One scene: the first scene-sweep point (every point has the same costs' methods).
     let first_scene = r.variants.first().map(|v| v.scene.clone()).unwrap_or_default();
@@ -288,13 +299,27 @@ pub fn cost_chart(r: &StudyResult) -> String {
         .variants
         .iter()
         .filter(|v| v.scene == first_scene)
-        .map(|v| CostPoint {
-            label: v.label.clone(),
-            cost_ms: v.cost.frame_ms,
-            error: r.value(&v.label, mask, metric).unwrap_or(f64::NAN),
+        .map(|v| {
+            Some(CostPoint {
+                label: v.label.clone(),
+                cost: match axis {
+                    CostAxis::FrameTime => v.cost.frame_ms,
+                    CostAxis::TexelFetches => v.cost.texel_fetches_per_pixel?,
+                },
+                error: r.value(&v.label, mask, metric).unwrap_or(f64::NAN),
+            })
         })
-        .collect();
-    let title = format!("{metric} over `{mask}` against frame time on {}", r.adapter.name);
-    let cost = format!("ms/frame ({})", r.adapter.timing_source.replace('_', " "));
-    chart::error_vs_cost(&points, metric, &cost, &title)
+        .collect::<Option<_>>()?;
+    Some(match axis {
+        CostAxis::FrameTime => {
+            let title = format!("{metric} over `{mask}` against frame time on {}", r.adapter.name);
+            let cost = format!("ms/frame ({})", r.adapter.timing_source.replace('_', " "));
+            chart::error_vs_cost(&points, metric, &cost, "ms", &title)
+        }
+        CostAxis::TexelFetches => {
+            let title =
+                format!("{metric} over `{mask}` against texel fetches per pixel (hardware-independent)");
+            chart::error_vs_cost(&points, metric, "texel fetches per pixel", "fetches/px", &title)
+        }
+    })
 }

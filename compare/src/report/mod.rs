@@ -8,7 +8,7 @@
 //! | `ground_truth.exr/.png` | the oracle's image, variance and AOVs (`ground_truth--<parameter>-<value>.*` at each scene-sweep value) |
 //! | `methods/<id>.exr/.png` | each approximation, with `error.<metric>.Y` layers |
 //! | `methods/<id>-error-<metric>.png` | false-colour error maps with their colour bar ([`colormap`]) |
-//! | `charts/error-vs-cost.svg`, `charts/sweep-<method>-<parameter>.svg`, `charts/scene-<parameter>-<image\|visibility>.svg` | the charts ([`chart`]) |
+//! | `charts/error-vs-cost.svg`, `charts/error-vs-fetches.svg` (when counted), `charts/sweep-<method>-<parameter>.svg`, `charts/scene-<parameter>-<image\|visibility>.svg` | the charts ([`chart`]) |
 
 pub mod chart;
 pub mod colormap;
@@ -24,8 +24,16 @@ use crate::study::result::StudyResult;
 /// Writes the charts and `index.html` for `result` into `dir`.
 pub fn write(result: &StudyResult, dir: &Path) -> io::Result<()> {
     std::fs::create_dir_all(dir.join("charts"))?;
-    let cost = html::cost_chart(result);
-    write_atomic(dir.join("charts/error-vs-cost.svg"), cost.as_bytes())?;
+    let mut costs = Vec::new();
+    for (axis, file) in [
+        (html::CostAxis::FrameTime, "charts/error-vs-cost.svg"),
+        (html::CostAxis::TexelFetches, "charts/error-vs-fetches.svg"),
+    ] {
+        if let Some(svg) = html::cost_chart(result, axis) {
+            write_atomic(dir.join(file), svg.as_bytes())?;
+            costs.push(svg);
+        }
+    }
     let mut sweeps = Vec::new();
     for s in &result.sweeps {
         // The best variant's noise floor stands for the sweep's (one reference for all).
@@ -70,7 +78,7 @@ pub fn write(result: &StudyResult, dir: &Path) -> io::Result<()> {
     }
     write_atomic(
         dir.join("index.html"),
-        html::page(result, &cost, &sweeps).as_bytes(),
+        html::page(result, &costs, &sweeps).as_bytes(),
     )
 }
 

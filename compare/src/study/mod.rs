@@ -35,6 +35,9 @@ pub struct Study {
     pub description: String,
     /// The scene file, resolved against the study's directory.
     pub scene: PathBuf,
+    /// Fixed edits of the scene's fields (`[scene_set]`), applied before the sweep's: one
+    /// scene file serves several studies.
+    pub scene_set: Vec<Override>,
     /// A scene parameter swept across separate ground truths (`[scene_sweep]`).
     pub scene_sweep: Option<SceneSweep>,
     /// How the oracle renders the ground truth.
@@ -117,7 +120,7 @@ impl Study {
         let Some(sweep) = &self.scene_sweep else {
             return vec![ScenePoint {
                 value: None,
-                overrides: Vec::new(),
+                overrides: self.scene_set.clone(),
             }];
         };
         sweep
@@ -125,13 +128,14 @@ impl Study {
             .iter()
             .map(|(text, value)| ScenePoint {
                 value: Some((sweep.name.clone(), text.clone())),
-                overrides: sweep
-                    .set
+                overrides: self
+                    .scene_set
                     .iter()
-                    .map(|path| Override {
+                    .cloned()
+                    .chain(sweep.set.iter().map(|path| Override {
                         path: path.clone(),
                         edit: Edit::Set(value.clone()),
-                    })
+                    }))
                     .collect(),
             })
             .collect()
@@ -204,6 +208,8 @@ pub enum MaskSpec {
         name: String,
         /// Shape names.
         objects: Vec<String>,
+        /// Only the pixels inside this rectangle (fractions, as [`MaskSpec::Rectangle`]).
+        within: Option<[f32; 4]>,
     },
     /// A rectangle in fractions of the image, `[x0, y0, x1, y1]`, y down.
     Rectangle {
@@ -460,6 +466,7 @@ const FIELDS: &[&str] = &[
     "title",
     "description",
     "scene",
+    "scene_set",
     "scene_sweep",
     "ground_truth",
     "quick",
@@ -488,9 +495,13 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
             .err(format!("scene file {} does not exist", scene.display()))
             .hint("the path is relative to the study file"));
     }
+    let scene_set = match doc.get("scene_set") {
+        Some(f) => scene_set(&f, &scene)?,
+        None => Vec::new(),
+    };
     let scene_sweep = doc
         .get("scene_sweep")
-        .map(|f| scene_sweep(&f.table()?, &scene))
+        .map(|f| scene_sweep(&f.table()?, &scene, &scene_set))
         .transpose()?;
     let gt_table = doc.req("ground_truth")?.table()?;
     let (ground_truth, full) = ground_truth(&gt_table)?;
@@ -524,6 +535,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
         name,
         description: opt_str(&doc, "description")?.unwrap_or_default(),
         scene,
+        scene_set,
         scene_sweep,
         ground_truth,
         visibility_of,
@@ -668,9 +680,23 @@ fn raster_options(t: Option<Table>) -> Result<RasterOptions, SceneError> {
 
 fn mask(t: &Table, ctx: &Ctx) -> Result<MaskSpec, SceneError> {
     t.only(
-        &["name", "objects", "rectangle", "file", "interior"],
+        &["name", "objects", "within", "rectangle", "file", "interior"],
         "a [[mask]]",
     )?;
+    let rectangle = |f: Field| -> Result<[f32; 4], SceneError> {
+        let rect = f.floats::<4>()?;
+        if rect.iter().any(|v| !(0.0..=1.0).contains(v)) || rect[0] >= rect[2] || rect[1] >= rect[3] {
+            return Err(f.err(
+                "expected [x0, y0, x1, y1] in fractions of the image, 0 ≤ x0 < x1 ≤ 1, 0 ≤ y0 < y1 ≤ 1",
+            ));
+        }
+        Ok(rect)
+    };
+    if let (Some(w), false) = (t.get("within"), t.has("objects")) {
+        return Err(w
+            .err("`within` narrows an `objects` mask")
+            .hint("add objects = [\"…\"]"));
+    }
     let name = t.req("name")?.str()?.to_string();
     if name == "all" {
         return Err(t
@@ -687,17 +713,12 @@ fn mask(t: &Table, ctx: &Ctx) -> Result<MaskSpec, SceneError> {
                 .iter()
                 .map(|f| f.str().map(str::to_string))
                 .collect::<Result<_, _>>()?,
+            within: t.get("within").map(rectangle).transpose()?,
         }),
-        Some("rectangle") => {
-            let f = t.req("rectangle")?;
-            let rect = f.floats::<4>()?;
-            if rect.iter().any(|v| !(0.0..=1.0).contains(v)) || rect[0] >= rect[2] || rect[1] >= rect[3] {
-                return Err(f.err(
-                    "expected [x0, y0, x1, y1] in fractions of the image, 0 ≤ x0 < x1 ≤ 1, 0 ≤ y0 < y1 ≤ 1",
-                ));
-            }
-            Ok(MaskSpec::Rectangle { name, rect })
-        }
+        Some("rectangle") => Ok(MaskSpec::Rectangle {
+            name,
+            rect: rectangle(t.req("rectangle")?)?,
+        }),
         Some("file") => {
             let f = t.req("file")?;
             let path = ctx.resolve(f.str()?);
@@ -779,8 +800,24 @@ fn method(t: &Table) -> Result<MethodSpec, SceneError> {
     Ok(MethodSpec { name, params, sweep })
 }
 
-/// `[scene_sweep]`: each value must make a valid scene (checked now, by loading it).
-fn scene_sweep(t: &Table, scene: &Path) -> Result<SceneSweep, SceneError> {
+/// `[scene_set]`: `"dotted.path" = value` pairs (paths as `[scene_sweep]`'s `set`); the edited
+/// scene must load (checked now).
+fn scene_set(f: &Field, scene: &Path) -> Result<Vec<Override>, SceneError> {
+    let edits: Vec<Override> = f
+        .table()?
+        .fields()
+        .into_iter()
+        .map(|(path, v)| Override {
+            path: path.to_string(),
+            edit: Edit::Set(v.node.value.clone()),
+        })
+        .collect();
+    check_scene_edits(scene, f, |_| ("scene_set".to_string(), edits.clone()), 1)?;
+    Ok(edits)
+}
+
+/// `[scene_sweep]`: each value must make a valid scene, after `fixed` (checked now, by loading it).
+fn scene_sweep(t: &Table, scene: &Path, fixed: &[Override]) -> Result<SceneSweep, SceneError> {
     t.only(&["name", "set", "values"], "[scene_sweep]")?;
     let name_field = t.req("name")?;
     let name = name_field.str()?.to_string();
@@ -819,13 +856,13 @@ fn scene_sweep(t: &Table, scene: &Path) -> Result<SceneSweep, SceneError> {
         &values_field,
         |k| {
             let (text, value) = &sweep.values[k];
-            let edits = sweep
-                .set
+            let edits = fixed
                 .iter()
-                .map(|path| Override {
+                .cloned()
+                .chain(sweep.set.iter().map(|path| Override {
                     path: path.clone(),
                     edit: Edit::Set(value.clone()),
-                })
+                }))
                 .collect();
             (format!("scene_sweep {} = {text}", sweep.name), edits)
         },

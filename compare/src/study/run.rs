@@ -322,7 +322,11 @@ fn build_masks(
     let input = |m: String| StudyError::Input(format!("{}{at}: {m}", study.path.display()));
     for spec in &study.masks {
         let mask = match spec {
-            MaskSpec::Objects { name, objects } => {
+            MaskSpec::Objects {
+                name,
+                objects,
+                within,
+            } => {
                 let mut ids = Vec::new();
                 for o in objects {
                     let i = scene.shapes.iter().position(|s| &s.name == o).ok_or_else(|| {
@@ -334,17 +338,16 @@ fn build_masks(
                     })?;
                     ids.push(i as u32 + 1);
                 }
-                Mask::object_ids(name, gt, &ids).map_err(input)?
+                let mask = Mask::object_ids(name, gt, &ids).map_err(input)?;
+                match within {
+                    Some(rect) => Mask {
+                        name: name.clone(),
+                        ..mask.and(&rectangle_mask(name, rect, w, h))
+                    },
+                    None => mask,
+                }
             }
-            MaskSpec::Rectangle { name, rect } => {
-                let px = |f: f32, n: usize| ((f * n as f32).round() as usize).min(n);
-                Mask::rectangle(
-                    name,
-                    w,
-                    h,
-                    [px(rect[0], w), px(rect[1], h), px(rect[2], w), px(rect[3], h)],
-                )
-            }
+            MaskSpec::Rectangle { name, rect } => rectangle_mask(name, rect, w, h),
             MaskSpec::File { name, path } => {
                 let img = LayeredImage::read_exr(path).map_err(|e| input(format!("mask `{name}`: {e}")))?;
                 if (img.width as usize, img.height as usize) != (w, h) {
@@ -371,6 +374,17 @@ fn build_masks(
         masks.push(mask);
     }
     Ok(masks)
+}
+
+/// The rectangle `rect` (fractions of the image, y down) of a `w`×`h` image.
+fn rectangle_mask(name: &str, rect: &[f32; 4], w: usize, h: usize) -> Mask {
+    let px = |f: f32, n: usize| ((f * n as f32).round() as usize).min(n);
+    Mask::rectangle(
+        name,
+        w,
+        h,
+        [px(rect[0], w), px(rect[1], h), px(rect[2], w), px(rect[3], h)],
+    )
 }
 
 /// The raster settings of `variant` in this study at the scene's resolution.
