@@ -27,6 +27,7 @@
 //! | [`pipelines`] | shader module and pipelines (forward, G-buffer, lighting, shadow, visibility AOV) |
 //! | [`shadow`] | shadow maps: light frusta, the shadow uniform, the map array (Williams 1978) |
 //! | [`poisson`] | the Poisson-disk tap pattern (Mitchell 1991 best candidate) |
+//! | [`cone_map`] | cone maps for cone step mapping, conservative (Dummer 2006) and relaxed (Policarpo & Oliveira 2007) |
 //! | [`visibility`] | the per-light visibility AOV `visibility.<light>.Y` |
 //! | [`image`] | box filter over supersamples, the oracle's EXR channel layout |
 //! | [`timing`] | GPU timestamps / wall time, hardware-independent counters |
@@ -35,6 +36,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod cone_map;
 pub mod error;
 mod frame;
 pub mod gpu;
