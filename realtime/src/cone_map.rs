@@ -310,15 +310,23 @@ fn conservative_ratio(
         if level <= LEAF_LEVEL {
             // Small blocks: their texels directly, cheaper than two more levels of nodes.
             let span = 1usize << level;
+            let (x0, x1) = (bx * span, ((bx + 1) * span).min(g.width));
+            // The columns' squared u distances, shared by the block's rows.
+            let mut du2 = [0.0f32; 1 << LEAF_LEVEL];
+            for (x, d) in (x0..x1).zip(du2.iter_mut()) {
+                let du = axis_gap(i, x, x, g.width, g.periodic[0]) as f32 * g.inv[0];
+                *d = du * du;
+            }
             for y in by * span..((by + 1) * span).min(g.height) {
                 let dv = axis_gap(j, y, y, g.height, g.periodic[1]) as f32 * g.inv[1];
-                for x in bx * span..((bx + 1) * span).min(g.width) {
-                    let rise = g.at(x, y) - wa;
+                let dv2 = dv * dv;
+                let row = &g.w[y * g.width + x0..y * g.width + x1];
+                for ((x, &h), &du2) in (x0..).zip(row).zip(&du2) {
+                    let rise = h - wa;
                     if rise <= 0.0 {
                         continue;
                     }
-                    let du = axis_gap(i, x, x, g.width, g.periodic[0]) as f32 * g.inv[0];
-                    let d2 = du * du + dv * dv;
+                    let d2 = du2 + dv2;
                     if d2 > (c * rise) * (c * rise) * (1.0 + 1e-5) {
                         continue;
                     }
@@ -1134,31 +1142,51 @@ mod tests {
         ));
     }
 
-    /// Times for the renderer's default resolution; run with
-    /// `cargo test -p realtime --lib cone_map_timing -- --ignored --nocapture`.
+    /// Wall-clock times on the inputs the studies use; run with
+    /// `cargo test -p realtime --lib cone_map_timing -- --ignored --nocapture`
+    /// (`CONE_MAP_TIMING=bumps768,bricks512,bumps1024` and `CONE_MAP_KIND=conservative|relaxed`
+    /// pick a subset).
     #[test]
     #[ignore = "timing, not a check"]
-    fn cone_map_timing_512() {
-        // Process CPU time (Linux /proc, clock ticks of 10 ms), as the machine may be shared.
-        let cpu = || {
-            let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-            let fields: Vec<&str> = stat.rsplit(')').next().unwrap_or("").split_whitespace().collect();
-            let tick = |k: usize| fields.get(k).and_then(|f| f.parse::<f64>().ok()).unwrap_or(0.0);
-            (tick(11) + tick(12)) / 100.0
-        };
-        for (name, p) in [
-            ("bricks", Procedural::Bricks { rows: 12 }),
-            ("bumps", Procedural::Bumps { tiles: 4 }),
-        ] {
-            let w = procedural(p, 512, 0.05);
+    fn cone_map_timing() {
+        let only = std::env::var("CONE_MAP_TIMING").unwrap_or_default();
+        let kind_only = std::env::var("CONE_MAP_KIND").unwrap_or_default();
+        let inputs = [
+            (
+                "bumps768",
+                Procedural::Bumps { tiles: 16 },
+                768,
+                [WrapMode::Clamp; 2],
+            ),
+            (
+                "bricks512",
+                Procedural::Bricks { rows: 12 },
+                512,
+                [WrapMode::Repeat; 2],
+            ),
+            (
+                "bumps1024",
+                Procedural::Bumps { tiles: 16 },
+                1024,
+                [WrapMode::Clamp; 2],
+            ),
+        ];
+        for (name, p, n, wrap) in inputs {
+            if !only.is_empty() && !only.split(',').any(|o| o == name) {
+                continue;
+            }
+            let w = procedural(p, n, 0.03);
             for kind in [ConeKind::Conservative, ConeKind::Relaxed] {
-                let (t, c0) = (std::time::Instant::now(), cpu());
-                let c = cone_map(&w, 512, 512, [WrapMode::Repeat; 2], kind);
-                let (wall, busy) = (t.elapsed().as_secs_f64(), cpu() - c0);
+                if !kind_only.is_empty() && !format!("{kind:?}").eq_ignore_ascii_case(&kind_only) {
+                    continue;
+                }
+                let t = std::time::Instant::now();
+                let c = cone_map(&w, n, n, wrap, kind);
+                let wall = t.elapsed().as_secs_f64();
                 let mut sorted = c.clone();
                 sorted.sort_by(f32::total_cmp);
                 println!(
-                    "{name} 512² {kind:?}: {wall:.2} s wall, {busy:.2} s CPU, {} threads (median ratio {})",
+                    "{name} {wrap:?} {kind:?}: {wall:.2} s wall, {} threads (median ratio {})",
                     rayon::current_num_threads(),
                     sorted[sorted.len() / 2]
                 );
