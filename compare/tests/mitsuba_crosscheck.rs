@@ -40,6 +40,8 @@ const NOT_EXPRESSIBLE: &[(&str, &str)] = &[
         "studies/scenes/long-sun-field",
         "angular diameter of 1° (a sun disk)",
     ),
+    ("studies/scenes/relief-patch", "shape `patch`: displacement"),
+    ("studies/scenes/relief-sphere", "shape `sphere/0`: displacement"),
 ];
 
 fn agrees(name: &str, variant: Variant, size: u32, spp: u32) {
