@@ -358,7 +358,7 @@ pub struct Shape {
 ///   interpolated vertex normal and the surface is the uniform micro-triangle tessellation of
 ///   [`crate::displacement::displace_mesh`].
 ///
-/// The realtime renderer draws the undisplaced base surface (its displacement-mapping
+/// The realtime renderer draws the undisplaced base surface (its surface-detail
 /// techniques read the same height texture); the oracle traces the displaced one.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Displacement {
