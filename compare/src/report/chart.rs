@@ -236,7 +236,7 @@ pub struct Series<'a> {
     pub breakpoint: Option<&'a str>,
 }
 
-/// Line colours of the series, in order (then repeated).
+/// Line colours of the series, in order (then repeated, dashed).
 const SERIES_COLOURS: [&str; 8] = ["#36c", "#d62", "#393", "#93c", "#c39", "#088", "#b80", "#555"];
 
 /// Error against a swept parameter (values in listed order along x), one line per series,
@@ -296,6 +296,10 @@ pub fn error_vs_parameter(
         } else {
             SERIES_COLOURS[n % SERIES_COLOURS.len()]
         };
+        // Past the palette, lines repeat its colours dashed (and dotted after that), so no
+        // two series look alike up to three times its length.
+        let dash = ["", r#" stroke-dasharray="6 3""#, r#" stroke-dasharray="1.5 2""#]
+            [(n / SERIES_COLOURS.len()).min(2)];
         let mut order: Vec<usize> = (0..values.len()).filter(|&i| s.errors[i].is_finite()).collect();
         order.sort_by(|&a, &b| xs[a].total_cmp(&xs[b]));
         let line: Vec<String> = order
@@ -304,7 +308,7 @@ pub fn error_vs_parameter(
             .collect();
         let _ = writeln!(
             svg,
-            r##"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="1.5"/>"##,
+            r##"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="1.5"{dash}/>"##,
             line.join(" ")
         );
         let name = if s.label.is_empty() {
@@ -338,7 +342,7 @@ pub fn error_vs_parameter(
             let (lx, ly) = (LEFT, H + 4.0 + LEGEND_ROW * n as f64);
             let _ = writeln!(
                 svg,
-                r##"<line x1="{lx:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{colour}" stroke-width="2"/><text x="{:.1}" y="{ly:.1}" font-size="9">{}{}</text>"##,
+                r##"<line x1="{lx:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{colour}" stroke-width="2"{dash}/><text x="{:.1}" y="{ly:.1}" font-size="9">{}{}</text>"##,
                 ly - 3.0,
                 lx + 14.0,
                 ly - 3.0,
@@ -422,5 +426,20 @@ mod tests {
         let svg = error_vs_parameter("light_size", &values, &two, None, "relmse", "t");
         assert_eq!(svg.matches("<polyline").count(), 2);
         assert!(svg.contains("shadow_hard (breaks at 8)") && svg.contains("pcss: light_size = 16"));
+        // Past the palette's eight colours the lines are dashed: eleven series, three dashed.
+        let labels: Vec<String> = (0..11).map(|k| format!("m{k}")).collect();
+        let errors = [1e-4, 1e-4, 2e-4, 3e-4, 4e-4];
+        let many: Vec<Series> = labels
+            .iter()
+            .map(|l| Series {
+                label: l,
+                errors: &errors,
+                breakpoint: None,
+            })
+            .collect();
+        let svg = error_vs_parameter("light_size", &values, &many, None, "relmse", "t");
+        assert_eq!(svg.matches("<polyline").count(), 11);
+        // Each dashed series dashes its line and its legend swatch.
+        assert_eq!(svg.matches(r#"stroke-dasharray="6 3""#).count(), 2 * 3);
     }
 }
