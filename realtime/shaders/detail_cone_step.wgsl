@@ -42,18 +42,7 @@ fn cone_step(f: FrameUniforms, fr: DetailFrame, s: Shape, duv_dw: vec2<f32>) -> 
         below = ray_gap(fr, duv_dw, w) <= 0.0;
     }
     if below {
-        var hi = above;
-        var lo = w;
-        for (var i = 0u; i < f.detail_steps.z; i++) {
-            count_iteration();
-            let mid = 0.5 * (hi + lo);
-            if ray_gap(fr, duv_dw, mid) <= 0.0 {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        w = 0.5 * (hi + lo);
+        w = binary_refine(fr, duv_dw, above, w, f.detail_steps.z);
     }
     return DetailHit(true, fr.uv + duv_dw * w, w);
 }

@@ -60,6 +60,24 @@ fn linear_search(fr: DetailFrame, duv_dw: vec2<f32>, layers: u32) -> Bracket {
     return Bracket(above, fr.lo, gap_above, 0.0);
 }
 
+// The ray's height between `above` (ray above the surface) and `below` (at or below it) after
+// `halvings` bisections of that bracket (Policarpo, Oliveira & Comba 2005 §3.1): the middle of
+// the last bracket. Relief mapping and relaxed cone stepping finish with it.
+fn binary_refine(fr: DetailFrame, duv_dw: vec2<f32>, above: f32, below: f32, halvings: u32) -> f32 {
+    var hi = above;
+    var lo = below;
+    for (var i = 0u; i < halvings; i++) {
+        count_iteration();
+        let mid = 0.5 * (hi + lo);
+        if ray_gap(fr, duv_dw, mid) <= 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return 0.5 * (hi + lo);
+}
+
 fn ray_march(f: FrameUniforms, fr: DetailFrame, duv_dw: vec2<f32>, cos_theta: f32) -> DetailHit {
     var layers = f.detail_steps.x;
     if DETAIL_METHOD == DETAIL_POM {
@@ -68,18 +86,7 @@ fn ray_march(f: FrameUniforms, fr: DetailFrame, duv_dw: vec2<f32>, cos_theta: f3
     let b = linear_search(fr, duv_dw, max(layers, 1u));
     var w = b.below;
     if DETAIL_METHOD == DETAIL_RELIEF_MAPPING {
-        var hi = b.above;
-        var lo = b.below;
-        for (var i = 0u; i < f.detail_steps.z; i++) {
-            count_iteration();
-            let mid = 0.5 * (hi + lo);
-            if ray_gap(fr, duv_dw, mid) <= 0.0 {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        w = 0.5 * (hi + lo);
+        w = binary_refine(fr, duv_dw, b.above, b.below, f.detail_steps.z);
     } else if DETAIL_METHOD == DETAIL_POM {
         let denom = b.gap_above - b.gap_below;
         if denom > 0.0 {
