@@ -217,7 +217,10 @@ impl Names {
 /// and lights; the scene file's camera, film, render settings and environment win. With
 /// `displacement = { … }` every mesh of the asset is displaced (each needs uvs and normals).
 fn include(t: &Table, scene: &mut Scene, names: &mut Names) -> Result<(), SceneError> {
-    t.only(&["file", "displacement"], "an include")?;
+    t.only(&["file", "displacement", "enabled"], "an include")?;
+    if !t.bool_or("enabled", true)? {
+        return Ok(());
+    }
     let file = t.req("file")?;
     let path = file.ctx.resolve(file.str()?);
     let ext = path

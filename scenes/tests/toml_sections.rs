@@ -297,3 +297,32 @@ fn included_gltf_is_merged() {
         );
     }
 }
+
+/// `enabled = false` leaves a shape or an include out, after checking it.
+#[test]
+fn disabled_shapes_and_includes_are_left_out() {
+    let dir = scratch("enabled");
+    let second =
+        "[[shape]]\nname = \"t\"\ntype = \"sphere\"\nmaterial = \"m\"\ncenter = [3, 0, 0]\nradius = 1\n";
+    let both = load_text(&dir, &append(second)).unwrap();
+    assert_eq!(both.shapes.len(), 2);
+    let off = load_text(&dir, &append(&format!("{second}enabled = false\n"))).unwrap();
+    assert_eq!(off.shapes.len(), 1);
+    assert_eq!(off.shapes[0].name, "s");
+    let on = load_text(&dir, &append(&format!("{second}enabled = true\n"))).unwrap();
+    assert_eq!(on.shapes.len(), 2);
+    // A disabled shape is still checked: a bad radius is an error.
+    let bad = second.replace("radius = 1", "radius = -1");
+    assert!(load_text(&dir, &append(&format!("{bad}enabled = false\n"))).is_err());
+    // `enabled` must be a boolean.
+    toml_support::expect_error(
+        load_text(&dir, &append(&format!("{second}enabled = 0\n"))),
+        &["enabled"],
+    );
+    let glb = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/suzanne.glb");
+    let include = format!(
+        "[[include]]\nfile = {:?}\nenabled = false\n",
+        glb.display().to_string()
+    );
+    assert_eq!(load_text(&dir, &append(&include)).unwrap().shapes.len(), 1);
+}

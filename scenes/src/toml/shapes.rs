@@ -23,6 +23,7 @@ const COMMON: &[&str] = &[
     "transform",
     "normal_map",
     "displacement",
+    "enabled",
 ];
 
 /// A shape read from the file, before names are checked and generated.
@@ -54,7 +55,12 @@ pub(crate) fn read_all(
             Some((n, _)) => t.clone().renamed(format!("shape \"{n}\"")),
             None => t,
         };
-        drafts.push(read_one(&t, name, materials, textures)?);
+        // A disabled shape is read and checked like any other, then left out (studies switch
+        // local objects off to measure what the distant environment alone gives).
+        let draft = read_one(&t, name, materials, textures)?;
+        if t.bool_or("enabled", true)? {
+            drafts.push(draft);
+        }
     }
     Ok(drafts)
 }
