@@ -171,3 +171,58 @@ fn mirror_sphere() {
     let mirror = s.shapes.iter().find(|sh| sh.name == "mirror_sphere").unwrap();
     assert!(matches!(s.materials[mirror.material], Material::Mirror { .. }));
 }
+
+/// The other vendored environment maps (no built-in scene uses them yet): each loads as a
+/// scene's `[environment] file`, non-negative, with the radiance prepare_hdri.sh reports, and
+/// its brightest texel where the source image has it (row 0 = up).
+#[test]
+fn vendored_environment_maps() {
+    // (file, mean radiance, max radiance, brightest texel (row, column))
+    let maps = [
+        // The setting sun, 3.2° above the horizon.
+        ("venice_sunset_512.exr", 0.4405, 801.0, (123, 307)),
+        // The studio's ring light, 42.7° up.
+        ("studio_small_03_512.exr", 1.8939, 3730.0, (67, 118)),
+    ];
+    for (file, mean_expected, max_expected, brightest) in maps {
+        let text = format!(
+            "[camera]\neye = [0.0, 0.0, 0.0]\ntarget = [0.0, 0.0, -1.0]\nfov = 40.0\n\n\
+             [environment]\nfile = \"assets/{file}\"\n"
+        );
+        let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("environment.toml");
+        let s = scenes::toml::load_str(&text, &path).unwrap_or_else(|e| panic!("{file}: {e}"));
+        let Some(Environment::Map { texture, scale }) = s.environment else {
+            panic!("{file}: expected an environment map, got {:?}", s.environment)
+        };
+        assert_eq!(scale, 1.0);
+        let t = &s.textures[texture];
+        assert_eq!((t.width, t.height), (512, 256), "{file}");
+        let min = t
+            .texels
+            .iter()
+            .map(|x| x.truncate().min_element())
+            .fold(f32::INFINITY, f32::min);
+        assert!(min >= 0.0, "{file} has negative texels (min {min})");
+        let mean = t.texels.iter().map(|x| x.truncate()).sum::<Vec3>() / t.texels.len() as f32;
+        let mean = mean.element_sum() / 3.0;
+        assert!(
+            (mean - mean_expected).abs() < 0.01,
+            "{file}: mean radiance: expected {mean_expected} (prepare_hdri.sh), got {mean}"
+        );
+        let (i, max) = t
+            .texels
+            .iter()
+            .map(|x| x.truncate().max_element())
+            .enumerate()
+            .fold(
+                (0, f32::NEG_INFINITY),
+                |best, (i, m)| if m > best.1 { (i, m) } else { best },
+            );
+        assert!(
+            (max - max_expected).abs() < 1e-3 * max_expected,
+            "{file}: max radiance: expected {max_expected} (prepare_hdri.sh), got {max}"
+        );
+        let at = (i / t.width as usize, i % t.width as usize);
+        assert_eq!(at, brightest, "{file}: brightest texel (row, column)");
+    }
+}
