@@ -157,6 +157,11 @@ fn count_fetch() {
     cost.x += 1u;
 }
 
+// k texel fetches at once (a hardware-filtered lookup: 4 bilinear, 8 trilinear).
+fn count_fetches(k: u32) {
+    cost.x += k;
+}
+
 fn count_iteration() {
     cost.y += 1u;
 }

@@ -10,7 +10,8 @@
 // nowhere else (one dispatcher, as bevy_pbr's `sample_shadow_map_*`). Under a shadow method
 // (SHADOW_METHOD ≠ 0) each light's term is multiplied by its visibility V from the light's
 // shadow map (shadow_visibility.wgsl) — what the oracle's `direct` integrator then measures
-// exactly; the environment stays unshadowed.
+// exactly; the environment stays unshadowed. Under an environment-mapping method
+// (ENVMAP_METHOD ≠ 0) the reflector is shaded by envmap.wgsl instead.
 // Failure mode: mirror and dielectric surfaces see only the environment (environment.wgsl);
 // emissive meshes are visible but light nothing (only spheres, rectangles and disks are area
 // lights here); `max_depth` < 2 is not modelled.
@@ -54,6 +55,9 @@ fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>, frag: vec2<f
     }
     // The shading frame's normal: ns turned to the geometric normal's side (integrator `shade`).
     let n = select(sp.ns, -sp.ns, dot(sp.ns, sp.ng) < 0.0);
+    if is_envmapped(sp.shape) {
+        return Shaded(shade_envmapped(f, sp, b, n, wo, color), bsdf_albedo(b));
+    }
     if bsdf_is_delta(b) {
         return Shaded(color + delta_environment(f, b, n, wo), bsdf_albedo(b));
     }

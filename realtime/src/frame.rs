@@ -118,12 +118,15 @@ fn frame_uniforms(scene: &Scene, sg: &SceneGpu, settings: &RasterSettings, k: u3
     }
 }
 
-/// The bind groups every shading pass sets: group 1 (G-buffer, or empty) and group 2 (maps).
+/// The bind groups every shading pass sets: group 1 (G-buffer, or empty), group 2 (shadow
+/// maps) and group 3 (environment maps).
 pub(crate) struct ShadingGroups<'a> {
     /// Group 1 of the geometry pipelines (empty).
     pub(crate) empty: &'a wgpu::BindGroup,
     /// The shadow maps (group 2).
     pub(crate) shadow: &'a ShadowMaps,
+    /// The environment maps (group 3), or their placeholder.
+    pub(crate) envmap: &'a wgpu::BindGroup,
 }
 
 /// Records the frame's render passes: the shadow pass when `stages` has its pipelines, the
@@ -250,6 +253,7 @@ fn encode_geometry_pass(
     pass.set_bind_group(0, &frame.bind_group, &[]);
     pass.set_bind_group(1, groups.empty, &[]);
     pass.set_bind_group(2, &groups.shadow.bind_group, &[]);
+    pass.set_bind_group(3, groups.envmap, &[]);
     for (stage, pipeline) in stages {
         let (group, vertices) = match stage {
             Stage::ForwardMesh | Stage::GBufferMesh => ("meshes", sg.mesh_vertices.as_ref()),
@@ -299,6 +303,7 @@ fn encode_lighting_pass(
         pass.set_bind_group(1, bg, &[]);
     }
     pass.set_bind_group(2, &groups.shadow.bind_group, &[]);
+    pass.set_bind_group(3, groups.envmap, &[]);
     pass.set_pipeline(pipeline);
     pass.draw(0..3, 0..1);
     pass.pop_debug_group();

@@ -22,6 +22,8 @@
 //! | [`gpu`] | adapter and device selection |
 //! | [`method`] | methods (`area_quadrature`, `area_representative_point`, `shadow_hard`, `pcf_*`, `pcss`, the detail methods) and parameters |
 //! | [`detail`] | surface-detail methods (normal, bump, parallax, relief, POM, cone stepping) and their baked maps |
+//! | [`envmap`] | environment mapping (cube, sphere, dual-paraboloid maps; prefiltered specular, irradiance) |
+//! | `envmap_build` | the capture and the filtering passes of the environment maps |
 //! | [`cone_map`] | cone maps for cone step mapping (Dummer 2006; relaxed, Policarpo & Oliveira 2007) |
 //! | [`render`] | settings, the frame loop, timing, read-back |
 //! | `frame` | one frame: uniforms, render passes, timestamp queries |
@@ -39,6 +41,8 @@
 
 pub mod cone_map;
 pub mod detail;
+pub mod envmap;
+mod envmap_build;
 pub mod error;
 mod frame;
 pub mod gpu;
@@ -55,6 +59,7 @@ mod upload;
 pub mod visibility;
 
 pub use detail::{Detail, DetailTechnique};
+pub use envmap::{EnvMapping, Parameterization};
 pub use error::{RasterError, INSTALL_HINT};
 pub use gpu::Gpu;
 pub use method::{AreaMethod, BlockerDepth, Method, PipelineKind, Shadow, ShadowTechnique};

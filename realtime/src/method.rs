@@ -48,6 +48,9 @@
 use std::fmt;
 
 use crate::detail::{Detail, DetailTechnique, DETAIL_NAMES, MAX_BINARY_STEPS, MAX_DETAIL_STEPS};
+use crate::envmap::{
+    detail_by_name, EnvMapping, Parameterization, ENVMAP_NAMES, ENVMAP_SIZES, MAX_FILTER_SAMPLES,
+};
 
 /// Largest `n` / `env_n` accepted (N² samples per light per pixel).
 pub const MAX_QUADRATURE_N: u32 = 64;
@@ -219,7 +222,7 @@ impl Shadow {
 }
 
 /// A method with its parameters.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Method {
     /// How area lights and sun disks are shaded.
     pub area: AreaMethod,
@@ -231,6 +234,8 @@ pub struct Method {
     pub shadow: Option<Shadow>,
     /// Surface detail on displaced shapes, or None: they are drawn flat (their base surface).
     pub detail: Option<Detail>,
+    /// Environment mapping of one reflector, or None: no maps are captured.
+    pub envmap: Option<EnvMapping>,
 }
 
 impl Default for Method {
@@ -242,9 +247,23 @@ impl Default for Method {
             env_n: 8,
             shadow: None,
             detail: None,
+            envmap: None,
         }
     }
 }
+
+/// The values of an environment map's `detail`: a detail method, or none.
+const ENVMAP_DETAILS: [&str; 9] = [
+    "none",
+    DETAIL_NAMES[0],
+    DETAIL_NAMES[1],
+    DETAIL_NAMES[2],
+    DETAIL_NAMES[3],
+    DETAIL_NAMES[4],
+    DETAIL_NAMES[5],
+    DETAIL_NAMES[6],
+    DETAIL_NAMES[7],
+];
 
 /// A parameter's accepted values, for parsing and error messages.
 enum Param {
@@ -252,6 +271,10 @@ enum Param {
     OneOf(&'static [u32]),
     Real(f32, f32),
     Keyword(&'static [&'static str]),
+    /// A shape's name.
+    Name,
+    /// Three numbers, `x,y,z`.
+    Vector,
 }
 
 impl Param {
@@ -264,13 +287,15 @@ impl Param {
             }
             Param::Real(lo, hi) => format!("a number in [{lo}, {hi}]"),
             Param::Keyword(k) => format!("one of {}", k.join(", ")),
+            Param::Name => "a shape's name".to_string(),
+            Param::Vector => "three finite numbers x,y,z".to_string(),
         }
     }
 }
 
 impl Method {
     /// Every method name `parse` accepts.
-    pub const NAMES: [&'static str; 15] = [
+    pub const NAMES: [&'static str; 18] = [
         "area_quadrature",
         "area_representative_point",
         "shadow_hard",
@@ -286,6 +311,9 @@ impl Method {
         DETAIL_NAMES[5],
         DETAIL_NAMES[6],
         DETAIL_NAMES[7],
+        ENVMAP_NAMES[0],
+        ENVMAP_NAMES[1],
+        ENVMAP_NAMES[2],
     ];
 
     /// `area_quadrature` with the given N (environment N 8).
@@ -313,6 +341,7 @@ impl Method {
             env_n: 0,
             shadow: Some(shadow),
             detail: None,
+            envmap: None,
         }
     }
 
@@ -324,6 +353,20 @@ impl Method {
             env_n: 8,
             shadow: None,
             detail: Some(detail),
+            envmap: None,
+        }
+    }
+
+    /// The environment-mapping method `envmap` over N×N quadrature (n = 8, env_n = 8),
+    /// unshadowed, without surface detail.
+    pub fn environment_mapped(envmap: EnvMapping) -> Self {
+        Method {
+            area: AreaMethod::Quadrature,
+            area_n: 8,
+            env_n: 8,
+            shadow: None,
+            detail: None,
+            envmap: Some(envmap),
         }
     }
 
@@ -338,10 +381,15 @@ impl Method {
         let mut m = match name {
             "area_quadrature" => Method::default(),
             "area_representative_point" => Method::representative_point(),
-            _ => match (ShadowTechnique::by_name(name), DetailTechnique::by_name(name)) {
-                (Some(t), _) => Method::shadowed(Shadow::new(t)),
-                (None, Some(t)) => Method::detailed(Detail::new(t)),
-                (None, None) => {
+            _ => match (
+                ShadowTechnique::by_name(name),
+                DetailTechnique::by_name(name),
+                Parameterization::by_name(name),
+            ) {
+                (Some(t), _, _) => Method::shadowed(Shadow::new(t)),
+                (None, Some(t), _) => Method::detailed(Detail::new(t)),
+                (None, None, Some(p)) => Method::environment_mapped(EnvMapping::new(p)),
+                (None, None, None) => {
                     return Err(format!(
                         "unknown method `{name}`; methods: {}",
                         Method::NAMES.join(", ")
@@ -349,7 +397,9 @@ impl Method {
                 }
             },
         };
-        for (key, value) in params {
+        // An environment map's `detail` first: it decides which detail parameters exist.
+        let (first, rest): (Vec<_>, Vec<_>) = params.iter().partition(|(k, _)| k == "detail");
+        for (key, value) in first.into_iter().chain(rest) {
             let Some(spec) = m.param_spec(key) else {
                 return Err(format!(
                     "method {name} has no parameter `{key}`; parameters: {}",
@@ -392,6 +442,9 @@ impl Method {
                 ],
             });
         }
+        if let Some(e) = &self.envmap {
+            names.extend(e.param_names());
+        }
         if let Some(d) = &self.detail {
             names.push("height_scale");
             names.extend(d.technique.param_names());
@@ -414,6 +467,7 @@ impl Method {
             "bias" => Param::Real(0.0, 10.0),
             "slope_bias" | "normal_offset" => Param::Real(0.0, 100.0),
             "kernel" => Param::OneOf(&[3, 5]),
+            "filter_samples" if self.envmap.is_some() => Param::Whole(1..=MAX_FILTER_SAMPLES),
             "taps" | "blocker_samples" | "filter_samples" => taps,
             "radius" => Param::Real(0.0, 64.0),
             "light_size" => Param::Real(0.0, 1e6),
@@ -427,6 +481,13 @@ impl Method {
             "steps" | "min_steps" | "max_steps" | "shadow_steps" => Param::Whole(1..=MAX_DETAIL_STEPS),
             "binary_steps" => Param::Whole(0..=MAX_BINARY_STEPS),
             "self_shadow" | "relaxed" => Param::Keyword(&["on", "off", "true", "false"]),
+            "size" => Param::Whole(ENVMAP_SIZES),
+            "prefilter" => Param::Keyword(&["lobe", "box"]),
+            "irradiance" => Param::Keyword(&["map", "sh9"]),
+            "seam" => Param::Keyword(&["fill", "none"]),
+            "reflector" => Param::Name,
+            "capture" | "sphere_view" => Param::Vector,
+            "detail" => Param::Keyword(&ENVMAP_DETAILS),
             _ => return None,
         })
     }
@@ -456,6 +517,14 @@ impl Method {
         match key {
             "n" => self.area_n = whole()?,
             "env_n" => self.env_n = whole()?,
+            "detail" if self.envmap.is_some() => self.detail = detail_by_name(value)?,
+            _ if self
+                .envmap
+                .as_ref()
+                .is_some_and(|e| e.param_names().contains(&key)) =>
+            {
+                self.envmap.as_mut()?.set(key, value)?
+            }
             _ if self.detail.is_some() => {
                 let d = self.detail.as_mut()?;
                 match (key, &mut d.technique) {
@@ -521,7 +590,7 @@ impl Method {
             let spec = self
                 .param_spec(&key)
                 .ok_or_else(|| format!("method {self}: no parameter `{key}`"))?;
-            let mut copy = *self;
+            let mut copy = self.clone();
             if copy.set(&key, &value, &spec).is_none() {
                 return Err(format!(
                     "method {self}: parameter {key} = {value}: expected {}",
@@ -534,6 +603,9 @@ impl Method {
 
     /// The method's name.
     pub fn name(&self) -> &'static str {
+        if let Some(e) = &self.envmap {
+            return e.parameterization.name();
+        }
         if let Some(d) = &self.detail {
             return d.technique.name();
         }
@@ -552,6 +624,13 @@ impl Method {
     /// The WGSL `DETAIL_METHOD` of this method (0: displaced shapes drawn flat).
     pub fn detail_code(&self) -> u32 {
         self.detail.map_or(0, |d| d.technique.shader_code())
+    }
+
+    /// The WGSL `ENVMAP_METHOD` of this method (0: no environment map).
+    pub fn envmap_code(&self) -> u32 {
+        self.envmap
+            .as_ref()
+            .map_or(0, |e| e.parameterization.shader_code())
     }
 
     /// Its parameters as `k=v` pairs (for headers and the timing line).
@@ -602,6 +681,11 @@ impl Method {
                     push("receiver_plane", plane);
                     push("rotate", on_off(s.rotate));
                 }
+            }
+        }
+        if let Some(e) = &self.envmap {
+            for (k, v) in e.params(self.detail.as_ref()) {
+                push(k, v);
             }
         }
         if let Some(d) = &self.detail {
@@ -703,7 +787,7 @@ mod tests {
             .iter()
             .map(|n| Method::parse(n, &[]).unwrap().shadow_code())
             .collect();
-        assert_eq!(codes, [0, 0, 1, 2, 3, 4, 5, 0, 0, 0, 0, 0, 0, 0, 0]);
+        assert_eq!(codes, [0, 0, 1, 2, 3, 4, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
     }
 
     #[test]

@@ -19,15 +19,19 @@
 //!
 //! Bind groups: 0 the scene (and the shadow uniform), 1 the G-buffer (lighting; with the AOV
 //! buffer for the visibility AOV; an empty group for the geometry pipelines), 2 the shadow maps
-//! and their comparison samplers (every shading pipeline; a placeholder when unshadowed). The
-//! shadow pass binds group 0 only: its maps cannot be bound while it renders them.
+//! and their comparison samplers (every shading pipeline; a placeholder when unshadowed), 3 the
+//! environment maps (the geometry and lighting pipelines; a placeholder without an
+//! environment-mapping method). The shadow pass binds group 0 only: its maps cannot be bound
+//! while it renders them. The environment-map filters are compute pipelines of their own
+//! module (envmap_build.rs).
 //!
 //! The counting variant (the module with `counters_on.wgsl`) is used for the lighting pipeline
 //! of the counting frame only: after a G-buffer pass it shades each visible sample once.
 
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 
+use crate::envmap_build::FilterPipelines;
 use crate::gpu_types::{AnalyticVertex, MeshVertex};
 use crate::method::{AreaMethod, Method};
 
@@ -38,7 +42,7 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// The WGSL sources in dependency order; WGSL has no includes, so they form one module, with
 /// `counters_on.wgsl` or `counters_off.wgsl` appended.
-const SHADER_SOURCES: [(&str, &str); 20] = [
+const SHADER_SOURCES: [(&str, &str); 21] = [
     ("common.wgsl", include_str!("../shaders/common.wgsl")),
     ("texture.wgsl", include_str!("../shaders/texture.wgsl")),
     ("surface.wgsl", include_str!("../shaders/surface.wgsl")),
@@ -87,6 +91,7 @@ const SHADER_SOURCES: [(&str, &str); 20] = [
         "shadow_visibility.wgsl",
         include_str!("../shaders/shadow_visibility.wgsl"),
     ),
+    ("envmap.wgsl", include_str!("../shaders/envmap.wgsl")),
     ("shade.wgsl", include_str!("../shaders/shade.wgsl")),
     ("passes.wgsl", include_str!("../shaders/passes.wgsl")),
 ];
@@ -157,9 +162,9 @@ impl Stage {
     }
 }
 
-/// Cache key: the pipeline, the area method, the shadow method's and the detail method's WGSL
-/// codes, whether it is the counting variant.
-type Key = (Stage, AreaMethod, u32, u32, bool);
+/// Cache key: the pipeline, the area method, the shadow, detail and environment-mapping
+/// methods' WGSL codes, whether it is the counting variant.
+type Key = (Stage, AreaMethod, u32, u32, u32, bool);
 
 /// Layouts, the shader module and the pipeline cache.
 pub struct Pipelines {
@@ -169,6 +174,8 @@ pub struct Pipelines {
     pub(crate) aov_layout: wgpu::BindGroupLayout,
     /// Group 2: the shadow-map array and its comparison samplers.
     pub(crate) shadow_layout: wgpu::BindGroupLayout,
+    /// Group 3: the environment maps (envmap.wgsl).
+    pub(crate) envmap_layout: wgpu::BindGroupLayout,
     /// The empty group 1 of the geometry pipelines.
     pub(crate) empty_bind_group: wgpu::BindGroup,
     forward_layout: wgpu::PipelineLayout,
@@ -178,6 +185,8 @@ pub struct Pipelines {
     module: wgpu::ShaderModule,
     counting_module: wgpu::ShaderModule,
     cache: Mutex<HashMap<Key, Arc<wgpu::RenderPipeline>>>,
+    /// The environment-map filters (envmap_filter.wgsl), compiled on first use.
+    filters: OnceLock<Arc<FilterPipelines>>,
 }
 
 fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
@@ -284,6 +293,36 @@ impl Pipelines {
                 layout_entry(2, fragment, comparison),
             ],
         );
+        let texture = |binding, view_dimension| {
+            layout_entry(
+                binding,
+                fragment,
+                wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                    view_dimension,
+                    multisampled: false,
+                },
+            )
+        };
+        let cube = wgpu::TextureViewDimension::Cube;
+        let array = wgpu::TextureViewDimension::D2Array;
+        let envmap_layout = bind_group_layout(
+            device,
+            "environment map bind group layout",
+            &[
+                texture(0, cube),
+                texture(1, array),
+                texture(2, cube),
+                texture(3, array),
+                layout_entry(
+                    4,
+                    fragment,
+                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                ),
+                storage_entry(5, true),
+                layout_entry(6, fragment, uniform_type()),
+            ],
+        );
         let empty_layout = bind_group_layout(device, "empty bind group layout", &[]);
         let empty_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("empty bind group (group 1 of the geometry pipelines)"),
@@ -293,12 +332,12 @@ impl Pipelines {
         let forward_layout = pipeline_layout(
             device,
             "geometry pipeline layout",
-            &[&scene_layout, &empty_layout, &shadow_layout],
+            &[&scene_layout, &empty_layout, &shadow_layout, &envmap_layout],
         );
         let lighting_layout = pipeline_layout(
             device,
             "lighting pipeline layout",
-            &[&scene_layout, &gbuffer_layout, &shadow_layout],
+            &[&scene_layout, &gbuffer_layout, &shadow_layout, &envmap_layout],
         );
         let aov_pipeline_layout = pipeline_layout(
             device,
@@ -319,6 +358,7 @@ impl Pipelines {
             gbuffer_layout,
             aov_layout,
             shadow_layout,
+            envmap_layout,
             empty_bind_group,
             forward_layout,
             lighting_layout,
@@ -327,7 +367,25 @@ impl Pipelines {
             module,
             counting_module,
             cache: Mutex::new(HashMap::new()),
+            filters: OnceLock::new(),
         }
+    }
+
+    /// The environment-map filter pipelines: a module of the shading sources (whose BSDF and
+    /// frame helpers the filters call) and envmap_filter.wgsl, compiled once.
+    pub(crate) fn filters(&self, device: &wgpu::Device) -> Arc<FilterPipelines> {
+        self.filters
+            .get_or_init(|| {
+                let source = shader_source(false)
+                    + "// ---- envmap_filter.wgsl ----\n"
+                    + include_str!("../shaders/envmap_filter.wgsl");
+                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some("verity environment map filters"),
+                    source: wgpu::ShaderSource::Wgsl(source.into()),
+                });
+                Arc::new(FilterPipelines::new(device, &module))
+            })
+            .clone()
     }
 
     /// The pipeline for `stage` with `method`, the counting variant or not, built on first use.
@@ -341,17 +399,18 @@ impl Pipelines {
         counters: bool,
     ) -> Arc<wgpu::RenderPipeline> {
         let key = if stage.is_shadow() {
-            (stage, AreaMethod::Quadrature, 0, 0, false)
+            (stage, AreaMethod::Quadrature, 0, 0, 0, false)
         } else if stage.shades() {
             (
                 stage,
                 method.area,
                 method.shadow_code(),
                 method.detail_code(),
+                method.envmap_code(),
                 counters,
             )
         } else {
-            (stage, method.area, 0, method.detail_code(), counters)
+            (stage, method.area, 0, method.detail_code(), 0, counters)
         };
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
         cache
@@ -363,16 +422,17 @@ impl Pipelines {
     fn build(
         &self,
         device: &wgpu::Device,
-        (stage, method, shadow, detail, counters): Key,
+        (stage, method, shadow, detail, envmap, counters): Key,
     ) -> wgpu::RenderPipeline {
         let (vs, fs) = stage.entry_points();
         let label = format!(
-            "{vs}/{fs} ({method:?}, shadow method {shadow}, detail method {detail}, counters {counters})"
+            "{vs}/{fs} ({method:?}, shadow method {shadow}, detail method {detail}, environment map {envmap}, counters {counters})"
         );
         let constants = [
             ("AREA_METHOD", f64::from(method.shader_code())),
             ("SHADOW_METHOD", f64::from(shadow)),
             ("DETAIL_METHOD", f64::from(detail)),
+            ("ENVMAP_METHOD", f64::from(envmap)),
         ];
         let module = if counters {
             &self.counting_module

@@ -14,6 +14,7 @@ use scenes::layered::LayeredImage;
 use scenes::Scene;
 
 use crate::detail::ConeCache;
+use crate::envmap_build::EnvMaps;
 use crate::error::RasterError;
 use crate::frame::{encode_passes, Frame, ShadingGroups, Timestamps};
 use crate::gpu::Gpu;
@@ -33,7 +34,7 @@ pub const MAX_SSAA: u32 = 16;
 const COUNTED_SHAPES: u32 = 4095;
 
 /// How to render.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct RasterSettings {
     /// Area-light method and its parameters.
     pub method: Method,
@@ -155,12 +156,14 @@ pub struct RasterOutput {
 /// The renderer: one device, the compiled shaders, and a lock that keeps renders (and so
 /// their timings) from overlapping.
 pub struct Renderer {
-    gpu: Gpu,
-    pipelines: Pipelines,
+    pub(crate) gpu: Gpu,
+    pub(crate) pipelines: Pipelines,
     errors: Arc<Mutex<Vec<String>>>,
     lock: Mutex<()>,
     /// Cone maps of `cone_step`, built once per height texture.
-    cones: ConeCache,
+    pub(crate) cones: ConeCache,
+    /// Group 3 of renders without an environment map.
+    no_envmap: EnvMaps,
 }
 
 impl Renderer {
@@ -174,12 +177,14 @@ impl Renderer {
             sink.lock().unwrap_or_else(|p| p.into_inner()).push(e.to_string());
         }));
         let pipelines = Pipelines::new(&gpu.device);
+        let no_envmap = EnvMaps::placeholder(&gpu.device, &pipelines.envmap_layout);
         let r = Renderer {
             gpu,
             pipelines,
             errors,
             lock: Mutex::new(()),
             cones: ConeCache::default(),
+            no_envmap,
         };
         r.check_errors("compiling the shaders")?;
         Ok(r)
@@ -191,7 +196,7 @@ impl Renderer {
     }
 
     /// wgpu errors reported since the last check, as one error.
-    fn check_errors(&self, context: &str) -> Result<(), RasterError> {
+    pub(crate) fn check_errors(&self, context: &str) -> Result<(), RasterError> {
         let mut errors = self.errors.lock().unwrap_or_else(|p| p.into_inner());
         if errors.is_empty() {
             return Ok(());
@@ -227,9 +232,11 @@ impl Renderer {
             self.gpu.limits(),
         )
         .map_err(RasterError::Settings)?;
+        let envmap = self.build_environment_maps(scene, settings, &self.no_envmap)?;
         let groups = ShadingGroups {
             empty: &self.pipelines.empty_bind_group,
             shadow: &shadow,
+            envmap: &envmap.bind_group,
         };
         let k = settings.ssaa;
         let (tw, th) = (settings.width * k, settings.height * k);
@@ -284,6 +291,9 @@ impl Renderer {
             &scene_gpu,
             &shadow,
         );
+        for (k, v) in &envmap.header {
+            image.set_attribute(*k, v.clone());
+        }
         Ok(RasterOutput {
             image,
             timing,
@@ -292,7 +302,11 @@ impl Renderer {
     }
 
     /// The pipelines one frame of `settings` draws with, in pass order.
-    fn stages(&self, settings: &RasterSettings, counters: bool) -> Vec<(Stage, Arc<wgpu::RenderPipeline>)> {
+    pub(crate) fn stages(
+        &self,
+        settings: &RasterSettings,
+        counters: bool,
+    ) -> Vec<(Stage, Arc<wgpu::RenderPipeline>)> {
         let shadow: &[Stage] = if settings.method.shadow.is_some() {
             &[Stage::ShadowMesh, Stage::ShadowAnalytic]
         } else {
@@ -408,7 +422,7 @@ impl Renderer {
         self.check_errors("rendering a frame")
     }
 
-    fn wait(&self) -> Result<(), RasterError> {
+    pub(crate) fn wait(&self) -> Result<(), RasterError> {
         self.gpu
             .device
             .poll(wgpu::PollType::Wait)

@@ -64,7 +64,10 @@ impl Targets {
         height: u32,
         gbuffer_layout: &wgpu::BindGroupLayout,
     ) -> Targets {
-        let out_usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        // Sampled too: the environment capture copies its colour target into a cube face.
+        let out_usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::TEXTURE_BINDING;
         let outputs = [
             "colour target (HDR)",
             "normal + depth target",

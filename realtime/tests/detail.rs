@@ -72,9 +72,9 @@ fn method(name: &str, params: &[(&str, &str)]) -> Method {
     Method::parse(name, &params).unwrap_or_else(|e| panic!("{e}"))
 }
 
-fn render(scene: &Scene, m: Method, pipeline: PipelineKind) -> realtime::RasterOutput {
+fn render(scene: &Scene, m: &Method, pipeline: PipelineKind) -> realtime::RasterOutput {
     let s = RasterSettings::new(scene.film.width, scene.film.height)
-        .method(m)
+        .method(m.clone())
         .pipeline(pipeline)
         .frames(0, 1)
         .counters(true);
@@ -101,7 +101,7 @@ fn max_difference(a: &[f32], b: &[f32]) -> f32 {
 fn texel_fetches_are_each_techniques_lookups() {
     let scene = patch_scene(bumps(), 0.05, Vec3::new(0.0, 0.0, 1.5));
     let fetches = |m: Method| {
-        let c = render(&scene, m, PipelineKind::Deferred)
+        let c = render(&scene, &m, PipelineKind::Deferred)
             .counters
             .expect("counted");
         c.texel_fetches_per_pixel
@@ -178,7 +178,7 @@ fn a_flat_heightfield_gives_the_flat_base_under_every_technique() {
     let scene = patch_scene(flat, 0.05, Vec3::new(0.4, 0.2, 1.2));
     let base = rgb(&render(
         &scene,
-        method("area_quadrature", &[("n", "8")]),
+        &method("area_quadrature", &[("n", "8")]),
         PipelineKind::Forward,
     ));
     for name in realtime::detail::DETAIL_NAMES {
@@ -187,7 +187,7 @@ fn a_flat_heightfield_gives_the_flat_base_under_every_technique() {
         } else {
             &[]
         };
-        let image = rgb(&render(&scene, method(name, params), PipelineKind::Forward));
+        let image = rgb(&render(&scene, &method(name, params), PipelineKind::Forward));
         let d = max_difference(&image, &base);
         assert!(d < 1e-5, "{name}: differs from the flat base by {d}");
     }
@@ -204,15 +204,15 @@ fn forward_and_deferred_agree_under_surface_detail() {
         ("cone_step", &[("relaxed", "on")][..]),
     ] {
         let m = method(name, params);
-        let f = rgb(&render(&scene, m, PipelineKind::Forward));
-        let d = rgb(&render(&scene, m, PipelineKind::Deferred));
+        let f = rgb(&render(&scene, &m, PipelineKind::Forward));
+        let d = rgb(&render(&scene, &m, PipelineKind::Deferred));
         let diff = max_difference(&f, &d);
         assert!(diff < 1e-4, "{m}: forward and deferred differ by {diff}");
     }
-    let lit = rgb(&render(&scene, method("pom", &[]), PipelineKind::Forward));
+    let lit = rgb(&render(&scene, &method("pom", &[]), PipelineKind::Forward));
     let shadowed = rgb(&render(
         &scene,
-        method("pom", &[("self_shadow", "on")]),
+        &method("pom", &[("self_shadow", "on")]),
         PipelineKind::Forward,
     ));
     let darker = lit
@@ -237,9 +237,9 @@ fn forward_and_deferred_agree_under_surface_detail() {
 fn without_a_detail_method_the_base_is_drawn() {
     let mut scene = patch_scene(bumps(), 0.05, Vec3::new(0.4, 0.2, 1.2));
     let m = method("area_quadrature", &[("n", "8")]);
-    let displaced = rgb(&render(&scene, m, PipelineKind::Forward));
+    let displaced = rgb(&render(&scene, &m, PipelineKind::Forward));
     scene.shapes[0].displacement = None;
-    let plain = rgb(&render(&scene, m, PipelineKind::Forward));
+    let plain = rgb(&render(&scene, &m, PipelineKind::Forward));
     assert_eq!(displaced, plain);
 }
 
@@ -252,7 +252,7 @@ fn rays_leaving_the_patch_are_discarded() {
     let mut scene = patch_scene(plateau, 0.15, Vec3::new(1.6, 0.0, 0.3));
     scene.camera = Camera::look_at(Vec3::new(1.6, 0.0, 0.3), Vec3::new(0.45, 0.0, 0.0), Vec3::Y, 30.0);
     let coverage = |m: Method| -> f32 {
-        let out = render(&scene, m, PipelineKind::Forward);
+        let out = render(&scene, &m, PipelineKind::Forward);
         out.image.channel("coverage.Y").expect("coverage").iter().sum()
     };
     let flat = coverage(method("area_quadrature", &[]));

@@ -93,7 +93,7 @@ fn counters_match_the_loop_structure() {
     let plain = floor_scene(false);
     let textured = floor_scene(true);
     let s = RasterSettings::new(16, 16).method(Method::quadrature(4).with_env_n(0));
-    let c = counters(&plain, s);
+    let c = counters(&plain, s.clone());
     assert_eq!(
         (c.texel_fetches_per_pixel, c.loop_iterations_per_pixel),
         (0.0, 17.0),
@@ -102,7 +102,7 @@ fn counters_match_the_loop_structure() {
     // 2×2 samples per pixel, each 17 iterations and one bilinear albedo lookup (4 texels);
     // forward and deferred count the same work.
     for p in [PipelineKind::Forward, PipelineKind::Deferred] {
-        let c = counters(&textured, s.pipeline(p).ssaa(2));
+        let c = counters(&textured, s.clone().pipeline(p).ssaa(2));
         assert_eq!(
             (c.texel_fetches_per_pixel, c.loop_iterations_per_pixel),
             (16.0, 68.0),

@@ -130,7 +130,7 @@ fn counters_count_shadow_map_fetches_per_kernel() {
             .counters(true);
         for pipeline in [PipelineKind::Forward, PipelineKind::Deferred] {
             let out = renderer()
-                .render(&scene, &s.pipeline(pipeline))
+                .render(&scene, &s.clone().pipeline(pipeline))
                 .unwrap_or_else(|e| panic!("{e}"));
             let c = out.counters.unwrap_or_else(|| panic!("counters were requested"));
             assert_eq!(

@@ -142,8 +142,8 @@ fn parity_forward_equals_deferred() {
     let mut scene = zoo_with_delta_lights();
     scenes_add_area(&mut scene);
     for method in [Method::quadrature(4), Method::representative_point()] {
-        let s = RasterSettings::new(SIZE, SIZE).method(method);
-        let f = raster(&scene, s.pipeline(PipelineKind::Forward)).image;
+        let s = RasterSettings::new(SIZE, SIZE).method(method.clone());
+        let f = raster(&scene, s.clone().pipeline(PipelineKind::Forward)).image;
         let d = raster(&scene, s.pipeline(PipelineKind::Deferred)).image;
         let mut worst = (0.0f32, String::new());
         for (name, fv) in &f.channels {

@@ -391,7 +391,7 @@ fn rectangle_mask(name: &str, rect: &[f32; 4], w: usize, h: usize) -> Mask {
 pub fn raster_settings(study: &Study, scene: &Scene, variant: &Variant) -> RasterSettings {
     let r = study.raster;
     RasterSettings::new(scene.film.width, scene.film.height)
-        .method(variant.raster)
+        .method(variant.raster.clone())
         .pipeline(r.pipeline)
         .ssaa(r.ssaa)
         .frames(r.warmup_frames, r.timed_frames)

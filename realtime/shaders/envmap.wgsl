@@ -1,0 +1,187 @@
+// envmap.wgsl — environment mapping: the reflector shaded from maps captured at one point
+// (realtime/src/envmap.rs), in place of its environment quadrature and its area lights.
+//
+// Technique: classic environment mapping (Blinn & Newell 1976, CACM 19(10)), the map looked
+// up along R = 2(n·ωo)n − ωo (and the refracted direction of Snell's law for a dielectric):
+// - parameterization (ENVMAP_METHOD): a cube map (Greene 1986, "Environment Mapping and Other
+//   Applications of World Projections", IEEE CG&A 6(11)), a sphere map for one view direction
+//   (Miller & Hoffman 1984; s = R_x/m, t = R_y/m, m = √(R_x² + R_y² + (R_z + 1)²) in the map's
+//   frame), or a dual-paraboloid map ((x, y) = (R_x, R_y)/(1 ± R_z), Heidrich & Seidel 1998);
+// - glossy reflection: the prefiltered level of the material's width, trilinear. GGX and glTF
+//   metal-rough take the split sum L ≈ L_pre(R, r)·(f0·A + B) (Karis 2013, "Real Shading in
+//   Unreal Engine 4"), (A, B) from the BRDF table at (n·ωo, r); Phong takes ks·L_pre(R, n)
+//   (the lobe convolution, Heidrich & Seidel 1999 §4). Mip level = r·(levels − 1), r = √α and
+//   α = √(2/(n + 2)) for Phong (Walter et al. 2007 §5.2);
+// - diffuse reflection: ρ/π·E(n), E from the cosine-convolved irradiance cube or from nine
+//   spherical-harmonic coefficients (Ramamoorthi & Hanrahan 2001, eq. 13);
+// - delta lights (point, spot, zero-diameter directional) stay exact; what the map holds
+//   (environment, sun disks, emitters, lit local objects) is taken from the map only.
+// Failure mode: everything the map shows is assumed infinitely far (parallax of near objects
+// is lost: the locality study's lower bounds); no self-reflection or occlusion; the split sum
+// assumes n = v = r for the prefiltered lobe (no stretched reflections at grazing angles);
+// the Phong lookup drops the cosine and the lobe's part below the horizon; the sphere map is
+// valid for its own view only (the direction behind the ball is its rim singularity); the
+// paraboloid's seam where R_z = 0 darkens under bilinear filtering unless its texels past the
+// unit disk are filled; mip levels of high roughness are a few texels wide.
+// Inputs: group 3 (the maps, the sampler, SH coefficients, `envmap` uniform), a resolved
+// Bsdf, the shading normal turned to the geometric normal's side, ωo.
+
+// ENVMAP_METHOD values (envmap.rs `Parameterization::shader_code`); 0: no environment map.
+const ENVMAP_NONE: u32 = 0u;
+const ENVMAP_CUBE: u32 = 1u;
+const ENVMAP_SPHERE: u32 = 2u;
+const ENVMAP_PARABOLOID: u32 = 3u;
+override ENVMAP_METHOD: u32 = 0u;
+
+// envmap.info.y: how diffuse reflection is looked up.
+const IRRADIANCE_MAP: u32 = 0u;
+const IRRADIANCE_SH9: u32 = 1u;
+
+struct EnvMapUniforms {
+    // The reflector's shape index, irradiance kind (IRRADIANCE_*), number of levels, unused.
+    info: vec4<u32>,
+    // The map frame: sphere map z towards its viewer; paraboloid z its axis.
+    frame_x: vec4<f32>,
+    frame_y: vec4<f32>,
+    frame_z: vec4<f32>,
+}
+
+@group(3) @binding(0) var envmap_cube: texture_cube<f32>;
+@group(3) @binding(1) var envmap_flat: texture_2d_array<f32>;
+@group(3) @binding(2) var envmap_irradiance_cube: texture_cube<f32>;
+@group(3) @binding(3) var envmap_brdf: texture_2d_array<f32>;
+@group(3) @binding(4) var envmap_sampler: sampler;
+@group(3) @binding(5) var<storage, read> envmap_sh: array<vec4<f32>, 9>;
+@group(3) @binding(6) var<uniform> envmap: EnvMapUniforms;
+
+// Whether shape `shape` is the environment-mapped reflector.
+fn is_envmapped(shape: u32) -> bool {
+    return ENVMAP_METHOD != ENVMAP_NONE && shape == envmap.info.x;
+}
+
+// One filtered lookup: 4 fetches, 8 between two levels.
+fn count_filtered(level: f32) {
+    count_fetches(select(8u, 4u, fract(level) == 0.0));
+}
+
+// Radiance along unit d from the map at mip level `level` (0: the captured radiance).
+fn envmap_radiance(d: vec3<f32>, level: f32) -> vec3<f32> {
+    count_filtered(level);
+    let rm = vec3<f32>(dot(d, envmap.frame_x.xyz), dot(d, envmap.frame_y.xyz), dot(d, envmap.frame_z.xyz));
+    switch ENVMAP_METHOD {
+        case ENVMAP_SPHERE: {
+            let m = 2.0 * sqrt(rm.x * rm.x + rm.y * rm.y + (rm.z + 1.0) * (rm.z + 1.0));
+            let uv = vec2<f32>(rm.x / m + 0.5, 0.5 - rm.y / m);
+            return textureSampleLevel(envmap_flat, envmap_sampler, uv, 0, level).xyz;
+        }
+        case ENVMAP_PARABOLOID: {
+            let back = rm.z < 0.0;
+            let xy = rm.xy / (1.0 + abs(rm.z));
+            let uv = vec2<f32>(0.5 + 0.5 * xy.x, 0.5 - 0.5 * xy.y);
+            return textureSampleLevel(envmap_flat, envmap_sampler, uv, select(0, 1, back), level).xyz;
+        }
+        default: {
+            return textureSampleLevel(envmap_cube, envmap_sampler, d, level).xyz;
+        }
+    }
+}
+
+// Irradiance E(n) at the capture point.
+fn envmap_irradiance(n: vec3<f32>) -> vec3<f32> {
+    if envmap.info.y == IRRADIANCE_SH9 {
+        count_fetches(9u);
+        let y = array<f32, 9>(
+            0.282095,
+            0.488603 * n.y,
+            0.488603 * n.z,
+            0.488603 * n.x,
+            1.092548 * n.x * n.y,
+            1.092548 * n.y * n.z,
+            0.315392 * (3.0 * n.z * n.z - 1.0),
+            1.092548 * n.x * n.z,
+            0.546274 * (n.x * n.x - n.y * n.y),
+        );
+        var e = vec3<f32>(0.0);
+        for (var k = 0u; k < 9u; k++) {
+            e += envmap_sh[k].xyz * y[k];
+        }
+        return max(e, vec3<f32>(0.0));
+    }
+    count_fetches(4u);
+    return textureSampleLevel(envmap_irradiance_cube, envmap_sampler, n, 0.0).xyz;
+}
+
+// The mip level of a lobe of GGX-equivalent width α: r·(levels − 1), r = √α.
+fn envmap_level(alpha: f32) -> f32 {
+    return sqrt(clamp(alpha, 0.0, 1.0)) * f32(max(envmap.info.z, 1u) - 1u);
+}
+
+// The split-sum table (A, B) at cos θo and α, for the material's masking function.
+fn envmap_split_sum(cos_o: f32, alpha: f32, masking: u32) -> vec2<f32> {
+    count_fetches(4u);
+    let uv = vec2<f32>(cos_o, sqrt(alpha));
+    return textureSampleLevel(envmap_brdf, envmap_sampler, uv, i32(min(masking, 1u)), 0.0).xy;
+}
+
+// Light reflected (and, through a dielectric, refracted) towards ωo from the maps.
+fn envmap_shading(b: Bsdf, n: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
+    let c = dot(n, wo);
+    let nn = select(n, -n, c < 0.0);
+    let cos_o = min(abs(c), 1.0);
+    let r = nn * (2.0 * cos_o) - wo;
+    switch b.kind {
+        case MAT_MIRROR: {
+            return b.color * envmap_radiance(r, 0.0);
+        }
+        case MAT_DIELECTRIC: {
+            let eta = select(1.0 / b.eta, b.eta, c >= 0.0);
+            let fr = fresnel_dielectric(cos_o, eta);
+            var l = fr.x * envmap_radiance(r, 0.0);
+            if fr.x < 1.0 {
+                let t = -wo / eta + nn * (cos_o / eta - fr.y);
+                l += (1.0 - fr.x) * envmap_radiance(normalize(t), 0.0);
+            }
+            return l;
+        }
+        case MAT_DIFFUSE: {
+            return b.color * INV_PI * envmap_irradiance(nn);
+        }
+        case MAT_PHONG: {
+            return b.color * envmap_radiance(r, envmap_level(specular_alpha(b)));
+        }
+        case MAT_GGX: {
+            let ab = envmap_split_sum(cos_o, b.alpha, b.masking);
+            return b.color * (b.f0 * ab.x + ab.y) * envmap_radiance(r, envmap_level(b.alpha));
+        }
+        default: {
+            // glTF metal-rough: Schlick with f0 = (1 − m)·0.04 + m·c for the specular lobe;
+            // the diffuse lobe's (1 − F_d) taken at n·ωo.
+            let m = b.metallic;
+            let f0 = vec3<f32>((1.0 - m) * GLTF_DIELECTRIC_F0) + m * b.color;
+            let ab = envmap_split_sum(cos_o, b.alpha, 0u);
+            let spec = (f0 * ab.x + ab.y) * envmap_radiance(r, envmap_level(b.alpha));
+            let f_d = GLTF_DIELECTRIC_F0 + (1.0 - GLTF_DIELECTRIC_F0) * schlick_weight(cos_o);
+            return spec + b.color * ((1.0 - m) * (1.0 - f_d) * INV_PI) * envmap_irradiance(nn);
+        }
+    }
+}
+
+// The environment-mapped reflector at sp: its emission, the delta lights exactly, the rest
+// from the maps.
+fn shade_envmapped(f: FrameUniforms, sp: SurfacePoint, b: Bsdf, n: vec3<f32>, wo: vec3<f32>, emitted: vec3<f32>) -> vec3<f32> {
+    var color = emitted + envmap_shading(b, n, wo);
+    if bsdf_is_delta(b) {
+        return color;
+    }
+    for (var i = 0u; i < f.counts.x; i++) {
+        count_iteration();
+        let l = lights[i];
+        if !is_sun_disk(l) {
+            let inc = punctual_incident(l, sp.p);
+            if any(inc.li > vec3<f32>(0.0)) {
+                color += bsdf_eval(b, n, wo, inc.wi) * inc.li;
+            }
+        }
+    }
+    return color;
+}

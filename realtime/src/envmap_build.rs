@@ -1,0 +1,725 @@
+//! Building an environment-mapping method's maps for one render (module docs of
+//! [`crate::envmap`]): the capture, the filtering passes of `shaders/envmap_filter.wgsl`, and
+//! the bind group (group 3) the shading pipelines read them from.
+//!
+//! Capture: six forward renders of the scene without the reflector, from the capture point,
+//! 90° square views of side `size` along ±X, ±Y, ±Z (up vectors of the cube-map convention:
+//! −Z for +Y, +Z for −Y, +Y otherwise); each colour target is copied into its Rgba16Float cube
+//! face with its columns mirrored (the convention's faces are left-handed). Pixel centres of a
+//! 90° view are the cube texels' centres, so the copy is exact up to the f16 rounding.
+//! Then: box mips of the radiance cube (full chain), the prefiltered levels (when the
+//! reflector's material has a glossy lobe and `prefilter = lobe`; otherwise the box mips are
+//! read), the irradiance cube (16², from the level of side ≤ 32) or SH9 (from the level of side
+//! ≤ 64) when it has a diffuse lobe, the warp into the sphere or paraboloid map (from the
+//! same levels; the capture cube has the map's side), the BRDF table for GGX and metal-rough.
+
+use std::time::Instant;
+
+use glam::Vec3;
+use scenes::{Camera, Material, Scene};
+use wgpu::util::DeviceExt;
+
+use crate::envmap::{EnvMapping, Irradiance, Parameterization, Prefilter, IRRADIANCE_SIZE};
+use crate::error::RasterError;
+use crate::frame::{encode_passes, Frame, ShadingGroups};
+use crate::method::{Method, PipelineKind};
+use crate::render::{RasterSettings, Renderer};
+use crate::shadow::ShadowMaps;
+use crate::targets::Targets;
+use crate::upload::SceneGpu;
+
+/// Format of every map.
+const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Side of the split-sum BRDF table, and its samples per texel.
+const BRDF_TABLE_SIZE: u32 = 32;
+const BRDF_TABLE_SAMPLES: u32 = 512;
+/// Largest source level side for the irradiance cube and for SH9.
+const IRRADIANCE_SOURCE: u32 = 32;
+const SH9_SOURCE: u32 = 64;
+
+/// `FilterParams` of envmap_filter.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct FilterParams {
+    size: u32,
+    roughness: f32,
+    source_size: u32,
+    mode: u32,
+    samples: u32,
+    source_level: u32,
+    layers: u32,
+    flag: u32,
+    frame_x: [f32; 4],
+    frame_y: [f32; 4],
+    frame_z: [f32; 4],
+}
+
+impl FilterParams {
+    fn new(size: u32) -> FilterParams {
+        FilterParams {
+            size,
+            roughness: 0.0,
+            source_size: 0,
+            mode: 0,
+            samples: 1,
+            source_level: 0,
+            layers: 1,
+            flag: 0,
+            frame_x: [1.0, 0.0, 0.0, 0.0],
+            frame_y: [0.0, 1.0, 0.0, 0.0],
+            frame_z: [0.0, 0.0, 1.0, 0.0],
+        }
+    }
+}
+
+/// `EnvMapUniforms` of envmap.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct EnvMapUniforms {
+    info: [u32; 4],
+    frame_x: [f32; 4],
+    frame_y: [f32; 4],
+    frame_z: [f32; 4],
+}
+
+/// The compute pipelines of envmap_filter.wgsl (auto layouts: group 0, bindings 10–16).
+pub(crate) struct FilterPipelines {
+    face_copy: wgpu::ComputePipeline,
+    downsample: wgpu::ComputePipeline,
+    prefilter: wgpu::ComputePipeline,
+    irradiance: wgpu::ComputePipeline,
+    sh9: wgpu::ComputePipeline,
+    warp: wgpu::ComputePipeline,
+    brdf_lut: wgpu::ComputePipeline,
+}
+
+impl FilterPipelines {
+    pub(crate) fn new(device: &wgpu::Device, module: &wgpu::ShaderModule) -> FilterPipelines {
+        let make = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: None,
+                module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        FilterPipelines {
+            face_copy: make("cs_face_copy"),
+            downsample: make("cs_downsample"),
+            prefilter: make("cs_prefilter"),
+            irradiance: make("cs_irradiance"),
+            sh9: make("cs_sh9"),
+            warp: make("cs_warp"),
+            brdf_lut: make("cs_brdf_lut"),
+        }
+    }
+}
+
+/// One binding of a filter dispatch.
+enum Res<'a> {
+    View(&'a wgpu::TextureView),
+    Sampler(&'a wgpu::Sampler),
+    Buffer(&'a wgpu::Buffer),
+}
+
+/// The maps of one render and group 3 over them.
+pub(crate) struct EnvMaps {
+    pub(crate) bind_group: wgpu::BindGroup,
+    /// Header attributes (`environment_map`, `environment_map_texels`, `environment_map_build_ms`), empty for the
+    /// placeholder.
+    pub(crate) header: Vec<(&'static str, String)>,
+}
+
+/// The index of the reflector of `e` in `scene`: the named shape, or the one non-diffuse,
+/// non-emissive shape.
+pub(crate) fn reflector_index(scene: &Scene, e: &EnvMapping) -> Result<usize, String> {
+    let names = || {
+        scene
+            .shapes
+            .iter()
+            .map(|s| s.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if let Some(name) = &e.reflector {
+        return scene.shapes.iter().position(|s| &s.name == name).ok_or_else(|| {
+            format!(
+                "reflector = {name}: the scene has no such shape; shapes: {}",
+                names()
+            )
+        });
+    }
+    let glossy: Vec<usize> = (0..scene.shapes.len())
+        .filter(|&i| {
+            let s = &scene.shapes[i];
+            s.emission.is_none() && !matches!(scene.materials[s.material], Material::Diffuse { .. })
+        })
+        .collect();
+    match glossy[..] {
+        [i] => Ok(i),
+        _ => Err(format!(
+            "name the reflector (reflector = NAME): the scene has {} non-diffuse, non-emissive shapes; shapes: {}",
+            glossy.len(),
+            names()
+        )),
+    }
+}
+
+/// What the reflector's material needs: (a glossy lobe and whether it is Phong's, a diffuse
+/// lobe, the split-sum table).
+fn lobes(m: &Material) -> (Option<bool>, bool, bool) {
+    match m {
+        Material::Diffuse { .. } => (None, true, false),
+        Material::Phong { .. } => (Some(true), false, false),
+        Material::Ggx { .. } => (Some(false), false, true),
+        Material::MetalRough { .. } => (Some(false), true, true),
+        _ => (None, false, false),
+    }
+}
+
+/// The six capture cameras at `p`, in layer order (+X, −X, +Y, −Y, +Z, −Z).
+fn face_cameras(p: Vec3) -> [Camera; 6] {
+    let faces = [
+        (Vec3::X, Vec3::Y),
+        (Vec3::NEG_X, Vec3::Y),
+        (Vec3::Y, Vec3::NEG_Z),
+        (Vec3::NEG_Y, Vec3::Z),
+        (Vec3::Z, Vec3::Y),
+        (Vec3::NEG_Z, Vec3::Y),
+    ];
+    faces.map(|(forward, up)| Camera::look_at(p, p + forward, up, 90.0))
+}
+
+/// Orthonormal frame (x, y, z) with z = `z` and y as close to world +Y as possible.
+fn frame_about(z: Vec3) -> [Vec3; 3] {
+    let up = if z.y.abs() > 0.999 { Vec3::X } else { Vec3::Y };
+    let x = up.cross(z).normalize();
+    [x, z.cross(x), z]
+}
+
+fn map_texture(device: &wgpu::Device, label: &str, size: u32, layers: u32, levels: u32) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size,
+            height: size,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: levels,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: MAP_FORMAT,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
+        view_formats: &[],
+    })
+}
+
+fn view(t: &wgpu::Texture, dim: wgpu::TextureViewDimension, mips: std::ops::Range<u32>) -> wgpu::TextureView {
+    t.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(dim),
+        base_mip_level: mips.start,
+        mip_level_count: Some(mips.end - mips.start),
+        ..Default::default()
+    })
+}
+
+/// A storage view of level `level` of `t` (every layer).
+fn level_view(t: &wgpu::Texture, level: u32) -> wgpu::TextureView {
+    view(t, wgpu::TextureViewDimension::D2Array, level..level + 1)
+}
+
+fn sampler(device: &wgpu::Device) -> wgpu::Sampler {
+    device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("environment map sampler (trilinear, clamped)"),
+        address_mode_u: wgpu::AddressMode::ClampToEdge,
+        address_mode_v: wgpu::AddressMode::ClampToEdge,
+        address_mode_w: wgpu::AddressMode::ClampToEdge,
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        mipmap_filter: wgpu::FilterMode::Linear,
+        ..Default::default()
+    })
+}
+
+/// Records one filter dispatch of `pipeline` over `groups` workgroups with `params` and
+/// the bindings `res` (binding number, resource).
+fn dispatch(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::ComputePipeline,
+    params: FilterParams,
+    res: &[(u32, Res<'_>)],
+    groups: [u32; 3],
+) {
+    let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("filter parameters"),
+        contents: bytemuck::bytes_of(&params),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let mut entries: Vec<wgpu::BindGroupEntry<'_>> = res
+        .iter()
+        .map(|(binding, r)| wgpu::BindGroupEntry {
+            binding: *binding,
+            resource: match r {
+                Res::View(v) => wgpu::BindingResource::TextureView(v),
+                Res::Sampler(s) => wgpu::BindingResource::Sampler(s),
+                Res::Buffer(b) => b.as_entire_binding(),
+            },
+        })
+        .collect();
+    entries.push(wgpu::BindGroupEntry {
+        binding: 15,
+        resource: uniform.as_entire_binding(),
+    });
+    let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("filter bind group"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    });
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some("environment map filtering"),
+        timestamp_writes: None,
+    });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, &bind_group, &[]);
+    pass.dispatch_workgroups(groups[0], groups[1], groups[2]);
+}
+
+fn tiles(n: u32) -> u32 {
+    n.div_ceil(8)
+}
+
+/// Group 3 over the given maps.
+#[allow(clippy::too_many_arguments)]
+fn bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    cube: &wgpu::TextureView,
+    flat: &wgpu::TextureView,
+    irradiance: &wgpu::TextureView,
+    brdf: &wgpu::TextureView,
+    sh: &wgpu::Buffer,
+    uniforms: EnvMapUniforms,
+) -> wgpu::BindGroup {
+    let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("environment map uniforms"),
+        contents: bytemuck::bytes_of(&uniforms),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let s = sampler(device);
+    let views = [cube, flat, irradiance, brdf];
+    let mut entries: Vec<wgpu::BindGroupEntry<'_>> = views
+        .iter()
+        .enumerate()
+        .map(|(i, v)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: wgpu::BindingResource::TextureView(v),
+        })
+        .collect();
+    entries.push(wgpu::BindGroupEntry {
+        binding: 4,
+        resource: wgpu::BindingResource::Sampler(&s),
+    });
+    entries.push(wgpu::BindGroupEntry {
+        binding: 5,
+        resource: sh.as_entire_binding(),
+    });
+    entries.push(wgpu::BindGroupEntry {
+        binding: 6,
+        resource: uniform.as_entire_binding(),
+    });
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("environment map bind group"),
+        layout,
+        entries: &entries,
+    })
+}
+
+fn sh_buffer(device: &wgpu::Device) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("SH9 irradiance coefficients"),
+        size: 9 * 16,
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    })
+}
+
+impl EnvMaps {
+    /// Group 3 of every render without an environment map: 1×1 maps, no reflector.
+    pub(crate) fn placeholder(device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> EnvMaps {
+        let cube = map_texture(device, "placeholder cube", 1, 6, 1);
+        let flat = map_texture(device, "placeholder map", 1, 2, 1);
+        let cube_view = view(&cube, wgpu::TextureViewDimension::Cube, 0..1);
+        let flat_view = view(&flat, wgpu::TextureViewDimension::D2Array, 0..1);
+        let uniforms = EnvMapUniforms {
+            info: [u32::MAX, 0, 1, 0],
+            frame_x: [1.0, 0.0, 0.0, 0.0],
+            frame_y: [0.0, 1.0, 0.0, 0.0],
+            frame_z: [0.0, 0.0, 1.0, 0.0],
+        };
+        let sh = sh_buffer(device);
+        EnvMaps {
+            bind_group: bind_group(
+                device, layout, &cube_view, &flat_view, &cube_view, &flat_view, &sh, uniforms,
+            ),
+            header: Vec::new(),
+        }
+    }
+}
+
+impl Renderer {
+    /// Captures and filters the maps of `settings`' environment-mapping method for `scene`.
+    pub(crate) fn build_environment_maps(
+        &self,
+        scene: &Scene,
+        settings: &RasterSettings,
+        placeholder: &EnvMaps,
+    ) -> Result<EnvMaps, RasterError> {
+        let Some(e) = &settings.method.envmap else {
+            return Ok(EnvMaps {
+                bind_group: placeholder.bind_group.clone(),
+                header: Vec::new(),
+            });
+        };
+        let device = &self.gpu.device;
+        let limits = self.gpu.limits();
+        let bad = |m: String| RasterError::Settings(format!("method {}: {m}", settings.method));
+        if e.size > limits.max_texture_dimension_2d {
+            return Err(bad(format!(
+                "size = {} exceeds the adapter's {} texels per side",
+                e.size, limits.max_texture_dimension_2d
+            )));
+        }
+        let start = Instant::now();
+        let index = reflector_index(scene, e).map_err(bad)?;
+        let reflector = &scene.shapes[index];
+        let (lo, hi) = reflector.bounds(&scene.textures);
+        let capture = e.capture.unwrap_or((lo + hi) * 0.5);
+        let (glossy, diffuse, split_sum) = lobes(&scene.materials[reflector.material]);
+
+        // Capture: the scene without the reflector, six faces of side `size`.
+        let size = e.size;
+        let mut without = scene.clone();
+        without.shapes.remove(index);
+        let capture_method = Method {
+            envmap: None,
+            ..settings.method.clone()
+        };
+        let face_settings = RasterSettings::new(size, size)
+            .method(capture_method)
+            .pipeline(PipelineKind::Forward)
+            .frames(0, 1);
+        let max_binding = u64::from(limits.max_storage_buffer_binding_size);
+        let scene_gpu = SceneGpu::new(
+            device,
+            &without,
+            max_binding,
+            face_settings.method.detail.as_ref(),
+            &self.cones,
+        )
+        .map_err(RasterError::Scene)?;
+        let shadow = ShadowMaps::new(
+            device,
+            &self.pipelines.shadow_layout,
+            &without,
+            &face_settings.method,
+            1.0,
+            limits,
+        )
+        .map_err(RasterError::Settings)?;
+        let groups = ShadingGroups {
+            empty: &self.pipelines.empty_bind_group,
+            shadow: &shadow,
+            envmap: &placeholder.bind_group,
+        };
+        let stages = self.stages(&face_settings, false);
+        let filters = self.pipelines.filters(device);
+        let mips = size.ilog2() + 1;
+        let radiance = map_texture(device, "radiance cube", size, 6, mips);
+        let targets = Targets::new(
+            device,
+            PipelineKind::Forward,
+            size,
+            size,
+            &self.pipelines.gbuffer_layout,
+        );
+        for (face, camera) in face_cameras(capture).into_iter().enumerate() {
+            let mut view_scene = without.clone();
+            view_scene.camera = camera;
+            let frame = Frame::new(
+                device,
+                &self.pipelines.scene_layout,
+                &view_scene,
+                &scene_gpu,
+                &shadow,
+                &face_settings,
+                1,
+            );
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("environment capture"),
+            });
+            encode_passes(&mut encoder, &frame, &targets, &stages, &scene_gpu, &groups, None);
+            let dst = radiance.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                base_mip_level: 0,
+                mip_level_count: Some(1),
+                base_array_layer: face as u32,
+                array_layer_count: Some(1),
+                ..Default::default()
+            });
+            dispatch(
+                device,
+                &mut encoder,
+                &filters.face_copy,
+                FilterParams::new(size),
+                &[(10, Res::View(&targets.output_views[0])), (14, Res::View(&dst))],
+                [tiles(size), tiles(size), 1],
+            );
+            self.gpu.queue.submit([encoder.finish()]);
+        }
+
+        // Box mips, then what the material reads.
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("environment map filtering"),
+        });
+        for k in 1..mips {
+            let n = (size >> k).max(1);
+            let src = level_view(&radiance, k - 1);
+            let dst = level_view(&radiance, k);
+            let params = FilterParams {
+                layers: 6,
+                ..FilterParams::new(n)
+            };
+            dispatch(
+                device,
+                &mut encoder,
+                &filters.downsample,
+                params,
+                &[(11, Res::View(&src)), (14, Res::View(&dst))],
+                [tiles(n), tiles(n), 6],
+            );
+        }
+        let levels = EnvMapping::levels(size).min(mips);
+        let s = sampler(device);
+        let radiance_cube = view(&radiance, wgpu::TextureViewDimension::Cube, 0..mips);
+        let prefiltered = match (glossy, e.prefilter) {
+            (Some(phong), Prefilter::Lobe) => {
+                let t = map_texture(device, "prefiltered cube", size, 6, levels);
+                for k in 0..levels {
+                    let n = (size >> k).max(1);
+                    let dst = level_view(&t, k);
+                    let params = FilterParams {
+                        roughness: if levels > 1 {
+                            k as f32 / (levels - 1) as f32
+                        } else {
+                            0.0
+                        },
+                        source_size: size,
+                        mode: u32::from(phong),
+                        samples: e.filter_samples,
+                        ..FilterParams::new(n)
+                    };
+                    dispatch(
+                        device,
+                        &mut encoder,
+                        &filters.prefilter,
+                        params,
+                        &[
+                            (12, Res::View(&radiance_cube)),
+                            (13, Res::Sampler(&s)),
+                            (14, Res::View(&dst)),
+                        ],
+                        [tiles(n), tiles(n), 6],
+                    );
+                }
+                Some(t)
+            }
+            _ => None,
+        };
+        let specular_cube = match &prefiltered {
+            Some(t) => view(t, wgpu::TextureViewDimension::Cube, 0..levels),
+            None => view(&radiance, wgpu::TextureViewDimension::Cube, 0..levels),
+        };
+        let sh = sh_buffer(device);
+        let irradiance = if diffuse && e.irradiance == Irradiance::Map {
+            let t = map_texture(device, "irradiance cube", IRRADIANCE_SIZE, 6, 1);
+            let level = level_of_side(size, IRRADIANCE_SOURCE);
+            let src = level_view(&radiance, level);
+            let params = FilterParams {
+                source_size: (size >> level).max(1),
+                ..FilterParams::new(IRRADIANCE_SIZE)
+            };
+            let dst = level_view(&t, 0);
+            dispatch(
+                device,
+                &mut encoder,
+                &filters.irradiance,
+                params,
+                &[(11, Res::View(&src)), (14, Res::View(&dst))],
+                [tiles(IRRADIANCE_SIZE), tiles(IRRADIANCE_SIZE), 6],
+            );
+            Some(t)
+        } else {
+            None
+        };
+        if diffuse && e.irradiance == Irradiance::Sh9 {
+            let level = level_of_side(size, SH9_SOURCE);
+            let src = level_view(&radiance, level);
+            let params = FilterParams {
+                source_size: (size >> level).max(1),
+                ..FilterParams::new(1)
+            };
+            dispatch(
+                device,
+                &mut encoder,
+                &filters.sh9,
+                params,
+                &[(11, Res::View(&src)), (16, Res::Buffer(&sh))],
+                [1, 1, 1],
+            );
+        }
+        let frame = match e.parameterization {
+            Parameterization::Cube => [Vec3::X, Vec3::Y, Vec3::Z],
+            Parameterization::Sphere => {
+                let towards = e
+                    .sphere_view
+                    .unwrap_or_else(|| scene.camera.position() - capture)
+                    .try_normalize()
+                    .unwrap_or(Vec3::Z);
+                frame_about(towards)
+            }
+            Parameterization::Paraboloid => [Vec3::X, Vec3::NEG_Z, Vec3::Y],
+        };
+        let f4 = |v: Vec3| [v.x, v.y, v.z, 0.0];
+        let flat = if e.parameterization == Parameterization::Cube {
+            None
+        } else {
+            let layers = e.parameterization.layers();
+            let t = map_texture(device, "sphere or paraboloid map", size, layers, levels);
+            for k in 0..levels {
+                let n = (size >> k).max(1);
+                let dst = level_view(&t, k);
+                let params = FilterParams {
+                    mode: u32::from(e.parameterization == Parameterization::Paraboloid),
+                    source_level: k,
+                    layers,
+                    flag: u32::from(e.seam_fill),
+                    frame_x: f4(frame[0]),
+                    frame_y: f4(frame[1]),
+                    frame_z: f4(frame[2]),
+                    ..FilterParams::new(n)
+                };
+                dispatch(
+                    device,
+                    &mut encoder,
+                    &filters.warp,
+                    params,
+                    &[
+                        (12, Res::View(&specular_cube)),
+                        (13, Res::Sampler(&s)),
+                        (14, Res::View(&dst)),
+                    ],
+                    [tiles(n), tiles(n), layers],
+                );
+            }
+            Some(t)
+        };
+        let brdf = split_sum.then(|| {
+            let t = map_texture(device, "split-sum BRDF table", BRDF_TABLE_SIZE, 2, 1);
+            let dst = level_view(&t, 0);
+            let params = FilterParams {
+                samples: BRDF_TABLE_SAMPLES,
+                ..FilterParams::new(BRDF_TABLE_SIZE)
+            };
+            dispatch(
+                device,
+                &mut encoder,
+                &filters.brdf_lut,
+                params,
+                &[(14, Res::View(&dst))],
+                [tiles(BRDF_TABLE_SIZE), tiles(BRDF_TABLE_SIZE), 2],
+            );
+            t
+        });
+        self.gpu.queue.submit([encoder.finish()]);
+        self.wait()?;
+        self.check_errors("building the environment maps")?;
+        let build_ms = start.elapsed().as_secs_f64() * 1e3;
+
+        let placeholder_cube;
+        let placeholder_flat;
+        let irradiance_view = match &irradiance {
+            Some(t) => view(t, wgpu::TextureViewDimension::Cube, 0..1),
+            None => {
+                placeholder_cube = map_texture(device, "placeholder cube", 1, 6, 1);
+                view(&placeholder_cube, wgpu::TextureViewDimension::Cube, 0..1)
+            }
+        };
+        placeholder_flat = map_texture(device, "placeholder map", 1, 2, 1);
+        let flat_view = match &flat {
+            Some(t) => view(t, wgpu::TextureViewDimension::D2Array, 0..levels),
+            None => view(&placeholder_flat, wgpu::TextureViewDimension::D2Array, 0..1),
+        };
+        let brdf_view = match &brdf {
+            Some(t) => view(t, wgpu::TextureViewDimension::D2Array, 0..1),
+            None => view(&placeholder_flat, wgpu::TextureViewDimension::D2Array, 0..1),
+        };
+        let uniforms = EnvMapUniforms {
+            info: [
+                index as u32,
+                match e.irradiance {
+                    Irradiance::Map => 0,
+                    Irradiance::Sh9 => 1,
+                },
+                levels,
+                0,
+            ],
+            frame_x: f4(frame[0]),
+            frame_y: f4(frame[1]),
+            frame_z: f4(frame[2]),
+        };
+        let bind_group = bind_group(
+            device,
+            &self.pipelines.envmap_layout,
+            &specular_cube,
+            &flat_view,
+            &irradiance_view,
+            &brdf_view,
+            &sh,
+            uniforms,
+        );
+        let describe = format!(
+            "{} of side {size}, {levels} levels ({}), reflector {}, captured at ({:.4}, {:.4}, {:.4})",
+            e.parameterization,
+            match (glossy, e.prefilter) {
+                (Some(true), Prefilter::Lobe) => "Phong lobe",
+                (Some(false), Prefilter::Lobe) => "GGX lobe",
+                (Some(_), Prefilter::Box) => "box mips",
+                (None, _) => "unfiltered",
+            },
+            reflector.name,
+            capture.x,
+            capture.y,
+            capture.z
+        );
+        Ok(EnvMaps {
+            bind_group,
+            header: vec![
+                ("environment_map", describe),
+                ("environment_map_texels", e.texels().to_string()),
+                ("environment_map_build_ms", format!("{build_ms:.3}")),
+            ],
+        })
+    }
+}
+
+/// The first mip level of a `size` chain whose side is at most `max`.
+fn level_of_side(size: u32, max: u32) -> u32 {
+    let mut k = 0;
+    while (size >> k) > max {
+        k += 1;
+    }
+    k
+}
