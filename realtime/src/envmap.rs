@@ -23,7 +23,7 @@
 //! 1..=4096), `prefilter` (`lobe`: the material's lobe, GGX or normalized Phong, by filtered
 //! importance sampling; `box`: the box mips as they are — the cheap variant), `irradiance`
 //! (`map`: a 16² cosine-convolved cube; `sh9`: nine SH coefficients), `reflector` (the shape's
-//! name; default: the scene's one non-diffuse, non-emissive shape), `capture` (`x,y,z`,
+//! name; default: the scene's one non-diffuse, non-emissive shape, or its one non-emissive shape), `capture` (`x,y,z`,
 //! default the reflector's bounding-box centre), `detail` (a surface-detail method, or
 //! `none`: lookups by its perturbed normal — environment-mapped normal mapping, EMNM — with
 //! that method's parameters), `n` and `env_n` (as `area_quadrature`: the capture's and the
@@ -130,7 +130,8 @@ pub struct EnvMapping {
     /// Paraboloid only: fill the texels past each unit disk with the continued
     /// parameterization (the seam handled), or leave them black.
     pub seam_fill: bool,
-    /// The reflector's shape name (None: the scene's one non-diffuse, non-emissive shape).
+    /// The reflector's shape name (None: the scene's one non-diffuse, non-emissive shape, or
+    /// its one non-emissive shape).
     pub reflector: Option<String>,
     /// The capture point (None: the reflector's bounding-box centre).
     pub capture: Option<Vec3>,

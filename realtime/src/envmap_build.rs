@@ -133,7 +133,7 @@ pub(crate) struct EnvMaps {
 }
 
 /// The index of the reflector of `e` in `scene`: the named shape, or the one non-diffuse,
-/// non-emissive shape.
+/// non-emissive shape, or the one non-emissive shape.
 pub(crate) fn reflector_index(scene: &Scene, e: &EnvMapping) -> Result<usize, String> {
     let names = || {
         scene
@@ -151,14 +151,21 @@ pub(crate) fn reflector_index(scene: &Scene, e: &EnvMapping) -> Result<usize, St
             )
         });
     }
-    let glossy: Vec<usize> = (0..scene.shapes.len())
+    let lit: Vec<usize> = (0..scene.shapes.len())
+        .filter(|&i| scene.shapes[i].emission.is_none())
+        .collect();
+    let glossy: Vec<usize> = lit
+        .iter()
+        .copied()
         .filter(|&i| {
-            let s = &scene.shapes[i];
-            s.emission.is_none() && !matches!(scene.materials[s.material], Material::Diffuse { .. })
+            !matches!(
+                scene.materials[scene.shapes[i].material],
+                Material::Diffuse { .. }
+            )
         })
         .collect();
-    match glossy[..] {
-        [i] => Ok(i),
+    match (&glossy[..], &lit[..]) {
+        ([i], _) | ([], [i]) => Ok(*i),
         _ => Err(format!(
             "name the reflector (reflector = NAME): the scene has {} non-diffuse, non-emissive shapes; shapes: {}",
             glossy.len(),
