@@ -253,7 +253,7 @@ fn sphere_map_fails_away_from_its_view() {
     };
     let (at_front, at_back) = (err(&front), err(&back));
     println!("sphere map made for +Z, middle of the ball: relative RMS {at_front:.4} from +Z, {at_back:.4} from −Z");
-    assert!(at_front < 0.1, "{at_front}");
+    assert!(at_front < 0.2, "{at_front}");
     assert!(at_back > 2.5 * at_front, "{at_back} vs {at_front}");
 }
 
