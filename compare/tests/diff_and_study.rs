@@ -104,6 +104,17 @@ fn study_files_are_checked_whole_with_located_errors() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/studies/test-bad.toml");
     let s = compare::study::load_str(GOOD, &path).unwrap();
     assert_eq!(s.methods[0].variants().len(), 2);
+    // A label names the entry's variants (and their files) in place of the method.
+    let twice = GOOD.replace(
+        "[[threshold]]",
+        "[[method]]\nname = \"area_quadrature\"\nlabel = \"coarse\"\nparams = { env_n = 2 }\nsweep = { n = [2] }\n[[threshold]]",
+    );
+    let t = compare::study::load_str(&twice, &path).unwrap();
+    let v = &t.methods[1].variants()[0];
+    assert_eq!(
+        (v.label(), v.id(), v.method.as_str()),
+        ("coarse(n=2)".into(), "coarse-n-2".into(), "area_quadrature")
+    );
     assert_eq!(s.thresholds[0].max, Some(1.0));
     let with_vis = GOOD
         .replace("spp = 16", "spp = 16\nvisibility_of = \"light\"")
@@ -156,6 +167,20 @@ fn study_files_are_checked_whole_with_located_errors() {
         (
             GOOD.replace("max = 1.0", "max = 1.0\non = \"shadow\""),
             "field `threshold[0].on`",
+        ),
+        (
+            GOOD.replace(
+                "[[threshold]]",
+                "[[method]]\nname = \"area_quadrature\"\nsweep = { n = [2] }\n[[threshold]]",
+            ),
+            "two [[method]] entries measure the variant `area_quadrature(n=2)`",
+        ),
+        (
+            GOOD.replace(
+                "sweep = { n = [4, 2] }",
+                "label = \"a b\"\nsweep = { n = [4, 2] }",
+            ),
+            "invalid label `a b`",
         ),
     ];
     for (text, want) in cases {

@@ -249,6 +249,9 @@ impl MaskSpec {
 pub struct MethodSpec {
     /// The realtime method (`verity raster --method` names).
     pub name: String,
+    /// What the report calls it (default: `name`): tells apart two entries of one method
+    /// with different fixed parameters.
+    pub label: Option<String>,
     /// Fixed parameters.
     pub params: Vec<(String, String)>,
     /// Swept parameters, each with its values in the order listed (towards the failure regime).
@@ -260,6 +263,8 @@ pub struct MethodSpec {
 pub struct Variant {
     /// The method's name.
     pub method: String,
+    /// The method entry's `label`, if it has one.
+    pub label: Option<String>,
     /// Fixed and swept parameters.
     pub params: Vec<(String, String)>,
     /// The swept parameters' values at this point.
@@ -283,16 +288,17 @@ impl Variant {
 
     /// The label without the scene-sweep value: the method's grid point.
     pub fn method_label(&self) -> String {
+        let base = self.label.as_ref().unwrap_or(&self.method);
         if self.swept.is_empty() {
-            return self.method.clone();
+            return base.clone();
         }
         let kv: Vec<String> = self.swept.iter().map(|(k, v)| format!("{k}={v}")).collect();
-        format!("{}({})", self.method, kv.join(", "))
+        format!("{base}({})", kv.join(", "))
     }
 
     /// A file-name-safe id: `name` or `name-k-v-…`, then `--scene_parameter-value`.
     pub fn id(&self) -> String {
-        let mut id = self.method.clone();
+        let mut id = self.label.as_ref().unwrap_or(&self.method).clone();
         for (k, v) in &self.swept {
             id += &format!("-{k}-{v}");
         }
@@ -327,6 +333,7 @@ impl MethodSpec {
                 let raster = Method::parse(&self.name, &params).expect("checked when the study was read");
                 Variant {
                     method: self.name.clone(),
+                    label: self.label.clone(),
                     params,
                     swept,
                     scene: Vec::new(),
@@ -389,7 +396,7 @@ pub struct Threshold {
 impl Threshold {
     /// Does the bound apply to `variant`?
     pub fn applies_to(&self, variant: &Variant) -> bool {
-        variant.method == self.method
+        (variant.method == self.method || variant.label.as_ref() == Some(&self.method))
             && self.params.iter().all(|kv| variant.params.contains(kv))
             && self.scene.iter().all(|kv| variant.scene.contains(kv))
     }
@@ -518,6 +525,19 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
     let methods = list(&doc, "method", method)?;
     if methods.is_empty() {
         return Err(doc.err("a study needs at least one [[method]]").field("method"));
+    }
+    // Two entries must not measure under one name (their reports would overwrite each other).
+    let mut seen = std::collections::HashSet::new();
+    for v in methods.iter().flat_map(MethodSpec::variants) {
+        if !seen.insert(v.method_label()) {
+            return Err(doc
+                .err(format!(
+                    "two [[method]] entries measure the variant `{}`",
+                    v.method_label()
+                ))
+                .field("method")
+                .hint("give one of them a label = \"…\""));
+        }
     }
     let stability = match doc.get("stability") {
         Some(f) => stability(&f.table()?, &scene)?,
@@ -772,9 +792,21 @@ fn params(t: Option<Table>) -> Result<Vec<(String, String)>, SceneError> {
 }
 
 fn method(t: &Table) -> Result<MethodSpec, SceneError> {
-    t.only(&["name", "params", "sweep"], "a [[method]]")?;
+    t.only(&["name", "label", "params", "sweep"], "a [[method]]")?;
     let name_field = t.req("name")?;
     let name = name_field.str()?.to_string();
+    let label = match t.get("label") {
+        Some(f) => {
+            let l = f.str()?.to_string();
+            if l.is_empty() || !l.chars().all(|c| c.is_ascii_alphanumeric() || "_-".contains(c)) {
+                return Err(f
+                    .err(format!("invalid label `{l}`"))
+                    .hint("use letters, digits, '_' and '-' (it names files)"));
+            }
+            Some(l)
+        }
+        None => None,
+    };
     let params = params(t.get("params").map(|f| f.table()).transpose()?)?;
     Method::parse(&name, &params).map_err(|e| name_field.err(e))?;
     let mut sweep = Vec::new();
@@ -797,7 +829,12 @@ fn method(t: &Table) -> Result<MethodSpec, SceneError> {
             sweep.push((key.to_string(), list));
         }
     }
-    Ok(MethodSpec { name, params, sweep })
+    Ok(MethodSpec {
+        name,
+        label,
+        params,
+        sweep,
+    })
 }
 
 /// `[scene_set]`: `"dotted.path" = value` pairs (paths as `[scene_sweep]`'s `set`); the edited
@@ -1046,7 +1083,11 @@ fn check_references(study: &Study, doc: &Table) -> Result<(), SceneError> {
         .transpose()?
         .unwrap_or_default();
     for (th, t) in study.thresholds.iter().zip(&thresholds) {
-        let Some(m) = study.methods.iter().find(|m| m.name == th.method) else {
+        let Some(m) = study
+            .methods
+            .iter()
+            .find(|m| m.name == th.method || m.label.as_ref() == Some(&th.method))
+        else {
             let names: Vec<&str> = study.methods.iter().map(|m| m.name.as_str()).collect();
             return Err(t.req("method")?.err(format!(
                 "no [[method]] named `{}` in this study; methods: {}",
