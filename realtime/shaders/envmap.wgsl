@@ -19,7 +19,8 @@
 // Failure mode: everything the map shows is assumed infinitely far (parallax of near objects
 // is lost: the locality study's lower bounds); no self-reflection or occlusion; the split sum
 // assumes n = v = r for the prefiltered lobe (no stretched reflections at grazing angles);
-// the Phong lookup drops the cosine and the lobe's part below the horizon; the sphere map is
+// the Phong lookup drops the cosine and the lobe's part below the horizon; rough lobes
+// lean towards the normal (off-specular), which `dominant_direction` approximates; the sphere map is
 // valid for its own view only (the direction behind the ball is its rim singularity); the
 // paraboloid's seam where R_z = 0 darkens under bilinear filtering unless its texels past the
 // unit disk are filled; mip levels of high roughness are a few texels wide.
@@ -38,7 +39,8 @@ const IRRADIANCE_MAP: u32 = 0u;
 const IRRADIANCE_SH9: u32 = 1u;
 
 struct EnvMapUniforms {
-    // The reflector's shape index, irradiance kind (IRRADIANCE_*), number of levels, unused.
+    // The reflector's shape index, irradiance kind (IRRADIANCE_*), number of levels, glossy
+    // lookups along the dominant direction (1) or R (0).
     info: vec4<u32>,
     // The map frame: sphere map z towards its viewer; paraboloid z its axis.
     frame_x: vec4<f32>,
@@ -116,6 +118,17 @@ fn envmap_level(alpha: f32) -> f32 {
     return sqrt(clamp(alpha, 0.0, 1.0)) * f32(max(envmap.info.z, 1u) - 1u);
 }
 
+// Where a glossy lobe of width α about R is looked up: R, or its dominant direction
+// lerp(n, R, s), s = (1 − α)(√(1 − α) + α) (Lagarde & de Rousiers 2014, "Moving Frostbite to
+// Physically Based Rendering", §4.9.3: rough lobes lean towards the normal).
+fn glossy_direction(n: vec3<f32>, r: vec3<f32>, alpha: f32) -> vec3<f32> {
+    if envmap.info.w == 0u {
+        return r;
+    }
+    let smooth_ = clamp(1.0 - alpha, 0.0, 1.0);
+    return normalize(mix(n, r, smooth_ * (sqrt(smooth_) + alpha)));
+}
+
 // The split-sum table (A, B) at cos θo and α, for the material's masking function.
 fn envmap_split_sum(cos_o: f32, alpha: f32, masking: u32) -> vec2<f32> {
     count_fetches(4u);
@@ -147,11 +160,13 @@ fn envmap_shading(b: Bsdf, n: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
             return b.color * INV_PI * envmap_irradiance(nn);
         }
         case MAT_PHONG: {
-            return b.color * envmap_radiance(r, envmap_level(specular_alpha(b)));
+            let alpha = specular_alpha(b);
+            return b.color * envmap_radiance(glossy_direction(nn, r, alpha), envmap_level(alpha));
         }
         case MAT_GGX: {
             let ab = envmap_split_sum(cos_o, b.alpha, b.masking);
-            return b.color * (b.f0 * ab.x + ab.y) * envmap_radiance(r, envmap_level(b.alpha));
+            let l = envmap_radiance(glossy_direction(nn, r, b.alpha), envmap_level(b.alpha));
+            return b.color * (b.f0 * ab.x + ab.y) * l;
         }
         default: {
             // glTF metal-rough: Schlick with f0 = (1 − m)·0.04 + m·c for the specular lobe;
@@ -159,7 +174,7 @@ fn envmap_shading(b: Bsdf, n: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
             let m = b.metallic;
             let f0 = vec3<f32>((1.0 - m) * GLTF_DIELECTRIC_F0) + m * b.color;
             let ab = envmap_split_sum(cos_o, b.alpha, 0u);
-            let spec = (f0 * ab.x + ab.y) * envmap_radiance(r, envmap_level(b.alpha));
+            let spec = (f0 * ab.x + ab.y) * envmap_radiance(glossy_direction(nn, r, b.alpha), envmap_level(b.alpha));
             let f_d = GLTF_DIELECTRIC_F0 + (1.0 - GLTF_DIELECTRIC_F0) * schlick_weight(cos_o);
             return spec + b.color * ((1.0 - m) * (1.0 - f_d) * INV_PI) * envmap_irradiance(nn);
         }

@@ -22,7 +22,9 @@
 //! face has the same side), `filter_samples` (samples per texel of the specular prefilter, 64:
 //! 1..=4096), `prefilter` (`lobe`: the material's lobe, GGX or normalized Phong, by filtered
 //! importance sampling; `box`: the box mips as they are — the cheap variant), `irradiance`
-//! (`map`: a 16² cosine-convolved cube; `sh9`: nine SH coefficients), `reflector` (the shape's
+//! (`map`: a 16² cosine-convolved cube; `sh9`: nine SH coefficients), `dominant_direction`
+//! (`off`: glossy lookups along R, as Karis 2013; `on`: along the lobe's dominant direction,
+//! between n and R by the roughness, Lagarde & de Rousiers 2014), `reflector` (the shape's
 //! name; default: the scene's one non-diffuse, non-emissive shape, or its one non-emissive shape), `capture` (`x,y,z`,
 //! default the reflector's bounding-box centre), `detail` (a surface-detail method, or
 //! `none`: lookups by its perturbed normal — environment-mapped normal mapping, EMNM — with
@@ -127,6 +129,9 @@ pub struct EnvMapping {
     pub prefilter: Prefilter,
     /// Irradiance cube or SH9.
     pub irradiance: Irradiance,
+    /// Glossy lookups along the GGX lobe's dominant direction, between n and R, instead of R
+    /// (Lagarde & de Rousiers 2014).
+    pub dominant_direction: bool,
     /// Paraboloid only: fill the texels past each unit disk with the continued
     /// parameterization (the seam handled), or leave them black.
     pub seam_fill: bool,
@@ -149,6 +154,7 @@ impl EnvMapping {
             filter_samples: 64,
             prefilter: Prefilter::Lobe,
             irradiance: Irradiance::Map,
+            dominant_direction: false,
             seam_fill: true,
             reflector: None,
             capture: None,
@@ -176,6 +182,7 @@ impl EnvMapping {
             "filter_samples",
             "prefilter",
             "irradiance",
+            "dominant_direction",
             "reflector",
             "capture",
             "detail",
@@ -210,6 +217,13 @@ impl EnvMapping {
                 self.irradiance = match value {
                     "map" => Irradiance::Map,
                     "sh9" => Irradiance::Sh9,
+                    _ => return None,
+                }
+            }
+            "dominant_direction" => {
+                self.dominant_direction = match value {
+                    "on" | "true" => true,
+                    "off" | "false" => false,
                     _ => return None,
                 }
             }
@@ -257,6 +271,10 @@ impl EnvMapping {
                 .to_string(),
             ),
         ];
+        p.push((
+            "dominant_direction",
+            if self.dominant_direction { "on" } else { "off" }.to_string(),
+        ));
         if let Some(r) = &self.reflector {
             p.push(("reflector", r.clone()));
         }

@@ -681,7 +681,7 @@ impl Renderer {
                     Irradiance::Sh9 => 1,
                 },
                 levels,
-                0,
+                u32::from(e.dominant_direction),
             ],
             frame_x: f4(frame[0]),
             frame_y: f4(frame[1]),

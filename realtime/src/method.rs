@@ -484,6 +484,7 @@ impl Method {
             "size" => Param::Whole(ENVMAP_SIZES),
             "prefilter" => Param::Keyword(&["lobe", "box"]),
             "irradiance" => Param::Keyword(&["map", "sh9"]),
+            "dominant_direction" => Param::Keyword(&["on", "off", "true", "false"]),
             "seam" => Param::Keyword(&["fill", "none"]),
             "reflector" => Param::Name,
             "capture" | "sphere_view" => Param::Vector,

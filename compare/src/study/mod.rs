@@ -396,7 +396,8 @@ pub struct Threshold {
 impl Threshold {
     /// Does the bound apply to `variant`?
     pub fn applies_to(&self, variant: &Variant) -> bool {
-        (variant.method == self.method || variant.label.as_ref() == Some(&self.method))
+        // A labelled entry is selected by its label only.
+        variant.label.as_ref().unwrap_or(&variant.method) == &self.method
             && self.params.iter().all(|kv| variant.params.contains(kv))
             && self.scene.iter().all(|kv| variant.scene.contains(kv))
     }
@@ -1086,9 +1087,13 @@ fn check_references(study: &Study, doc: &Table) -> Result<(), SceneError> {
         let Some(m) = study
             .methods
             .iter()
-            .find(|m| m.name == th.method || m.label.as_ref() == Some(&th.method))
+            .find(|m| m.label.as_ref().unwrap_or(&m.name) == &th.method)
         else {
-            let names: Vec<&str> = study.methods.iter().map(|m| m.name.as_str()).collect();
+            let names: Vec<&str> = study
+                .methods
+                .iter()
+                .map(|m| m.label.as_ref().unwrap_or(&m.name).as_str())
+                .collect();
             return Err(t.req("method")?.err(format!(
                 "no [[method]] named `{}` in this study; methods: {}",
                 th.method,
@@ -1099,7 +1104,7 @@ fn check_references(study: &Study, doc: &Table) -> Result<(), SceneError> {
             .scene_points()
             .iter()
             .flat_map(|p| study.variants_at(p))
-            .filter(|v| v.method == m.name)
+            .filter(|v| v.method == m.name && v.label == m.label)
             .collect();
         if !at_every_point.iter().any(|v| th.applies_to(v)) {
             if !th.scene.is_empty() {
