@@ -9,8 +9,9 @@
 //   frame), or a dual-paraboloid map ((x, y) = (R_x, R_y)/(1 ± R_z), Heidrich & Seidel 1998);
 // - glossy reflection: the prefiltered level of the material's width, trilinear. GGX and glTF
 //   metal-rough take the split sum L ≈ L_pre(R, r)·(f0·A + B) (Karis 2013, "Real Shading in
-//   Unreal Engine 4"), (A, B) from the BRDF table at (n·ωo, r); Phong takes ks·L_pre(R, n)
-//   (the lobe convolution, Heidrich & Seidel 1999 §4). Mip level = r·(levels − 1), r = √α and
+//   Unreal Engine 4"), (A, B) from the BRDF table at (n·ωo, r); Phong takes
+//   ks·(n+2)/(n+1)·(n·R)·L_pre(R, n) (the lobe convolution, Heidrich & Seidel 1999 §4, with
+//   the BRDF's normalization and the cosine at the lobe's axis). Mip level = r·(levels − 1), r = √α and
 //   α = √(2/(n + 2)) for Phong (Walter et al. 2007 §5.2);
 // - diffuse reflection: ρ/π·E(n), E from the cosine-convolved irradiance cube or from nine
 //   spherical-harmonic coefficients (Ramamoorthi & Hanrahan 2001, eq. 13);
@@ -19,7 +20,8 @@
 // Failure mode: everything the map shows is assumed infinitely far (parallax of near objects
 // is lost: the locality study's lower bounds); no self-reflection or occlusion; the split sum
 // assumes n = v = r for the prefiltered lobe (no stretched reflections at grazing angles);
-// the Phong lookup drops the cosine and the lobe's part below the horizon; rough lobes
+// the Phong lookup takes the cosine at the lobe's axis and keeps the lobe's part below the
+// horizon; rough lobes
 // lean towards the normal (off-specular), which `dominant_direction` approximates; the sphere map is
 // valid for its own view only (the direction behind the ball is its rim singularity); the
 // paraboloid's seam where R_z = 0 darkens under bilinear filtering unless its texels past the
@@ -160,8 +162,13 @@ fn envmap_shading(b: Bsdf, n: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
             return b.color * INV_PI * envmap_irradiance(nn);
         }
         case MAT_PHONG: {
+            // ks·(n+2)/(2π)∫cosⁿα·cos θi·L dω ≈ ks·(n+2)/(n+1)·(n·R)·L_pre(R): the map holds the
+            // lobe normalized as (n+1)/(2π)·cosⁿα, and cos θi is taken at the lobe's axis
+            // (exact as n → ∞; our approximation).
             let alpha = specular_alpha(b);
-            return b.color * envmap_radiance(glossy_direction(nn, r, alpha), envmap_level(alpha));
+            let cos_r = max(dot(nn, r), 0.0);
+            let norm = (b.exponent + 2.0) / (b.exponent + 1.0) * cos_r;
+            return b.color * norm * envmap_radiance(glossy_direction(nn, r, alpha), envmap_level(alpha));
         }
         case MAT_GGX: {
             let ab = envmap_split_sum(cos_o, b.alpha, b.masking);
