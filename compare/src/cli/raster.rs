@@ -29,7 +29,9 @@ pub struct RasterArgs {
     /// pcss (Fernando 2005); surface detail on displaced shapes: normal_mapping, bump_mapping
     /// (Blinn 1978), parallax (Kaneko 2001), parallax_offset_limited (Welsh 2004),
     /// steep_parallax, relief_mapping (Policarpo 2005), pom (Tatarchuk 2006), cone_step
-    /// (Dummer 2006).
+    /// (Dummer 2006); environment mapping of one reflector, maps captured at a point:
+    /// envmap_cube (Greene 1986), envmap_sphere (Miller & Hoffman 1984), envmap_paraboloid
+    /// (Heidrich & Seidel 1998).
     #[arg(long, value_name = "NAME", default_value = "area_quadrature")]
     pub method: String,
 
@@ -47,6 +49,12 @@ pub struct RasterArgs {
     /// parallax_offset_limited bias=0 (−1..=1 of the height range); steep_parallax steps=16;
     /// relief_mapping steps=16, binary_steps=6; pom min_steps=8, max_steps=32,
     /// self_shadow=off|on, shadow_steps=16; cone_step steps=32, relaxed=off|on, binary_steps=6.
+    /// Environment-mapping methods: size=128 (4..=2048, the map's side), filter_samples=64
+    /// (1..=4096, per prefiltered texel), prefilter=lobe|box, irradiance=map|sh9,
+    /// dominant_direction=off|on, reflector=SHAPE (default: the one non-diffuse shape),
+    /// capture=X,Y,Z (default: the reflector's centre), detail=none|<detail method> (EMNM),
+    /// envmap_sphere sphere_view=X,Y,Z (default: towards the camera), envmap_paraboloid
+    /// seam=fill|none.
     #[arg(long = "param", value_name = "K=V", value_parser = parse_param)]
     pub params: Vec<(String, String)>,
 
