@@ -40,6 +40,10 @@
 //! listed with their parameters in [`crate::detail`]; they shade by N×N quadrature, unshadowed
 //! by maps, and take `n` (8), `env_n` (8) and `height_scale` (1).
 //!
+//! Environment-mapping methods (`envmap_cube`, `envmap_sphere`, `envmap_paraboloid`) are
+//! listed with their parameters in [`crate::envmap`]; they shade one reflector from maps
+//! captured at a point, the other shapes by N×N quadrature (n = 8, env_n = 8), unshadowed.
+//!
 //! Delta lights (point, spot, zero-diameter directional) are exact under every method, up to V.
 //! The environment lights surfaces by `env_n`×`env_n` cosine-weighted midpoint quadrature under
 //! every method, never shadowed (0 turns environment lighting off; the background is always
