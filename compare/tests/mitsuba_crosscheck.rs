@@ -19,6 +19,9 @@ const CROSSCHECKED: &[&str] = &[
     "soft-shadow",
     "studies/scenes/contact-hardening",
     "studies/scenes/overlapping-blockers",
+    "studies/scenes/envmap-ball",
+    "studies/scenes/envmap-locality",
+    "studies/scenes/envmap-room",
 ];
 
 /// Built-in scenes Mitsuba cannot express, with a phrase of the refusal (README.md lists them).
@@ -154,4 +157,13 @@ fn every_builtin_scene_is_crosschecked_or_listed() {
 fn shadow_study_scenes_agree() {
     agrees("studies/scenes/contact-hardening", Variant::LlvmAdRgb, 64, 256);
     agrees("studies/scenes/overlapping-blockers", Variant::LlvmAdRgb, 64, 256);
+}
+
+/// The environment-mapping studies' scenes as their files stand (a mirror ball under an HDR;
+/// with a glowing ball; the room), whose ground truth is the oracle's `path`.
+#[test]
+fn envmap_study_scenes_agree() {
+    agrees("studies/scenes/envmap-ball", Variant::LlvmAdRgb, 64, 256);
+    agrees("studies/scenes/envmap-locality", Variant::LlvmAdRgb, 64, 256);
+    agrees("studies/scenes/envmap-room", Variant::LlvmAdRgb, 64, 256);
 }

@@ -27,7 +27,10 @@ fn main() {
     println!("adapter: {}", renderer.gpu().adapter_name());
     println!("| method | material | side | build ms (best of {REPEATS}) |");
     println!("|---|---|---|---|");
-    for (material, label) in [("glossy", "GGX, 64 samples"), ("white", "diffuse, irradiance cube")] {
+    for (material, label) in [
+        ("glossy", "GGX, 64 samples"),
+        ("white", "diffuse, irradiance cube"),
+    ] {
         let scene = scene(material);
         for name in ["envmap_cube", "envmap_sphere", "envmap_paraboloid"] {
             for size in [64, 128, 256, 512] {
