@@ -90,21 +90,27 @@ fn envmap_radiance(d: vec3<f32>, level: f32) -> vec3<f32> {
     }
 }
 
+// The nine real spherical harmonics Y_lm(d), bands 0–2 (Ramamoorthi & Hanrahan 2001, eq. 3);
+// envmap_filter.wgsl projects onto the same basis.
+fn sh9_basis(d: vec3<f32>) -> array<f32, 9> {
+    return array<f32, 9>(
+        0.282095,
+        0.488603 * d.y,
+        0.488603 * d.z,
+        0.488603 * d.x,
+        1.092548 * d.x * d.y,
+        1.092548 * d.y * d.z,
+        0.315392 * (3.0 * d.z * d.z - 1.0),
+        1.092548 * d.x * d.z,
+        0.546274 * (d.x * d.x - d.y * d.y),
+    );
+}
+
 // Irradiance E(n) at the capture point.
 fn envmap_irradiance(n: vec3<f32>) -> vec3<f32> {
     if envmap.info.y == IRRADIANCE_SH9 {
         count_fetches(9u);
-        let y = array<f32, 9>(
-            0.282095,
-            0.488603 * n.y,
-            0.488603 * n.z,
-            0.488603 * n.x,
-            1.092548 * n.x * n.y,
-            1.092548 * n.y * n.z,
-            0.315392 * (3.0 * n.z * n.z - 1.0),
-            1.092548 * n.x * n.z,
-            0.546274 * (n.x * n.x - n.y * n.y),
-        );
+        let y = sh9_basis(n);
         var e = vec3<f32>(0.0);
         for (var k = 0u; k < 9u; k++) {
             e += envmap_sh[k].xyz * y[k];

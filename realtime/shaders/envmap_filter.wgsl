@@ -220,21 +220,6 @@ fn cs_irradiance(@builtin(global_invocation_id) id: vec3<u32>) {
     textureStore(filter_dst, vec2<i32>(id.xy), i32(id.z), vec4<f32>(e, 1.0));
 }
 
-// The nine real spherical harmonics Y_lm(d), bands 0–2 (Ramamoorthi & Hanrahan 2001, eq. 3).
-fn sh9_basis(d: vec3<f32>) -> array<f32, 9> {
-    return array<f32, 9>(
-        0.282095,
-        0.488603 * d.y,
-        0.488603 * d.z,
-        0.488603 * d.x,
-        1.092548 * d.x * d.y,
-        1.092548 * d.y * d.z,
-        0.315392 * (3.0 * d.z * d.z - 1.0),
-        1.092548 * d.x * d.z,
-        0.546274 * (d.x * d.x - d.y * d.y),
-    );
-}
-
 const SH_THREADS: u32 = 64u;
 var<workgroup> sh_partial: array<array<vec3<f32>, 9>, 64>;
 
