@@ -223,7 +223,7 @@ fn cs_irradiance(@builtin(global_invocation_id) id: vec3<u32>) {
 const SH_THREADS: u32 = 64u;
 var<workgroup> sh_partial: array<array<vec3<f32>, 9>, 64>;
 
-// SH9 irradiance coefficients of one radiance level: one workgroup, a strided sum per thread,
+// SH9 irradiance coefficients of one radiance level (basis: envmap.wgsl sh9_basis): one workgroup, a strided sum per thread,
 // then thread 0 adds the partial sums and applies the cosine lobe's Â_l.
 @compute @workgroup_size(64)
 fn cs_sh9(@builtin(local_invocation_index) t: u32) {
