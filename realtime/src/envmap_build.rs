@@ -250,6 +250,20 @@ fn sampler(device: &wgpu::Device) -> wgpu::Sampler {
     })
 }
 
+/// Bind group entries of `res` (binding number, resource).
+fn bind_entries<'a>(res: &[(u32, Res<'a>)]) -> Vec<wgpu::BindGroupEntry<'a>> {
+    res.iter()
+        .map(|(binding, r)| wgpu::BindGroupEntry {
+            binding: *binding,
+            resource: match r {
+                Res::View(v) => wgpu::BindingResource::TextureView(v),
+                Res::Sampler(s) => wgpu::BindingResource::Sampler(s),
+                Res::Buffer(b) => b.as_entire_binding(),
+            },
+        })
+        .collect()
+}
+
 /// Records one filter dispatch of `pipeline` over `groups` workgroups with `params` and
 /// the bindings `res` (binding number, resource).
 fn dispatch(
@@ -265,17 +279,7 @@ fn dispatch(
         contents: bytemuck::bytes_of(&params),
         usage: wgpu::BufferUsages::UNIFORM,
     });
-    let mut entries: Vec<wgpu::BindGroupEntry<'_>> = res
-        .iter()
-        .map(|(binding, r)| wgpu::BindGroupEntry {
-            binding: *binding,
-            resource: match r {
-                Res::View(v) => wgpu::BindingResource::TextureView(v),
-                Res::Sampler(s) => wgpu::BindingResource::Sampler(s),
-                Res::Buffer(b) => b.as_entire_binding(),
-            },
-        })
-        .collect();
+    let mut entries = bind_entries(res);
     entries.push(wgpu::BindGroupEntry {
         binding: 15,
         resource: uniform.as_entire_binding(),
@@ -316,27 +320,15 @@ fn bind_group(
         usage: wgpu::BufferUsages::UNIFORM,
     });
     let s = sampler(device);
-    let views = [cube, flat, irradiance, brdf];
-    let mut entries: Vec<wgpu::BindGroupEntry<'_>> = views
-        .iter()
-        .enumerate()
-        .map(|(i, v)| wgpu::BindGroupEntry {
-            binding: i as u32,
-            resource: wgpu::BindingResource::TextureView(v),
-        })
-        .collect();
-    entries.push(wgpu::BindGroupEntry {
-        binding: 4,
-        resource: wgpu::BindingResource::Sampler(&s),
-    });
-    entries.push(wgpu::BindGroupEntry {
-        binding: 5,
-        resource: sh.as_entire_binding(),
-    });
-    entries.push(wgpu::BindGroupEntry {
-        binding: 6,
-        resource: uniform.as_entire_binding(),
-    });
+    let entries = bind_entries(&[
+        (0, Res::View(cube)),
+        (1, Res::View(flat)),
+        (2, Res::View(irradiance)),
+        (3, Res::View(brdf)),
+        (4, Res::Sampler(&s)),
+        (5, Res::Buffer(sh)),
+        (6, Res::Buffer(&uniform)),
+    ]);
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("environment map bind group"),
         layout,
