@@ -5,19 +5,17 @@
 //! cache. Accuracy against the oracle is measured by the surface-detail studies
 //! (scenes/studies/detail-*.toml).
 
+mod support;
+
 use std::path::PathBuf;
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
 use glam::{Vec2, Vec3, Vec4};
-use realtime::{Detail, DetailTechnique, Method, PipelineKind, RasterSettings, Renderer};
+use realtime::{Detail, DetailTechnique, Method, PipelineKind, RasterSettings};
 use scenes::displacement::Procedural;
 use scenes::texture::Texture;
 use scenes::*;
-
-fn renderer() -> &'static Renderer {
-    static R: OnceLock<Renderer> = OnceLock::new();
-    R.get_or_init(|| Renderer::new().unwrap_or_else(|e| panic!("these tests need a GPU adapter: {e}")))
-}
+use support::{method, renderer};
 
 /// A 1 m heightfield patch in the XY plane (normal +Z) displaced by `height` × `scale` m,
 /// seen from `eye` (looking at its centre), lit by a low sun; it fills the view from the front.
@@ -62,14 +60,6 @@ fn patch_scene(height: Texture, scale: f32, eye: Vec3) -> Scene {
 
 fn bumps() -> Texture {
     Procedural::Bumps { tiles: 4 }.texture(64, [WrapMode::Clamp; 2])
-}
-
-fn method(name: &str, params: &[(&str, &str)]) -> Method {
-    let params: Vec<(String, String)> = params
-        .iter()
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect();
-    Method::parse(name, &params).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn render(scene: &Scene, m: &Method, pipeline: PipelineKind) -> realtime::RasterOutput {

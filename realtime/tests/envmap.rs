@@ -8,16 +8,13 @@
 //! is named clearly when it cannot be guessed. Accuracy against the oracle (local objects,
 //! roughness, real HDRs) is measured by the studies scenes/studies/envmap-*.toml.
 
+mod support;
+
 use std::path::Path;
-use std::sync::OnceLock;
 
-use realtime::{Method, PipelineKind, RasterSettings, Renderer};
+use realtime::{Method, PipelineKind, RasterSettings};
 use scenes::Scene;
-
-fn renderer() -> &'static Renderer {
-    static R: OnceLock<Renderer> = OnceLock::new();
-    R.get_or_init(|| Renderer::new().unwrap_or_else(|e| panic!("these tests need a GPU adapter: {e}")))
-}
+use support::{method, renderer};
 
 const SIZE: u32 = 48;
 
@@ -79,14 +76,6 @@ radius = 1
 "#
     );
     scenes::toml::load_str(&text, Path::new("<envmap test scene>.toml")).unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn method(name: &str, params: &[(&str, &str)]) -> Method {
-    let params: Vec<(String, String)> = params
-        .iter()
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect();
-    Method::parse(name, &params).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn render_with(scene: &Scene, m: &Method, pipeline: PipelineKind) -> realtime::RasterOutput {

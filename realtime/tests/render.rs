@@ -3,20 +3,18 @@
 //! ids, and bad settings and scenes as errors. Parity with the oracle is tested in
 //! tests/tests/parity_*.rs.
 
+mod support;
+
 use std::path::PathBuf;
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
 use glam::{Vec3, Vec4};
-use realtime::{Method, PipelineKind, RasterError, RasterSettings, Renderer};
+use realtime::{Method, PipelineKind, RasterError, RasterSettings};
 use scenes::texture::Texture;
 use scenes::*;
+use support::renderer;
 
 /// The process's renderer; no adapter fails the test with the install hint.
-fn renderer() -> &'static Renderer {
-    static R: OnceLock<Renderer> = OnceLock::new();
-    R.get_or_init(|| Renderer::new().unwrap_or_else(|e| panic!("these tests need a GPU adapter: {e}")))
-}
-
 /// A camera looking straight down at a 100 m floor (it fills the view), lit by one rectangle
 /// light above the camera (out of view); the floor's albedo is a 2×2 texture when `textured`.
 fn floor_scene(textured: bool) -> Scene {

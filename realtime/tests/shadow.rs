@@ -4,25 +4,14 @@
 //! fixed ones, and bad settings as errors. Accuracy against the oracle
 //! is tested in tests/tests/parity_shadow.rs.
 
+mod support;
+
 use std::path::PathBuf;
-use std::sync::OnceLock;
 
 use glam::Vec3;
-use realtime::{Method, PipelineKind, RasterError, RasterSettings, Renderer};
+use realtime::{PipelineKind, RasterError, RasterSettings};
 use scenes::*;
-
-fn renderer() -> &'static Renderer {
-    static R: OnceLock<Renderer> = OnceLock::new();
-    R.get_or_init(|| Renderer::new().unwrap_or_else(|e| panic!("these tests need a GPU adapter: {e}")))
-}
-
-fn method(name: &str, params: &[(&str, &str)]) -> Method {
-    let p: Vec<(String, String)> = params
-        .iter()
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect();
-    Method::parse(name, &p).unwrap_or_else(|e| panic!("{e}"))
-}
+use support::{method, renderer};
 
 fn shape(name: &str, geometry: Geometry, emission: Option<f32>) -> Shape {
     Shape {
