@@ -48,6 +48,12 @@ struct EnvMapUniforms {
     frame_x: vec4<f32>,
     frame_y: vec4<f32>,
     frame_z: vec4<f32>,
+    // Localization (distance_impostor.wgsl): mode (LOCAL_*), iterations or linear steps,
+    // secant steps, double refraction (1) or not (0).
+    local: vec4<u32>,
+    // The capture point and the refractor's centre (its map's origin), world space.
+    capture: vec4<f32>,
+    refractor: vec4<f32>,
 }
 
 @group(3) @binding(0) var envmap_cube: texture_cube<f32>;
@@ -57,6 +63,8 @@ struct EnvMapUniforms {
 @group(3) @binding(4) var envmap_sampler: sampler;
 @group(3) @binding(5) var<storage, read> envmap_sh: array<vec4<f32>, 9>;
 @group(3) @binding(6) var<uniform> envmap: EnvMapUniforms;
+// The refractor's distance map: outward normal (xyz) and distance from its centre (w).
+@group(3) @binding(7) var envmap_refractor: texture_cube<f32>;
 
 // Whether shape `shape` is the environment-mapped reflector.
 fn is_envmapped(shape: u32) -> bool {
@@ -144,23 +152,28 @@ fn envmap_split_sum(cos_o: f32, alpha: f32, masking: u32) -> vec2<f32> {
     return textureSampleLevel(envmap_brdf, envmap_sampler, uv, i32(min(masking, 1u)), 0.0).xy;
 }
 
-// Light reflected (and, through a dielectric, refracted) towards ωo from the maps.
-fn envmap_shading(b: Bsdf, n: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
+// Light reflected (and, through a dielectric, refracted) towards ωo at world point p from
+// the maps; mirror and dielectric lookups localized by the distance impostors' search.
+fn envmap_shading(b: Bsdf, p: vec3<f32>, n: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     let c = dot(n, wo);
     let nn = select(n, -n, c < 0.0);
     let cos_o = min(abs(c), 1.0);
     let r = nn * (2.0 * cos_o) - wo;
     switch b.kind {
         case MAT_MIRROR: {
-            return b.color * envmap_radiance(r, 0.0);
+            return b.color * localized_radiance(p, r);
         }
         case MAT_DIELECTRIC: {
             let eta = select(1.0 / b.eta, b.eta, c >= 0.0);
             let fr = fresnel_dielectric(cos_o, eta);
-            var l = fr.x * envmap_radiance(r, 0.0);
+            var l = fr.x * localized_radiance(p, r);
             if fr.x < 1.0 {
-                let t = -wo / eta + nn * (cos_o / eta - fr.y);
-                l += (1.0 - fr.x) * envmap_radiance(normalize(t), 0.0);
+                let t = normalize(-wo / eta + nn * (cos_o / eta - fr.y));
+                if envmap.local.w == 1u && c >= 0.0 {
+                    l += (1.0 - fr.x) * double_refracted_radiance(p, t, eta);
+                } else {
+                    l += (1.0 - fr.x) * localized_radiance(p, t);
+                }
             }
             return l;
         }
@@ -197,7 +210,7 @@ fn envmap_shading(b: Bsdf, n: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
 // The environment-mapped reflector at sp: its emission, the delta lights exactly, the rest
 // from the maps.
 fn shade_envmapped(f: FrameUniforms, sp: SurfacePoint, b: Bsdf, n: vec3<f32>, wo: vec3<f32>, emitted: vec3<f32>) -> vec3<f32> {
-    var color = emitted + envmap_shading(b, n, wo);
+    var color = emitted + envmap_shading(b, sp.p, n, wo);
     if bsdf_is_delta(b) {
         return color;
     }

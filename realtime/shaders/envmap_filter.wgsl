@@ -70,6 +70,8 @@ const WARP_PARABOLOID: u32 = 1u;
 @group(0) @binding(14) var filter_dst: texture_storage_2d_array<rgba16float, write>;
 @group(0) @binding(15) var<uniform> filter_params: FilterParams;
 @group(0) @binding(16) var<storage, read_write> filter_sh: array<vec4<f32>, 9>;
+// The captured view's normal + view depth (cs_face_copy).
+@group(0) @binding(17) var filter_src_depth: texture_2d<f32>;
 
 // The direction through face `face` at (a, b) ∈ [−1, 1]², a along s and b along t.
 fn cube_direction(face: u32, a: f32, b: f32) -> vec3<f32> {
@@ -110,18 +112,47 @@ fn hammersley(i: u32, n: u32) -> vec2<f32> {
     return vec2<f32>(f32(i) / f32(n), f32(reverseBits(i)) * 2.3283064365386963e-10);
 }
 
-// Capture: copy a rendered view (Rgba32Float) into its cube face, columns mirrored.
+// The distance stored for what the capture point does not see (the background): the largest
+// f16, "infinitely far" to the distance impostors.
+const BACKGROUND_DISTANCE: f32 = 65504.0;
+// FilterParams.mode of cs_face_copy.
+const COPY_RADIANCE: u32 = 0u;
+const COPY_NORMAL: u32 = 1u;
+
+// Capture: copy a rendered view into its cube face, columns mirrored. Alpha: the distance from
+// the capture point, view depth × |(a, b, 1)| at the texel's (a, b) ∈ [−1, 1]² (a 90° view's
+// ray through (a, b) is (a, b, 1) in camera space), BACKGROUND_DISTANCE where nothing was
+// drawn. Rgb: the radiance (COPY_RADIANCE) or the shading normal (COPY_NORMAL, a refractor's map).
 @compute @workgroup_size(8, 8)
 fn cs_face_copy(@builtin(global_invocation_id) id: vec3<u32>) {
     let n = filter_params.size;
     if id.x >= n || id.y >= n {
         return;
     }
-    let c = textureLoad(filter_src_2d, vec2<i32>(i32(n - 1u - id.x), i32(id.y)), 0);
-    textureStore(filter_dst, vec2<i32>(id.xy), 0, vec4<f32>(c.xyz, 1.0));
+    let src = vec2<i32>(i32(n - 1u - id.x), i32(id.y));
+    let c = textureLoad(filter_src_2d, src, 0);
+    let nd = textureLoad(filter_src_depth, src, 0);
+    let a = 2.0 * (f32(id.x) + 0.5) / f32(n) - 1.0;
+    let b = 2.0 * (f32(id.y) + 0.5) / f32(n) - 1.0;
+    let distance = select(BACKGROUND_DISTANCE, nd.w * sqrt(1.0 + a * a + b * b), nd.w > 0.0);
+    let rgb = select(c.xyz, nd.xyz, filter_params.mode == COPY_NORMAL);
+    textureStore(filter_dst, vec2<i32>(id.xy), 0, vec4<f32>(rgb, distance));
 }
 
-// Box mips: level k + 1 as the mean of 2×2 texels of level k, face by face.
+// A sphere refractor's map, from its centre: normal = the texel's direction, distance = the
+// radius (FilterParams.roughness).
+@compute @workgroup_size(8, 8)
+fn cs_refractor_sphere(@builtin(global_invocation_id) id: vec3<u32>) {
+    let n = filter_params.size;
+    if id.x >= n || id.y >= n || id.z >= 6u {
+        return;
+    }
+    let d = texel_direction(id.z, id.x, id.y, n);
+    textureStore(filter_dst, vec2<i32>(id.xy), i32(id.z), vec4<f32>(d, filter_params.roughness));
+}
+
+// Box mips: level k + 1 as the mean of 2×2 texels of level k, face by face (alpha 1: only
+// level 0 keeps the distances).
 @compute @workgroup_size(8, 8)
 fn cs_downsample(@builtin(global_invocation_id) id: vec3<u32>) {
     let n = filter_params.size;

@@ -39,6 +39,7 @@ use std::fmt;
 use glam::Vec3;
 
 use crate::detail::{Detail, DetailTechnique};
+use crate::distance_impostor::Localization;
 
 /// Smallest and largest `size`.
 pub const ENVMAP_SIZES: std::ops::RangeInclusive<u32> = 4..=2048;
@@ -143,6 +144,12 @@ pub struct EnvMapping {
     /// Sphere map only: the direction from the reflector towards the viewer the map is made
     /// for (None: towards the scene's camera).
     pub sphere_view: Option<Vec3>,
+    /// Cube map only: how mirror and dielectric lookups are localized by the stored
+    /// distances ([`crate::distance_impostor`]; `Distant` for the `envmap_*` methods).
+    pub localization: Localization,
+    /// Localized only: trace a dielectric's refracted ray to its exit through the
+    /// refractor's own distance map.
+    pub double_refraction: bool,
 }
 
 impl EnvMapping {
@@ -159,7 +166,28 @@ impl EnvMapping {
             reflector: None,
             capture: None,
             sphere_view: None,
+            localization: Localization::Distant,
+            double_refraction: false,
         }
+    }
+
+    /// The method called `name` with its defaults: an `envmap_*` or distance-impostor
+    /// method (a localized cube map).
+    pub fn by_name(name: &str) -> Option<EnvMapping> {
+        if let Some(p) = Parameterization::by_name(name) {
+            return Some(EnvMapping::new(p));
+        }
+        Localization::by_name(name).map(|localization| EnvMapping {
+            localization,
+            ..EnvMapping::new(Parameterization::Cube)
+        })
+    }
+
+    /// The method name.
+    pub fn name(&self) -> &'static str {
+        self.localization
+            .name()
+            .unwrap_or_else(|| self.parameterization.name())
     }
 
     /// Prefiltered levels at level-0 side `size`: ⌊log₂ size⌋ − 1, between 1 and
@@ -192,6 +220,7 @@ impl EnvMapping {
             Parameterization::Sphere => names.push("sphere_view"),
             Parameterization::Paraboloid => names.push("seam"),
         }
+        names.extend(self.localization.param_names());
         names
     }
 
@@ -244,7 +273,14 @@ impl EnvMapping {
                 let v = parse_vec3(value)?;
                 self.sphere_view = Some(v.try_normalize()?);
             }
-            _ => return None,
+            "double_refraction" => {
+                self.double_refraction = match value {
+                    "on" | "true" => true,
+                    "off" | "false" => false,
+                    _ => return None,
+                }
+            }
+            _ => self.localization.set(key, value)?,
         }
         Some(())
     }
@@ -292,6 +328,7 @@ impl EnvMapping {
                 p.push(("seam", if self.seam_fill { "fill" } else { "none" }.to_string()));
             }
         }
+        p.extend(self.localization.params(self));
         p.push((
             "detail",
             detail.map_or("none", |d| d.technique.name()).to_string(),

@@ -16,7 +16,7 @@
 use std::time::Instant;
 
 use glam::Vec3;
-use scenes::{Camera, Material, Scene};
+use scenes::{Camera, Geometry, Material, Scene};
 use wgpu::util::DeviceExt;
 
 use crate::envmap::{EnvMapping, Irradiance, Parameterization, Prefilter, IRRADIANCE_SIZE};
@@ -80,11 +80,15 @@ struct EnvMapUniforms {
     frame_x: [f32; 4],
     frame_y: [f32; 4],
     frame_z: [f32; 4],
+    local: [u32; 4],
+    capture: [f32; 4],
+    refractor: [f32; 4],
 }
 
-/// The compute pipelines of envmap_filter.wgsl (auto layouts: group 0, bindings 10–16).
+/// The compute pipelines of envmap_filter.wgsl (auto layouts: group 0, bindings 10–17).
 pub(crate) struct FilterPipelines {
     face_copy: wgpu::ComputePipeline,
+    refractor_sphere: wgpu::ComputePipeline,
     downsample: wgpu::ComputePipeline,
     prefilter: wgpu::ComputePipeline,
     irradiance: wgpu::ComputePipeline,
@@ -107,6 +111,7 @@ impl FilterPipelines {
         };
         FilterPipelines {
             face_copy: make("cs_face_copy"),
+            refractor_sphere: make("cs_refractor_sphere"),
             downsample: make("cs_downsample"),
             prefilter: make("cs_prefilter"),
             irradiance: make("cs_irradiance"),
@@ -312,6 +317,7 @@ fn bind_group(
     irradiance: &wgpu::TextureView,
     brdf: &wgpu::TextureView,
     sh: &wgpu::Buffer,
+    refractor: &wgpu::TextureView,
     uniforms: EnvMapUniforms,
 ) -> wgpu::BindGroup {
     let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -328,6 +334,7 @@ fn bind_group(
         (4, Res::Sampler(&s)),
         (5, Res::Buffer(sh)),
         (6, Res::Buffer(&uniform)),
+        (7, Res::View(refractor)),
     ]);
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("environment map bind group"),
@@ -357,11 +364,15 @@ impl EnvMaps {
             frame_x: [1.0, 0.0, 0.0, 0.0],
             frame_y: [0.0, 1.0, 0.0, 0.0],
             frame_z: [0.0, 0.0, 1.0, 0.0],
+            local: [0; 4],
+            capture: [0.0; 4],
+            refractor: [0.0; 4],
         };
         let sh = sh_buffer(device);
         EnvMaps {
             bind_group: bind_group(
-                device, layout, &cube_view, &flat_view, &cube_view, &flat_view, &sh, uniforms,
+                device, layout, &cube_view, &flat_view, &cube_view, &flat_view, &sh, &cube_view,
+                uniforms,
             ),
             header: Vec::new(),
         }
@@ -402,82 +413,52 @@ impl Renderer {
         let size = e.size;
         let mut without = scene.clone();
         without.shapes.remove(index);
-        let capture_method = Method {
-            envmap: None,
-            ..settings.method.clone()
-        };
-        let face_settings = RasterSettings::new(size, size)
-            .method(capture_method)
-            .pipeline(PipelineKind::Forward)
-            .frames(0, 1);
-        let max_binding = u64::from(limits.max_storage_buffer_binding_size);
-        let scene_gpu = SceneGpu::new(
-            device,
-            &without,
-            max_binding,
-            face_settings.method.detail.as_ref(),
-            &self.cones,
-        )
-        .map_err(RasterError::Scene)?;
-        let shadow = ShadowMaps::new(
-            device,
-            &self.pipelines.shadow_layout,
-            &without,
-            &face_settings.method,
-            1.0,
-            limits,
-        )
-        .map_err(RasterError::Settings)?;
-        let groups = ShadingGroups {
-            empty: &self.pipelines.empty_bind_group,
-            shadow: &shadow,
-            envmap: &placeholder.bind_group,
-        };
-        let stages = self.stages(&face_settings, false);
         let filters = self.pipelines.filters(device);
         let mips = size.ilog2() + 1;
-        let radiance = map_texture(device, "radiance cube", size, 6, mips);
-        let targets = Targets::new(
-            device,
-            PipelineKind::Forward,
-            size,
-            size,
-            &self.pipelines.gbuffer_layout,
-        );
-        for (face, camera) in face_cameras(capture).into_iter().enumerate() {
-            let mut view_scene = without.clone();
-            view_scene.camera = camera;
-            let frame = Frame::new(
-                device,
-                &self.pipelines.scene_layout,
-                &view_scene,
-                &scene_gpu,
-                &shadow,
-                &face_settings,
-                1,
-            );
-            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("environment capture"),
-            });
-            encode_passes(&mut encoder, &frame, &targets, &stages, &scene_gpu, &groups, None);
-            let dst = radiance.create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::D2Array),
-                base_mip_level: 0,
-                mip_level_count: Some(1),
-                base_array_layer: face as u32,
-                array_layer_count: Some(1),
-                ..Default::default()
-            });
-            dispatch(
-                device,
-                &mut encoder,
-                &filters.face_copy,
-                FilterParams::new(size),
-                &[(10, Res::View(&targets.output_views[0])), (14, Res::View(&dst))],
-                [tiles(size), tiles(size), 1],
-            );
-            self.gpu.queue.submit([encoder.finish()]);
-        }
+        let radiance = self.capture_cube(&without, capture, settings, placeholder, CaptureKind::Radiance)?;
+
+        // The refractor's own map, for double refraction: a sphere's from its centre and
+        // radius, a mesh's rendered from its bounding-box centre.
+        let refractor_centre = (lo + hi) * 0.5;
+        let is_dielectric = matches!(scene.materials[reflector.material], Material::Dielectric { .. });
+        let refractor = if e.double_refraction && is_dielectric {
+            Some(match &reflector.geometry {
+                Geometry::Sphere { radius, .. } => {
+                    let t = map_texture(device, "refractor map", size, 6, 1);
+                    let dst = level_view(&t, 0);
+                    let params = FilterParams {
+                        roughness: *radius,
+                        ..FilterParams::new(size)
+                    };
+                    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("refractor map"),
+                    });
+                    dispatch(
+                        device,
+                        &mut encoder,
+                        &filters.refractor_sphere,
+                        params,
+                        &[(14, Res::View(&dst))],
+                        [tiles(size), tiles(size), 6],
+                    );
+                    self.gpu.queue.submit([encoder.finish()]);
+                    t
+                }
+                Geometry::Mesh { .. } => {
+                    let mut alone = scene.clone();
+                    alone.shapes = vec![reflector.clone()];
+                    self.capture_cube(&alone, refractor_centre, settings, placeholder, CaptureKind::Normal)?
+                }
+                _ => {
+                    return Err(bad(format!(
+                        "double_refraction = on: reflector {} is not a closed shape (a sphere or a mesh)",
+                        reflector.name
+                    )))
+                }
+            })
+        } else {
+            None
+        };
 
         // Box mips, then what the material reads.
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -678,6 +659,13 @@ impl Renderer {
             frame_x: f4(frame[0]),
             frame_y: f4(frame[1]),
             frame_z: f4(frame[2]),
+            local: e.localization.shader_info(refractor.is_some()),
+            capture: f4(capture),
+            refractor: f4(refractor_centre),
+        };
+        let refractor_view = match &refractor {
+            Some(t) => view(t, wgpu::TextureViewDimension::Cube, 0..1),
+            None => irradiance_view.clone(),
         };
         let bind_group = bind_group(
             device,
@@ -687,6 +675,7 @@ impl Renderer {
             &irradiance_view,
             &brdf_view,
             &sh,
+            &refractor_view,
             uniforms,
         );
         let describe = format!(
@@ -711,6 +700,128 @@ impl Renderer {
                 ("environment_map_build_ms", format!("{build_ms:.3}")),
             ],
         })
+    }
+}
+
+/// What a capture stores in rgb (alpha: the distance from the capture point).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum CaptureKind {
+    /// The radiance seen (the environment's map).
+    Radiance,
+    /// The shading normal (a refractor's map).
+    Normal,
+}
+
+impl Renderer {
+    /// Six 90° forward renders of `scene` from `point`, of side `size` (the method's), copied
+    /// into a new cube of the full mip chain (level 0 written; envmap_filter.wgsl
+    /// `cs_face_copy`).
+    fn capture_cube(
+        &self,
+        scene: &Scene,
+        point: Vec3,
+        settings: &RasterSettings,
+        placeholder: &EnvMaps,
+        kind: CaptureKind,
+    ) -> Result<wgpu::Texture, RasterError> {
+        let device = &self.gpu.device;
+        let limits = self.gpu.limits();
+        let size = settings.method.envmap.as_ref().map_or(1, |e| e.size);
+        let capture_method = Method {
+            envmap: None,
+            ..settings.method.clone()
+        };
+        let face_settings = RasterSettings::new(size, size)
+            .method(capture_method)
+            .pipeline(PipelineKind::Forward)
+            .frames(0, 1);
+        let max_binding = u64::from(limits.max_storage_buffer_binding_size);
+        let scene_gpu = SceneGpu::new(
+            device,
+            scene,
+            max_binding,
+            face_settings.method.detail.as_ref(),
+            &self.cones,
+        )
+        .map_err(RasterError::Scene)?;
+        let shadow = ShadowMaps::new(
+            device,
+            &self.pipelines.shadow_layout,
+            scene,
+            &face_settings.method,
+            1.0,
+            limits,
+        )
+        .map_err(RasterError::Settings)?;
+        let groups = ShadingGroups {
+            empty: &self.pipelines.empty_bind_group,
+            shadow: &shadow,
+            envmap: &placeholder.bind_group,
+        };
+        let stages = self.stages(&face_settings, false);
+        let filters = self.pipelines.filters(device);
+        let mips = match kind {
+            CaptureKind::Radiance => size.ilog2() + 1,
+            CaptureKind::Normal => 1,
+        };
+        let label = match kind {
+            CaptureKind::Radiance => "radiance cube",
+            CaptureKind::Normal => "refractor map",
+        };
+        let cube = map_texture(device, label, size, 6, mips);
+        let targets = Targets::new(
+            device,
+            PipelineKind::Forward,
+            size,
+            size,
+            &self.pipelines.gbuffer_layout,
+        );
+        for (face, camera) in face_cameras(point).into_iter().enumerate() {
+            let mut view_scene = scene.clone();
+            view_scene.camera = camera;
+            let frame = Frame::new(
+                device,
+                &self.pipelines.scene_layout,
+                &view_scene,
+                &scene_gpu,
+                &shadow,
+                &face_settings,
+                1,
+            );
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("environment capture"),
+            });
+            encode_passes(&mut encoder, &frame, &targets, &stages, &scene_gpu, &groups, None);
+            let dst = cube.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                base_mip_level: 0,
+                mip_level_count: Some(1),
+                base_array_layer: face as u32,
+                array_layer_count: Some(1),
+                ..Default::default()
+            });
+            let params = FilterParams {
+                mode: match kind {
+                    CaptureKind::Radiance => 0,
+                    CaptureKind::Normal => 1,
+                },
+                ..FilterParams::new(size)
+            };
+            dispatch(
+                device,
+                &mut encoder,
+                &filters.face_copy,
+                params,
+                &[
+                    (10, Res::View(&targets.output_views[0])),
+                    (17, Res::View(&targets.output_views[1])),
+                    (14, Res::View(&dst)),
+                ],
+                [tiles(size), tiles(size), 1],
+            );
+            self.gpu.queue.submit([encoder.finish()]);
+        }
+        Ok(cube)
     }
 }
 

@@ -23,6 +23,7 @@
 //! | [`method`] | methods (`area_quadrature`, `area_representative_point`, `shadow_hard`, `pcf_*`, `pcss`, the detail methods) and parameters |
 //! | [`detail`] | surface-detail methods (normal, bump, parallax, relief, POM, cone stepping) and their baked maps |
 //! | [`envmap`] | environment mapping (cube, sphere, dual-paraboloid maps; prefiltered specular, irradiance) |
+//! | [`distance_impostor`] | distance impostors: cube-map lookups localized by stored distances (iteration; linear + secant search; double refraction) |
 //! | `envmap_build` | the capture and the filtering passes of the environment maps |
 //! | [`cone_map`] | cone maps for cone step mapping (Dummer 2006; relaxed, Policarpo & Oliveira 2007) |
 //! | [`render`] | settings, the frame loop, timing, read-back |
@@ -41,6 +42,7 @@
 
 pub mod cone_map;
 pub mod detail;
+pub mod distance_impostor;
 pub mod envmap;
 mod envmap_build;
 pub mod error;

@@ -43,6 +43,8 @@
 //! Environment-mapping methods (`envmap_cube`, `envmap_sphere`, `envmap_paraboloid`) are
 //! listed with their parameters in [`crate::envmap`]; they shade one reflector from maps
 //! captured at a point, the other shapes by N×N quadrature (n = 8, env_n = 8), unshadowed.
+//! The distance impostors (`distance_impostor`, `distance_search`, [`crate::distance_impostor`])
+//! are `envmap_cube` with lookups localized by the distances the cube also stores.
 //!
 //! Delta lights (point, spot, zero-diameter directional) are exact under every method, up to V.
 //! The environment lights surfaces by `env_n`×`env_n` cosine-weighted midpoint quadrature under
@@ -52,9 +54,10 @@
 use std::fmt;
 
 use crate::detail::{Detail, DetailTechnique, DETAIL_NAMES, MAX_BINARY_STEPS, MAX_DETAIL_STEPS};
-use crate::envmap::{
-    detail_by_name, EnvMapping, Parameterization, ENVMAP_NAMES, ENVMAP_SIZES, MAX_FILTER_SAMPLES,
+use crate::distance_impostor::{
+    DISTANCE_IMPOSTOR_NAMES, MAX_ITERATIONS, MAX_LINEAR_STEPS, MAX_SECANT_STEPS,
 };
+use crate::envmap::{detail_by_name, EnvMapping, ENVMAP_NAMES, ENVMAP_SIZES, MAX_FILTER_SAMPLES};
 
 /// Largest `n` / `env_n` accepted (N² samples per light per pixel).
 pub const MAX_QUADRATURE_N: u32 = 64;
@@ -299,7 +302,7 @@ impl Param {
 
 impl Method {
     /// Every method name `parse` accepts.
-    pub const NAMES: [&'static str; 18] = [
+    pub const NAMES: [&'static str; 20] = [
         "area_quadrature",
         "area_representative_point",
         "shadow_hard",
@@ -318,6 +321,8 @@ impl Method {
         ENVMAP_NAMES[0],
         ENVMAP_NAMES[1],
         ENVMAP_NAMES[2],
+        DISTANCE_IMPOSTOR_NAMES[0],
+        DISTANCE_IMPOSTOR_NAMES[1],
     ];
 
     /// `area_quadrature` with the given N (environment N 8).
@@ -388,11 +393,11 @@ impl Method {
             _ => match (
                 ShadowTechnique::by_name(name),
                 DetailTechnique::by_name(name),
-                Parameterization::by_name(name),
+                EnvMapping::by_name(name),
             ) {
                 (Some(t), _, _) => Method::shadowed(Shadow::new(t)),
                 (None, Some(t), _) => Method::detailed(Detail::new(t)),
-                (None, None, Some(p)) => Method::environment_mapped(EnvMapping::new(p)),
+                (None, None, Some(e)) => Method::environment_mapped(e),
                 (None, None, None) => {
                     return Err(format!(
                         "unknown method `{name}`; methods: {}",
@@ -488,7 +493,12 @@ impl Method {
             "size" => Param::Whole(ENVMAP_SIZES),
             "prefilter" => Param::Keyword(&["lobe", "box"]),
             "irradiance" => Param::Keyword(&["map", "sh9"]),
-            "dominant_direction" => Param::Keyword(&["on", "off", "true", "false"]),
+            "dominant_direction" | "double_refraction" => {
+                Param::Keyword(&["on", "off", "true", "false"])
+            }
+            "iterations" => Param::Whole(0..=MAX_ITERATIONS),
+            "linear_steps" => Param::Whole(1..=MAX_LINEAR_STEPS),
+            "secant_steps" => Param::Whole(0..=MAX_SECANT_STEPS),
             "seam" => Param::Keyword(&["fill", "none"]),
             "reflector" => Param::Name,
             "capture" | "sphere_view" => Param::Vector,
@@ -609,7 +619,7 @@ impl Method {
     /// The method's name.
     pub fn name(&self) -> &'static str {
         if let Some(e) = &self.envmap {
-            return e.parameterization.name();
+            return e.name();
         }
         if let Some(d) = &self.detail {
             return d.technique.name();

@@ -42,7 +42,7 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// The WGSL sources in dependency order; WGSL has no includes, so they form one module, with
 /// `counters_on.wgsl` or `counters_off.wgsl` appended.
-const SHADER_SOURCES: [(&str, &str); 21] = [
+const SHADER_SOURCES: [(&str, &str); 22] = [
     ("common.wgsl", include_str!("../shaders/common.wgsl")),
     ("texture.wgsl", include_str!("../shaders/texture.wgsl")),
     ("surface.wgsl", include_str!("../shaders/surface.wgsl")),
@@ -92,6 +92,10 @@ const SHADER_SOURCES: [(&str, &str); 21] = [
         include_str!("../shaders/shadow_visibility.wgsl"),
     ),
     ("envmap.wgsl", include_str!("../shaders/envmap.wgsl")),
+    (
+        "distance_impostor.wgsl",
+        include_str!("../shaders/distance_impostor.wgsl"),
+    ),
     ("shade.wgsl", include_str!("../shaders/shade.wgsl")),
     ("passes.wgsl", include_str!("../shaders/passes.wgsl")),
 ];
@@ -321,6 +325,7 @@ impl Pipelines {
                 ),
                 storage_entry(5, true),
                 layout_entry(6, fragment, uniform_type()),
+                texture(7, cube),
             ],
         );
         let empty_layout = bind_group_layout(device, "empty bind group layout", &[]);
