@@ -22,6 +22,9 @@ const CROSSCHECKED: &[&str] = &[
     "studies/scenes/envmap-ball",
     "studies/scenes/envmap-locality",
     "studies/scenes/envmap-room",
+    "studies/scenes/distance-room",
+    "studies/scenes/distance-room-glass",
+    "studies/scenes/distance-room-occluders",
 ];
 
 /// Built-in scenes Mitsuba cannot express, with a phrase of the refusal (README.md lists them).
@@ -166,4 +169,13 @@ fn envmap_study_scenes_agree() {
     agrees("studies/scenes/envmap-ball", Variant::LlvmAdRgb, 64, 256);
     agrees("studies/scenes/envmap-locality", Variant::LlvmAdRgb, 64, 256);
     agrees("studies/scenes/envmap-room", Variant::LlvmAdRgb, 64, 256);
+}
+
+/// The distance-impostor studies' rooms (emissive checkerboards on black walls around a mirror
+/// or glass ball; with occluders), whose ground truth is the oracle's `path`.
+#[test]
+fn distance_impostor_study_scenes_agree() {
+    agrees("studies/scenes/distance-room", Variant::LlvmAdRgb, 64, 256);
+    agrees("studies/scenes/distance-room-glass", Variant::LlvmAdRgb, 64, 256);
+    agrees("studies/scenes/distance-room-occluders", Variant::LlvmAdRgb, 64, 256);
 }
