@@ -177,5 +177,10 @@ fn envmap_study_scenes_agree() {
 fn distance_impostor_study_scenes_agree() {
     agrees("studies/scenes/distance-room", Variant::LlvmAdRgb, 64, 256);
     agrees("studies/scenes/distance-room-glass", Variant::LlvmAdRgb, 64, 256);
-    agrees("studies/scenes/distance-room-occluders", Variant::LlvmAdRgb, 64, 256);
+    agrees(
+        "studies/scenes/distance-room-occluders",
+        Variant::LlvmAdRgb,
+        64,
+        256,
+    );
 }

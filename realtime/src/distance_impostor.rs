@@ -126,9 +126,7 @@ impl Localization {
     pub(crate) fn set(&mut self, key: &str, value: &str) -> Option<()> {
         let v: u32 = value.parse().ok()?;
         match (key, self) {
-            ("iterations", Localization::Iterations(k)) => {
-                *k = (v <= MAX_ITERATIONS).then_some(v)?
-            }
+            ("iterations", Localization::Iterations(k)) => *k = (v <= MAX_ITERATIONS).then_some(v)?,
             ("linear_steps", Localization::Search { linear_steps, .. }) => {
                 *linear_steps = (1..=MAX_LINEAR_STEPS).contains(&v).then_some(v)?
             }
@@ -183,7 +181,10 @@ mod tests {
         }
         assert!(errors[0] > 0.05, "the first guess should be off: {errors:?}");
         assert!(errors[7] < 1e-3 * exact, "no convergence: {errors:?}");
-        assert!(errors.windows(2).all(|w| w[1] <= w[0] + 1e-6), "not monotone: {errors:?}");
+        assert!(
+            errors.windows(2).all(|w| w[1] <= w[0] + 1e-6),
+            "not monotone: {errors:?}"
+        );
     }
 
     #[test]

@@ -371,8 +371,7 @@ impl EnvMaps {
         let sh = sh_buffer(device);
         EnvMaps {
             bind_group: bind_group(
-                device, layout, &cube_view, &flat_view, &cube_view, &flat_view, &sh, &cube_view,
-                uniforms,
+                device, layout, &cube_view, &flat_view, &cube_view, &flat_view, &sh, &cube_view, uniforms,
             ),
             header: Vec::new(),
         }
@@ -447,7 +446,13 @@ impl Renderer {
                 Geometry::Mesh { .. } => {
                     let mut alone = scene.clone();
                     alone.shapes = vec![reflector.clone()];
-                    self.capture_cube(&alone, refractor_centre, settings, placeholder, CaptureKind::Normal)?
+                    self.capture_cube(
+                        &alone,
+                        refractor_centre,
+                        settings,
+                        placeholder,
+                        CaptureKind::Normal,
+                    )?
                 }
                 _ => {
                     return Err(bad(format!(

@@ -54,9 +54,7 @@
 use std::fmt;
 
 use crate::detail::{Detail, DetailTechnique, DETAIL_NAMES, MAX_BINARY_STEPS, MAX_DETAIL_STEPS};
-use crate::distance_impostor::{
-    DISTANCE_IMPOSTOR_NAMES, MAX_ITERATIONS, MAX_LINEAR_STEPS, MAX_SECANT_STEPS,
-};
+use crate::distance_impostor::{DISTANCE_IMPOSTOR_NAMES, MAX_ITERATIONS, MAX_LINEAR_STEPS, MAX_SECANT_STEPS};
 use crate::envmap::{detail_by_name, EnvMapping, ENVMAP_NAMES, ENVMAP_SIZES, MAX_FILTER_SAMPLES};
 
 /// Largest `n` / `env_n` accepted (N² samples per light per pixel).
@@ -493,9 +491,7 @@ impl Method {
             "size" => Param::Whole(ENVMAP_SIZES),
             "prefilter" => Param::Keyword(&["lobe", "box"]),
             "irradiance" => Param::Keyword(&["map", "sh9"]),
-            "dominant_direction" | "double_refraction" => {
-                Param::Keyword(&["on", "off", "true", "false"])
-            }
+            "dominant_direction" | "double_refraction" => Param::Keyword(&["on", "off", "true", "false"]),
             "iterations" => Param::Whole(0..=MAX_ITERATIONS),
             "linear_steps" => Param::Whole(1..=MAX_LINEAR_STEPS),
             "secant_steps" => Param::Whole(0..=MAX_SECANT_STEPS),

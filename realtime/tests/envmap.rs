@@ -14,7 +14,7 @@ use std::path::Path;
 
 use realtime::{Method, PipelineKind, RasterSettings};
 use scenes::Scene;
-use support::{method, renderer};
+use support::{method, rel_rms, rel_rms_where, renderer, rgb_id};
 
 const SIZE: u32 = 48;
 
@@ -91,46 +91,6 @@ fn render_sized(scene: &Scene, m: &Method, pipeline: PipelineKind, size: u32) ->
     renderer()
         .render(scene, &s)
         .unwrap_or_else(|e| panic!("{m}: {e}"))
-}
-
-/// R, G, B and the object id of every pixel.
-fn rgb_id(out: &realtime::RasterOutput) -> (Vec<[f32; 3]>, Vec<f32>) {
-    let ch = |n: &str| {
-        out.image
-            .channel(n)
-            .unwrap_or_else(|| panic!("no channel {n}"))
-            .to_vec()
-    };
-    let (r, g, b) = (ch("R"), ch("G"), ch("B"));
-    let rgb = (0..r.len()).map(|i| [r[i], g[i], b[i]]).collect();
-    (rgb, ch("object_id.Y"))
-}
-
-/// Relative RMS difference √(Σ(a − b)²/Σb²) over the pixels where b shows shape id `id`.
-fn rel_rms(a: &realtime::RasterOutput, b: &realtime::RasterOutput, id: f32) -> f64 {
-    rel_rms_where(a, b, |_, shape| shape == id)
-}
-
-/// The same over the pixels `keep(pixel index, shape id)` selects.
-fn rel_rms_where(
-    a: &realtime::RasterOutput,
-    b: &realtime::RasterOutput,
-    keep: impl Fn(usize, f32) -> bool,
-) -> f64 {
-    let (x, _) = rgb_id(a);
-    let (y, ids) = rgb_id(b);
-    let (mut num, mut den) = (0.0f64, 0.0f64);
-    for i in 0..x.len() {
-        if !keep(i, ids[i]) {
-            continue;
-        }
-        for c in 0..3 {
-            num += f64::from(x[i][c] - y[i][c]).powi(2);
-            den += f64::from(y[i][c]).powi(2);
-        }
-    }
-    assert!(den > 0.0, "no pixel selected");
-    (num / den).sqrt()
 }
 
 /// The exact distant lookup of the environment (mirror and dielectric under

@@ -31,7 +31,9 @@ pub struct RasterArgs {
     /// steep_parallax, relief_mapping (Policarpo 2005), pom (Tatarchuk 2006), cone_step
     /// (Dummer 2006); environment mapping of one reflector, maps captured at a point:
     /// envmap_cube (Greene 1986), envmap_sphere (Miller & Hoffman 1984), envmap_paraboloid
-    /// (Heidrich & Seidel 1998).
+    /// (Heidrich & Seidel 1998); distance impostors, cube lookups localized by stored
+    /// distances: distance_impostor (Szirmay-Kalos et al. 2005), distance_search (GPU Gems 3
+    /// ch. 17).
     #[arg(long, value_name = "NAME", default_value = "area_quadrature")]
     pub method: String,
 
@@ -54,7 +56,9 @@ pub struct RasterArgs {
     /// dominant_direction=off|on, reflector=SHAPE (default: the one non-diffuse shape),
     /// capture=X,Y,Z (default: the reflector's centre), detail=none|<detail method> (EMNM),
     /// envmap_sphere sphere_view=X,Y,Z (default: towards the camera), envmap_paraboloid
-    /// seam=fill|none.
+    /// seam=fill|none. Distance impostors (every envmap_cube parameter): distance_impostor
+    /// iterations=1 (0..=64; 0 = envmap_cube); distance_search linear_steps=16 (1..=256),
+    /// secant_steps=4 (0..=64); both double_refraction=off|on (trace a dielectric to its exit).
     #[arg(long = "param", value_name = "K=V", value_parser = parse_param)]
     pub params: Vec<(String, String)>,
 

@@ -4,7 +4,7 @@
 
 use std::sync::OnceLock;
 
-use realtime::{Method, Renderer};
+use realtime::{Method, RasterOutput, Renderer};
 
 /// One renderer per test binary (pipelines are compiled once); no adapter is a failure.
 pub fn renderer() -> &'static Renderer {
@@ -20,4 +20,40 @@ pub fn method(name: &str, params: &[(&str, &str)]) -> Method {
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect();
     Method::parse(name, &params).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// R, G, B and the object id of every pixel.
+pub fn rgb_id(out: &RasterOutput) -> (Vec<[f32; 3]>, Vec<f32>) {
+    let ch = |n: &str| {
+        out.image
+            .channel(n)
+            .unwrap_or_else(|| panic!("no channel {n}"))
+            .to_vec()
+    };
+    let (r, g, b) = (ch("R"), ch("G"), ch("B"));
+    let rgb = (0..r.len()).map(|i| [r[i], g[i], b[i]]).collect();
+    (rgb, ch("object_id.Y"))
+}
+
+/// Relative RMS difference √(Σ(a − b)²/Σb²) over the pixels where b shows shape id `id`.
+pub fn rel_rms(a: &RasterOutput, b: &RasterOutput, id: f32) -> f64 {
+    rel_rms_where(a, b, |_, shape| shape == id)
+}
+
+/// The same over the pixels `keep(pixel index, shape id)` selects.
+pub fn rel_rms_where(a: &RasterOutput, b: &RasterOutput, keep: impl Fn(usize, f32) -> bool) -> f64 {
+    let (x, _) = rgb_id(a);
+    let (y, ids) = rgb_id(b);
+    let (mut num, mut den) = (0.0f64, 0.0f64);
+    for i in 0..x.len() {
+        if !keep(i, ids[i]) {
+            continue;
+        }
+        for c in 0..3 {
+            num += f64::from(x[i][c] - y[i][c]).powi(2);
+            den += f64::from(y[i][c]).powi(2);
+        }
+    }
+    assert!(den > 0.0, "no pixel selected");
+    (num / den).sqrt()
 }
