@@ -2,8 +2,10 @@
 // the six captured views: the radiance cube and its box mips, the prefiltered specular levels
 // (GGX or normalized Phong), the cosine-convolved irradiance cube, the 9 spherical-harmonic
 // irradiance coefficients, the warps into a sphere map and a dual-paraboloid map, and the
-// split-sum BRDF table. Compute entry points; appended to the main module (it reuses the
-// BSDF and frame helpers), with its own bindings at group 0, bindings 10–16.
+// split-sum BRDF table; level 0's alpha is each texel's distance from the capture point (the
+// distance impostors), and a refractor's map holds normals and distances. Compute entry
+// points; appended to the main module (it reuses the BSDF and frame helpers), with its own
+// bindings at group 0, bindings 10–17.
 //
 // Cube faces follow the Vulkan/WebGPU cube-map convention (Vulkan spec, "Cube Map Face
 // Selection"): layer f = +X, −X, +Y, −Y, +Z, −Z, texel (s, t) of face f looks along

@@ -10,7 +10,8 @@
 //! shape as under `area_quadrature`. The ground truth (DESIGN.md) is the oracle's exact
 //! reflection of the real local geometry; a scene with its local objects switched off
 //! (`enabled = false`) is the distant-only variant that measures parameterization and filtering
-//! apart from the infinitely-distant assumption.
+//! apart from the infinitely-distant assumption. The distance impostors
+//! ([`crate::distance_impostor`]) are the cube map with that assumption dropped.
 //!
 //! | method | map | texels at `size` s | parameters (default) |
 //! |---|---|---|---|

@@ -12,6 +12,9 @@
 //! read), the irradiance cube (16², from the level of side ≤ 32) or SH9 (from the level of side
 //! ≤ 64) when it has a diffuse lobe, the warp into the sphere or paraboloid map (from the
 //! same levels; the capture cube has the map's side), the BRDF table for GGX and metal-rough.
+//! Level 0's alpha holds each texel's distance from the capture point (the distance
+//! impostors' lookups, [`crate::distance_impostor`]); with `double_refraction` a second cube
+//! holds the refractor's outward normals and distances from its centre.
 
 use std::time::Instant;
 
@@ -19,6 +22,7 @@ use glam::Vec3;
 use scenes::{Camera, Geometry, Material, Scene};
 use wgpu::util::DeviceExt;
 
+use crate::distance_impostor::Localization;
 use crate::envmap::{EnvMapping, Irradiance, Parameterization, Prefilter, IRRADIANCE_SIZE};
 use crate::error::RasterError;
 use crate::frame::{encode_passes, Frame, ShadingGroups};
@@ -683,8 +687,21 @@ impl Renderer {
             &refractor_view,
             uniforms,
         );
+        let localized = match e.localization {
+            Localization::Distant => String::new(),
+            Localization::Iterations(k) => format!(", lookups localized by {k} iterations"),
+            Localization::Search {
+                linear_steps,
+                secant_steps,
+            } => format!(", lookups localized by {linear_steps} linear + {secant_steps} secant steps"),
+        };
+        let refracted = if refractor.is_some() {
+            ", double refraction through the reflector's own map"
+        } else {
+            ""
+        };
         let describe = format!(
-            "{} of side {size}, {levels} levels ({}), reflector {}, captured at ({:.4}, {:.4}, {:.4})",
+            "{} of side {size}, {levels} levels ({}), reflector {}, captured at ({:.4}, {:.4}, {:.4}){localized}{refracted}",
             e.parameterization,
             match (glossy, e.prefilter) {
                 (Some(true), Prefilter::Lobe) => "Phong lobe",

@@ -798,7 +798,10 @@ mod tests {
             .iter()
             .map(|n| Method::parse(n, &[]).unwrap().shadow_code())
             .collect();
-        assert_eq!(codes, [0, 0, 1, 2, 3, 4, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
+        assert_eq!(
+            codes,
+            [0, 0, 1, 2, 3, 4, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]
+        );
     }
 
     #[test]

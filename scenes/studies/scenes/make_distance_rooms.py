@@ -1,9 +1,13 @@
 """Writes the distance-impostor study scenes distance-room.toml, distance-room-glass.toml and
 distance-room-occluders.toml: a closed room whose six walls are emissive checkerboards
-(scenes/assets/checker_*.png, about 0.83 m tiles, times one colour per wall) around a ball.
+(scenes/assets/checker_*.png, about 0.83 m tiles, times one colour per wall) around a ball,
+and the checkerboard textures themselves.
 
 Run from the repository root: python3 scenes/studies/scenes/make_distance_rooms.py
 """
+
+import struct
+import zlib
 
 X0, X1, Y0, Y1, Z0, Z1 = -1.25, 1.25, -0.75, 1.75, -1.25, 4.5
 RANGE = {"x": (X0, X1), "y": (Y0, Y1), "z": (Z0, Z1)}
@@ -135,6 +139,29 @@ emission = { radiance = [3.0, 3.0, 0.5] }
 """
 
 
+# Checkerboard texels: 8 × 8 pixels per tile, grey sRGB codes 255 and 100 (linear 1.0 and
+# 0.127 after the loader's sRGB decode), the tile at the texture's first row and column bright.
+TILE_PX, BRIGHT, DARK = 8, 255, 100
+
+
+def write_checker(path, na, nb):
+    """An 8-bit greyscale PNG (ISO/IEC 15948: signature, IHDR, one zlib IDAT, IEND) of na × nb
+    tiles, each scanline with filter type 0."""
+    w, h = na * TILE_PX, nb * TILE_PX
+    rows = b"".join(
+        b"\0" + bytes(BRIGHT if (x // TILE_PX + y // TILE_PX) % 2 == 0 else DARK for x in range(w))
+        for y in range(h)
+    )
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+    png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 0, 0, 0, 0))
+    png += chunk(b"IDAT", zlib.compress(rows, 9)) + chunk(b"IEND", b"")
+    with open(path, "wb") as f:
+        f.write(png)
+
+
 def write(path, header, extra):
     with open(path, "w") as f:
         f.write(header + COMMON + "\n" + extra + "\n" + "\n".join(walls()))
@@ -142,6 +169,10 @@ def write(path, header, extra):
 
 if __name__ == "__main__":
     d = "scenes/studies/scenes/"
+    for na, nb in sorted({(round((RANGE[a][1] - RANGE[a][0]) / TILE), round((RANGE[b][1] - RANGE[b][0]) / TILE))
+                          for _, axis, _, sign, _ in WALLS
+                          for a, b in [SPAN[axis] if sign > 0 else SPAN[axis][::-1]]}):
+        write_checker(f"scenes/assets/checker_{na}x{nb}.png", na, nb)
     write(d + "distance-room.toml", ROOM.format(what="A mirror ball", ref="", who="mirror"), MIRROR)
     write(d + "distance-room-glass.toml",
           ROOM.format(what="A glass ball (η = 1.5)", ref=" (as distance-room.toml)", who="refractor"), GLASS)
