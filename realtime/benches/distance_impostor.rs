@@ -2,13 +2,15 @@
 //! scenes/studies/scenes/distance-room.toml seen from 1.3 m so that it fills the frame
 //! (256², no supersampling), for the lecture slides' comparison of an environment map, a
 //! distance impostor and one more iteration, then more iterations, the search, and double
-//! refraction through the glass ball of distance-room-glass.toml.
+//! refraction through the glass ball of distance-room-glass.toml, and layered distance maps
+//! (whose extra cost is mostly the map build: one depth-peeled capture per further layer).
 //!
 //! Run: `cargo bench -p realtime --bench distance_impostor` (a plain `main`, `harness =
 //! false`). Each case renders once to compile its pipelines; then `ROUNDS` rounds over every
 //! case in turn, each a render of 2 warm-up and 10 timed frames whose median frame time (GPU
 //! timestamps where the adapter has them) is kept; the figure is the median of the rounds.
-//! Texel fetches per pixel come from the counting frame. The adapter is named in the output;
+//! Texel fetches per pixel and the map's build time (`environment_map_build_ms`) come from
+//! the counting frame. The adapter is named in the output;
 //! on a CPU driver (lavapipe) these are CPU-rasteriser times, not GPU speed. Lavapipe's
 //! process memory grows by about 15 MB per 256² frame (BENCHMARKS.md), which bounds the
 //! frames one run can afford.
@@ -52,6 +54,8 @@ fn main() {
         ("mirror", "distance_search", "linear_steps=8"),
         ("mirror", "distance_search", "linear_steps=16"),
         ("mirror", "distance_search", "linear_steps=64"),
+        ("mirror", "distance_search", "linear_steps=64,layers=2"),
+        ("mirror", "distance_search", "linear_steps=64,layers=3"),
         ("glass", "envmap_cube", ""),
         ("glass", "distance_impostor", "iterations=2,double_refraction=on"),
         ("glass", "distance_search", "double_refraction=on"),
@@ -73,10 +77,17 @@ fn main() {
         })
         .collect();
     let mut fetches = Vec::new();
+    let mut build_ms = Vec::new();
     for ((ball, _, _), s) in cases.iter().zip(&settings) {
         let out = renderer
             .render(scene_of(ball), &s.clone().counters(true))
             .expect("render");
+        build_ms.push(
+            out.image
+                .attribute("environment_map_build_ms")
+                .and_then(|v| v.parse::<f64>().ok())
+                .unwrap_or(f64::NAN),
+        );
         fetches.push(out.counters.map_or(f64::NAN, |c| c.texel_fetches_per_pixel));
     }
     let mut times = vec![Vec::new(); cases.len()];
@@ -88,15 +99,17 @@ fn main() {
             times[i].push(out.timing.frame_ms());
         }
     }
-    println!("| ball | method | frame ms (median of {ROUNDS} rounds; min–max) | texel fetches per pixel |");
-    println!("|---|---|---|---|");
+    println!(
+        "| ball | method | frame ms (median of {ROUNDS} rounds; min–max) | texel fetches per pixel | map build ms |"
+    );
+    println!("|---|---|---|---|---|");
     for (i, (ball, _, _)) in cases.iter().enumerate() {
         let lo = times[i].iter().copied().fold(f64::INFINITY, f64::min);
         let hi = times[i].iter().copied().fold(0.0, f64::max);
         let mid = median(&mut times[i]);
         println!(
-            "| {ball} | `{}` | {mid:.1} ({lo:.1}–{hi:.1}) | {:.1} |",
-            settings[i].method, fetches[i]
+            "| {ball} | `{}` | {mid:.1} ({lo:.1}–{hi:.1}) | {:.1} | {:.0} |",
+            settings[i].method, fetches[i], build_ms[i]
         );
     }
 }

@@ -54,6 +54,9 @@ struct EnvMapUniforms {
     // The capture point and the refractor's centre (its map's origin), world space.
     capture: vec4<f32>,
     refractor: vec4<f32>,
+    // Layers of the environment's distance map (x; 1: envmap_cube alone, more: the further
+    // ones in envmap_layers).
+    layers: vec4<u32>,
 }
 
 @group(3) @binding(0) var envmap_cube: texture_cube<f32>;
@@ -65,6 +68,9 @@ struct EnvMapUniforms {
 @group(3) @binding(6) var<uniform> envmap: EnvMapUniforms;
 // The refractor's distance map: outward normal (xyz) and distance from its centre (w).
 @group(3) @binding(7) var envmap_refractor: texture_cube<f32>;
+// Layers 1, 2, … of a layered distance map (radiance, distance), depth-peeled behind level 0
+// of envmap_cube (distance_impostor.wgsl).
+@group(3) @binding(8) var envmap_layers: texture_cube_array<f32>;
 
 // Whether shape `shape` is the environment-mapped reflector.
 fn is_envmapped(shape: u32) -> bool {

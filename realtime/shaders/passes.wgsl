@@ -150,10 +150,26 @@ fn gbuffer_output(sp: SurfacePoint) -> GBufferOut {
     );
 }
 
+// Depth peeling of a layered distance map's capture (Everitt 2001, "Interactive
+// Order-Independent Transparency", NVIDIA: each layer keeps the nearest surface behind the
+// previous one). With envmap.local.x = LOCAL_PEEL, envmap_flat holds the previous layer's cube
+// face (columns mirrored, as cs_face_copy writes it; alpha: distance from the capture point,
+// which is the camera): what lies no further than that, by a relative 2⁻⁹ (four f16 ulps of
+// the stored distance), is peeled away. 0 otherwise: nothing is.
+fn peel_distance(frag: vec2<f32>) -> f32 {
+    if envmap.local.x != LOCAL_PEEL {
+        return 0.0;
+    }
+    let n = i32(textureDimensions(envmap_flat).x);
+    let px = vec2<i32>(frag);
+    let previous = textureLoad(envmap_flat, vec2<i32>(n - 1 - px.x, px.y), 0, 0).w;
+    return previous * (1.0 + 1.0 / 512.0);
+}
+
 @fragment
 fn fs_mesh_forward(in: MeshVarying) -> ShadedOut {
     let hit = mesh_surface(in, shapes[in.shape]);
-    if !hit.hit {
+    if !hit.hit || distance(hit.surface.p, frame.cam_pos.xyz) <= peel_distance(in.clip.xy) {
         discard;
     }
     return shaded_output(frame, hit.surface, in.clip.xy);
@@ -161,7 +177,7 @@ fn fs_mesh_forward(in: MeshVarying) -> ShadedOut {
 
 @fragment
 fn fs_analytic_forward(in: AnalyticVarying) -> ShadedDepthOut {
-    let hit = trace_analytic(frame, shapes[in.shape], in.shape, in.clip.xy);
+    let hit = trace_analytic(frame, shapes[in.shape], in.shape, in.clip.xy, peel_distance(in.clip.xy));
     if !hit.hit {
         discard;
     }
@@ -185,7 +201,7 @@ fn fs_mesh_gbuffer(in: MeshVarying) -> GBufferOut {
 
 @fragment
 fn fs_analytic_gbuffer(in: AnalyticVarying) -> GBufferDepthOut {
-    let hit = trace_analytic(frame, shapes[in.shape], in.shape, in.clip.xy);
+    let hit = trace_analytic(frame, shapes[in.shape], in.shape, in.clip.xy, 0.0);
     if !hit.hit {
         discard;
     }
@@ -245,7 +261,7 @@ fn fs_shadow_analytic(in: ShadowVarying) -> @builtin(frag_depth) f32 {
     let side = shadow.settings.bias.w;
     let ndc = vec2<f32>(2.0 * in.clip.x / side - 1.0, 1.0 - 2.0 * in.clip.y / side);
     let ray = shadow_ray(sl, ndc);
-    let t = intersect_analytic(shapes[in.shape], ray.o, ray.d);
+    let t = intersect_analytic(shapes[in.shape], ray.o, ray.d, 0.0);
     if !(t > 0.0) {
         discard;
     }

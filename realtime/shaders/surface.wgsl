@@ -64,9 +64,10 @@ fn mesh_differential(
     return Differential(p, ng, ns, uv, dpdu, dpdv, t);
 }
 
-// Nearest t > 0 where the ray o + t·d meets the sphere, or −1 (Haines et al. 2019: the
-// discriminant from the line's distance to the centre, roots without cancellation).
-fn intersect_sphere(c: vec3<f32>, r: f32, o: vec3<f32>, d: vec3<f32>) -> f32 {
+// Nearest t > t_min (t_min ≥ 0) where the ray o + t·d meets the sphere, or −1 (Haines et
+// al. 2019: the discriminant from the line's distance to the centre, roots without
+// cancellation).
+fn intersect_sphere(c: vec3<f32>, r: f32, o: vec3<f32>, d: vec3<f32>, t_min: f32) -> f32 {
     let f = o - c;
     let a = dot(d, d);
     let b = -dot(f, d);
@@ -85,10 +86,10 @@ fn intersect_sphere(c: vec3<f32>, r: f32, o: vec3<f32>, d: vec3<f32>) -> f32 {
     let t1 = q / a;
     let near = min(t0, t1);
     let far = max(t0, t1);
-    if near > 0.0 {
+    if near > t_min {
         return near;
     }
-    if far > 0.0 {
+    if far > t_min {
         return far;
     }
     return -1.0;
@@ -207,19 +208,21 @@ fn surface_point(d: Differential, s: Shape, shape: u32) -> SurfacePoint {
 // A fragment's surface point: of an analytic proxy, the camera ray through `frag` (target pixel
 // coordinates) traced against shape `s` (index `shape`); of either kind, after surface detail
 // (detail_common.wgsl). `hit` is false where the ray misses (the fragment is discarded).
+// Analytic hits are taken beyond ray parameter t_min (unit camera rays: a distance).
 struct AnalyticHit {
     hit: bool,
     surface: SurfacePoint,
 }
 
-// Ray parameter t > 0 of the nearest hit of the ray o + t·d with analytic shape `s`, or −1
+// Ray parameter t > t_min (0, or a depth-peeled layer's distance: passes.wgsl
+// `peel_distance`) of the nearest hit of the ray o + t·d with analytic shape `s`, or −1
 // where it misses: the one intersection routine of the camera passes and the shadow pass.
 // Rectangles take their coverage from the rasteriser (the proxy is the rectangle itself);
 // disks test the dual-basis radius, spheres the Haines et al. quadratic.
-fn intersect_analytic(s: Shape, o: vec3<f32>, d: vec3<f32>) -> f32 {
+fn intersect_analytic(s: Shape, o: vec3<f32>, d: vec3<f32>, t_min: f32) -> f32 {
     switch s.kind {
         case SHAPE_SPHERE: {
-            let t = intersect_sphere(s.center.xyz, s.center.w, o, d);
+            let t = intersect_sphere(s.center.xyz, s.center.w, o, d, t_min);
             if !(t > 0.0) {
                 return -1.0;
             }
@@ -227,14 +230,14 @@ fn intersect_analytic(s: Shape, o: vec3<f32>, d: vec3<f32>) -> f32 {
         }
         case SHAPE_RECTANGLE: {
             let t = intersect_plane(s, o, d);
-            if !(t > 0.0 && t < 1e30) {
+            if !(t > t_min && t < 1e30) {
                 return -1.0;
             }
             return t;
         }
         case SHAPE_DISK: {
             let t = intersect_plane(s, o, d);
-            if !(t > 0.0 && t < 1e30) {
+            if !(t > t_min && t < 1e30) {
                 return -1.0;
             }
             let st = plane_local(s, o + d * t);
@@ -260,11 +263,11 @@ fn analytic_differential(s: Shape, o: vec3<f32>, d: vec3<f32>, t: f32) -> Differ
     return rectangle_differential(s, o + d * t);
 }
 
-fn trace_analytic(f: FrameUniforms, s: Shape, shape: u32, frag: vec2<f32>) -> AnalyticHit {
+fn trace_analytic(f: FrameUniforms, s: Shape, shape: u32, frag: vec2<f32>, t_min: f32) -> AnalyticHit {
     let xy = film_position(f, frag);
     let o = f.cam_pos.xyz;
     let d = camera_ray_direction(f, xy.x, xy.y);
-    let t = intersect_analytic(s, o, d);
+    let t = intersect_analytic(s, o, d, t_min);
     if !(t > 0.0) {
         return AnalyticHit(false, SurfacePoint(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec2<f32>(0.0), 0u));
     }

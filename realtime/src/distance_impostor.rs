@@ -11,7 +11,7 @@
 //! | method | search (`Localization`) | parameters (default) |
 //! |---|---|---|
 //! | `distance_impostor` | Szirmay-Kalos, Aszódi, Lazányi & Premecz 2005, "Approximate Ray-Tracing on the GPU with Distance Impostors", CGF 24(3): k fixed-point iterations | `iterations` (1: 0..=64) |
-//! | `distance_search` | Umenhoffer, Patow & Szirmay-Kalos 2007, "Robust Multiple Specular Reflections and Refractions", GPU Gems 3 ch. 17: linear search, then secant refinement | `linear_steps` (16: 1..=256), `secant_steps` (4: 0..=64) |
+//! | `distance_search` | Umenhoffer, Patow & Szirmay-Kalos 2007, "Robust Multiple Specular Reflections and Refractions", GPU Gems 3 ch. 17: linear search, then secant refinement | `linear_steps` (16: 1..=256), `secant_steps` (4: 0..=64), `layers` (1: 1..=4) |
 //!
 //! Both are `envmap_cube` (every common environment-mapping parameter) with the localized
 //! lookup for mirror and dielectric reflectors, and take `double_refraction` (`off`: a
@@ -46,8 +46,19 @@
 //! marches in the cube map's texel space between the ray's start and end points (our u plays
 //! the role of that texel-space parameter). Failure mode: a crossing thinner than one linear
 //! step is missed (thin objects), and anything the capture point does not see is solid
-//! behind its stored surface (hidden surfaces, depth discontinuities); layered distance maps
-//! (§17.2.3), which keep the further layers, are not implemented.
+//! behind its stored surface (hidden surfaces, depth discontinuities).
+//!
+//! **Layered distance maps** (GPU Gems 3 §17.2, `layers` > 1): the capture is repeated
+//! `layers` − 1 times with depth peeling (Everitt 2001: each pass discards what lies no
+//! further than the previous layer's surface), so layer k holds the (k+1)-th surface along
+//! every direction from o. Along a direction the surfaces of closed objects alternate entry
+//! and exit, so a ray point behind an odd number of stored surfaces is inside something; the
+//! layered search marches as above but stops at the first sample inside something (or behind
+//! every layer: what the map could not keep is solid, as in one layer), and refines by the
+//! secant method on the layer it entered. Each linear step fetches every layer. Failure mode:
+//! directions with more surfaces than layers, and open surfaces (a lone rectangle seen edge
+//! on), for which the parity is wrong. The chapter's own formulation was not available here;
+//! this is our reading of its description.
 
 use crate::envmap::EnvMapping;
 
@@ -57,6 +68,8 @@ pub const MAX_ITERATIONS: u32 = 64;
 pub const MAX_LINEAR_STEPS: u32 = 256;
 /// Largest `secant_steps`.
 pub const MAX_SECANT_STEPS: u32 = 64;
+/// Largest `layers` (distance-map layers of `distance_search`).
+pub const MAX_DISTANCE_LAYERS: u32 = 4;
 
 /// Every distance-impostor method name.
 pub const DISTANCE_IMPOSTOR_NAMES: [&str; 2] = ["distance_impostor", "distance_search"];
@@ -74,6 +87,8 @@ pub enum Localization {
         linear_steps: u32,
         /// Secant refinements of the bracket found.
         secant_steps: u32,
+        /// Depth-peeled layers of the environment's distance map (1: the radiance cube alone).
+        layers: u32,
     },
 }
 
@@ -94,6 +109,7 @@ impl Localization {
             "distance_search" => Some(Localization::Search {
                 linear_steps: 16,
                 secant_steps: 4,
+                layers: 1,
             }),
             _ => None,
         }
@@ -109,7 +125,16 @@ impl Localization {
             Localization::Search {
                 linear_steps,
                 secant_steps,
+                ..
             } => [2, linear_steps, secant_steps, d],
+        }
+    }
+
+    /// Layers of the environment's distance map: `layers` of a search, 1 otherwise.
+    pub fn distance_layers(self) -> u32 {
+        match self {
+            Localization::Search { layers, .. } => layers,
+            _ => 1,
         }
     }
 
@@ -118,7 +143,7 @@ impl Localization {
         match self {
             Localization::Distant => &[],
             Localization::Iterations(_) => &["iterations", "double_refraction"],
-            Localization::Search { .. } => &["linear_steps", "secant_steps", "double_refraction"],
+            Localization::Search { .. } => &["linear_steps", "secant_steps", "layers", "double_refraction"],
         }
     }
 
@@ -132,6 +157,9 @@ impl Localization {
             }
             ("secant_steps", Localization::Search { secant_steps, .. }) => {
                 *secant_steps = (v <= MAX_SECANT_STEPS).then_some(v)?
+            }
+            ("layers", Localization::Search { layers, .. }) => {
+                *layers = (1..=MAX_DISTANCE_LAYERS).contains(&v).then_some(v)?
             }
             _ => return None,
         }
@@ -149,9 +177,11 @@ impl Localization {
             Localization::Search {
                 linear_steps,
                 secant_steps,
+                layers,
             } => vec![
                 ("linear_steps", linear_steps.to_string()),
                 ("secant_steps", secant_steps.to_string()),
+                ("layers", layers.to_string()),
                 ("double_refraction", on_off),
             ],
         }
@@ -192,17 +222,23 @@ mod tests {
         let mut s = Localization::by_name("distance_search").unwrap();
         s.set("linear_steps", "64").unwrap();
         s.set("secant_steps", "0").unwrap();
+        s.set("layers", "3").unwrap();
         assert_eq!(
             s,
             Localization::Search {
                 linear_steps: 64,
-                secant_steps: 0
+                secant_steps: 0,
+                layers: 3
             }
         );
+        assert_eq!(s.distance_layers(), 3);
         assert!(s.set("linear_steps", "0").is_none());
+        assert!(s.set("layers", "0").is_none());
+        assert!(s.set("layers", "5").is_none());
         assert!(s.set("iterations", "2").is_none());
         let mut i = Localization::by_name("distance_impostor").unwrap();
         assert!(i.set("iterations", "65").is_none());
+        assert!(i.set("layers", "2").is_none(), "layers are the search's");
         i.set("iterations", "0").unwrap();
         assert_eq!(i.shader_info(true), [1, 0, 0, 1]);
     }

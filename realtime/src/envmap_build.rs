@@ -14,7 +14,10 @@
 //! same levels; the capture cube has the map's side), the BRDF table for GGX and metal-rough.
 //! Level 0's alpha holds each texel's distance from the capture point (the distance
 //! impostors' lookups, [`crate::distance_impostor`]); with `double_refraction` a second cube
-//! holds the refractor's outward normals and distances from its centre.
+//! holds the refractor's outward normals and distances from its centre; with `layers` > 1
+//! the capture is repeated with depth peeling (`shaders/passes.wgsl` `peel_distance`: each
+//! pass keeps the nearest surface behind the previous layer's, level 0 only) and the further
+//! layers are copied into a cube array (binding 8).
 
 use std::time::Instant;
 
@@ -87,6 +90,7 @@ struct EnvMapUniforms {
     local: [u32; 4],
     capture: [f32; 4],
     refractor: [f32; 4],
+    layers: [u32; 4],
 }
 
 /// The compute pipelines of envmap_filter.wgsl (auto layouts: group 0, bindings 10–17).
@@ -227,7 +231,10 @@ fn map_texture(device: &wgpu::Device, label: &str, size: u32, layers: u32, level
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
         format: MAP_FORMAT,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     })
 }
@@ -237,6 +244,18 @@ fn view(t: &wgpu::Texture, dim: wgpu::TextureViewDimension, mips: std::ops::Rang
         dimension: Some(dim),
         base_mip_level: mips.start,
         mip_level_count: Some(mips.end - mips.start),
+        ..Default::default()
+    })
+}
+
+/// Level 0 of cube face `face` of `t`, as a one-layer array.
+fn face_view(t: &wgpu::Texture, face: u32) -> wgpu::TextureView {
+    t.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        base_mip_level: 0,
+        mip_level_count: Some(1),
+        base_array_layer: face,
+        array_layer_count: Some(1),
         ..Default::default()
     })
 }
@@ -322,6 +341,7 @@ fn bind_group(
     brdf: &wgpu::TextureView,
     sh: &wgpu::Buffer,
     refractor: &wgpu::TextureView,
+    layers: &wgpu::TextureView,
     uniforms: EnvMapUniforms,
 ) -> wgpu::BindGroup {
     let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -339,6 +359,7 @@ fn bind_group(
         (5, Res::Buffer(sh)),
         (6, Res::Buffer(&uniform)),
         (7, Res::View(refractor)),
+        (8, Res::View(layers)),
     ]);
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("environment map bind group"),
@@ -356,26 +377,59 @@ fn sh_buffer(device: &wgpu::Device) -> wgpu::Buffer {
     })
 }
 
+/// `envmap.local.x` of a depth-peeling capture (distance_impostor.wgsl `LOCAL_PEEL`).
+const LOCAL_PEEL: u32 = 3;
+
+/// Uniforms of a render without a reflector: `local` and `capture` as given.
+fn no_reflector_uniforms(local: [u32; 4], capture: [f32; 4]) -> EnvMapUniforms {
+    EnvMapUniforms {
+        info: [u32::MAX, 0, 1, 0],
+        frame_x: [1.0, 0.0, 0.0, 0.0],
+        frame_y: [0.0, 1.0, 0.0, 0.0],
+        frame_z: [0.0, 0.0, 1.0, 0.0],
+        local,
+        capture,
+        refractor: [0.0; 4],
+        layers: [1, 0, 0, 0],
+    }
+}
+
+/// Group 3 without a reflector, over 1×1 maps except `flat` (None: 1×1 too).
+fn bind_group_without_reflector(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    flat: Option<&wgpu::TextureView>,
+    uniforms: EnvMapUniforms,
+) -> wgpu::BindGroup {
+    let cube = map_texture(device, "placeholder cube", 1, 6, 1);
+    let placeholder_flat = map_texture(device, "placeholder map", 1, 2, 1);
+    let cube_view = view(&cube, wgpu::TextureViewDimension::Cube, 0..1);
+    let layers_view = view(&cube, wgpu::TextureViewDimension::CubeArray, 0..1);
+    let flat_view = view(&placeholder_flat, wgpu::TextureViewDimension::D2Array, 0..1);
+    let sh = sh_buffer(device);
+    bind_group(
+        device,
+        layout,
+        &cube_view,
+        flat.unwrap_or(&flat_view),
+        &cube_view,
+        &flat_view,
+        &sh,
+        &cube_view,
+        &layers_view,
+        uniforms,
+    )
+}
+
 impl EnvMaps {
     /// Group 3 of every render without an environment map: 1×1 maps, no reflector.
     pub(crate) fn placeholder(device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> EnvMaps {
-        let cube = map_texture(device, "placeholder cube", 1, 6, 1);
-        let flat = map_texture(device, "placeholder map", 1, 2, 1);
-        let cube_view = view(&cube, wgpu::TextureViewDimension::Cube, 0..1);
-        let flat_view = view(&flat, wgpu::TextureViewDimension::D2Array, 0..1);
-        let uniforms = EnvMapUniforms {
-            info: [u32::MAX, 0, 1, 0],
-            frame_x: [1.0, 0.0, 0.0, 0.0],
-            frame_y: [0.0, 1.0, 0.0, 0.0],
-            frame_z: [0.0, 0.0, 1.0, 0.0],
-            local: [0; 4],
-            capture: [0.0; 4],
-            refractor: [0.0; 4],
-        };
-        let sh = sh_buffer(device);
         EnvMaps {
-            bind_group: bind_group(
-                device, layout, &cube_view, &flat_view, &cube_view, &flat_view, &sh, &cube_view, uniforms,
+            bind_group: bind_group_without_reflector(
+                device,
+                layout,
+                None,
+                no_reflector_uniforms([0; 4], [0.0; 4]),
             ),
             header: Vec::new(),
         }
@@ -418,7 +472,58 @@ impl Renderer {
         without.shapes.remove(index);
         let filters = self.pipelines.filters(device);
         let mips = size.ilog2() + 1;
-        let radiance = self.capture_cube(&without, capture, settings, placeholder, CaptureKind::Radiance)?;
+        let radiance = self.capture_cube(
+            &without,
+            capture,
+            settings,
+            placeholder,
+            CaptureKind::Radiance,
+            None,
+        )?;
+        // The further layers of a layered distance map, each peeled behind the one before.
+        let layer_count = e.localization.distance_layers();
+        let mut further: Vec<wgpu::Texture> = Vec::new();
+        for _ in 1..layer_count {
+            let previous = further.last().unwrap_or(&radiance);
+            let layer = self.capture_cube(
+                &without,
+                capture,
+                settings,
+                placeholder,
+                CaptureKind::Radiance,
+                Some(previous),
+            )?;
+            further.push(layer);
+        }
+        let layers = (layer_count > 1).then(|| {
+            let t = map_texture(device, "distance map layers", size, 6 * (layer_count - 1), 1);
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("distance map layers"),
+            });
+            for (k, layer) in further.iter().enumerate() {
+                encoder.copy_texture_to_texture(
+                    layer.as_image_copy(),
+                    wgpu::TexelCopyTextureInfo {
+                        texture: &t,
+                        mip_level: 0,
+                        origin: wgpu::Origin3d {
+                            x: 0,
+                            y: 0,
+                            z: 6 * k as u32,
+                        },
+                        aspect: wgpu::TextureAspect::All,
+                    },
+                    wgpu::Extent3d {
+                        width: size,
+                        height: size,
+                        depth_or_array_layers: 6,
+                    },
+                );
+            }
+            self.gpu.queue.submit([encoder.finish()]);
+            t
+        });
+        drop(further);
 
         // The refractor's own map, for double refraction: a sphere's from its centre and
         // radius, a mesh's rendered from its bounding-box centre.
@@ -456,6 +561,7 @@ impl Renderer {
                         settings,
                         placeholder,
                         CaptureKind::Normal,
+                        None,
                     )?
                 }
                 _ => {
@@ -637,16 +743,13 @@ impl Renderer {
         self.check_errors("building the environment maps")?;
         let build_ms = start.elapsed().as_secs_f64() * 1e3;
 
-        let placeholder_cube;
-        let placeholder_flat;
+        // 1×1 stand-ins for the maps this method does not build.
+        let placeholder_cube = map_texture(device, "placeholder cube", 1, 6, 1);
+        let placeholder_flat = map_texture(device, "placeholder map", 1, 2, 1);
         let irradiance_view = match &irradiance {
             Some(t) => view(t, wgpu::TextureViewDimension::Cube, 0..1),
-            None => {
-                placeholder_cube = map_texture(device, "placeholder cube", 1, 6, 1);
-                view(&placeholder_cube, wgpu::TextureViewDimension::Cube, 0..1)
-            }
+            None => view(&placeholder_cube, wgpu::TextureViewDimension::Cube, 0..1),
         };
-        placeholder_flat = map_texture(device, "placeholder map", 1, 2, 1);
         let flat_view = match &flat {
             Some(t) => view(t, wgpu::TextureViewDimension::D2Array, 0..levels),
             None => view(&placeholder_flat, wgpu::TextureViewDimension::D2Array, 0..1),
@@ -671,11 +774,17 @@ impl Renderer {
             local: e.localization.shader_info(refractor.is_some()),
             capture: f4(capture),
             refractor: f4(refractor_centre),
+            layers: [layer_count, 0, 0, 0],
         };
         let refractor_view = match &refractor {
             Some(t) => view(t, wgpu::TextureViewDimension::Cube, 0..1),
             None => irradiance_view.clone(),
         };
+        let layers_view = view(
+            layers.as_ref().unwrap_or(&placeholder_cube),
+            wgpu::TextureViewDimension::CubeArray,
+            0..1,
+        );
         let bind_group = bind_group(
             device,
             &self.pipelines.envmap_layout,
@@ -685,6 +794,7 @@ impl Renderer {
             &brdf_view,
             &sh,
             &refractor_view,
+            &layers_view,
             uniforms,
         );
         let localized = match e.localization {
@@ -693,7 +803,15 @@ impl Renderer {
             Localization::Search {
                 linear_steps,
                 secant_steps,
+                layers: 1,
             } => format!(", lookups localized by {linear_steps} linear + {secant_steps} secant steps"),
+            Localization::Search {
+                linear_steps,
+                secant_steps,
+                layers,
+            } => format!(
+                ", lookups localized by {linear_steps} linear + {secant_steps} secant steps in {layers} depth-peeled distance layers"
+            ),
         };
         let refracted = if refractor.is_some() {
             ", double refraction through the reflector's own map"
@@ -737,7 +855,8 @@ enum CaptureKind {
 impl Renderer {
     /// Six 90° forward renders of `scene` from `point`, of side `size` (the method's), copied
     /// into a new cube of the full mip chain (level 0 written; envmap_filter.wgsl
-    /// `cs_face_copy`).
+    /// `cs_face_copy`). With `peel`, a cube of one level holding the nearest surfaces behind
+    /// those `peel` holds (depth peeling: passes.wgsl `peel_distance`).
     fn capture_cube(
         &self,
         scene: &Scene,
@@ -745,6 +864,7 @@ impl Renderer {
         settings: &RasterSettings,
         placeholder: &EnvMaps,
         kind: CaptureKind,
+        peel: Option<&wgpu::Texture>,
     ) -> Result<wgpu::Texture, RasterError> {
         let device = &self.gpu.device;
         let limits = self.gpu.limits();
@@ -782,9 +902,9 @@ impl Renderer {
         };
         let stages = self.stages(&face_settings, false);
         let filters = self.pipelines.filters(device);
-        let mips = match kind {
-            CaptureKind::Radiance => size.ilog2() + 1,
-            CaptureKind::Normal => 1,
+        let mips = match (kind, peel) {
+            (CaptureKind::Radiance, None) => size.ilog2() + 1,
+            _ => 1,
         };
         let label = match kind {
             CaptureKind::Radiance => "radiance cube",
@@ -799,6 +919,20 @@ impl Renderer {
             &self.pipelines.gbuffer_layout,
         );
         for (face, camera) in face_cameras(point).into_iter().enumerate() {
+            let peel_group = peel.map(|previous| {
+                let previous_face = face_view(previous, face as u32);
+                let uniforms = no_reflector_uniforms([LOCAL_PEEL, 0, 0, 0], [point.x, point.y, point.z, 0.0]);
+                bind_group_without_reflector(
+                    device,
+                    &self.pipelines.envmap_layout,
+                    Some(&previous_face),
+                    uniforms,
+                )
+            });
+            let groups = ShadingGroups {
+                envmap: peel_group.as_ref().unwrap_or(&placeholder.bind_group),
+                ..groups
+            };
             let mut view_scene = scene.clone();
             view_scene.camera = camera;
             let frame = Frame::new(
@@ -814,14 +948,7 @@ impl Renderer {
                 label: Some("environment capture"),
             });
             encode_passes(&mut encoder, &frame, &targets, &stages, &scene_gpu, &groups, None);
-            let dst = cube.create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::D2Array),
-                base_mip_level: 0,
-                mip_level_count: Some(1),
-                base_array_layer: face as u32,
-                array_layer_count: Some(1),
-                ..Default::default()
-            });
+            let dst = face_view(&cube, face as u32);
             let params = FilterParams {
                 mode: match kind {
                     CaptureKind::Radiance => 0,

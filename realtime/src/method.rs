@@ -54,7 +54,9 @@
 use std::fmt;
 
 use crate::detail::{Detail, DetailTechnique, DETAIL_NAMES, MAX_BINARY_STEPS, MAX_DETAIL_STEPS};
-use crate::distance_impostor::{DISTANCE_IMPOSTOR_NAMES, MAX_ITERATIONS, MAX_LINEAR_STEPS, MAX_SECANT_STEPS};
+use crate::distance_impostor::{
+    DISTANCE_IMPOSTOR_NAMES, MAX_DISTANCE_LAYERS, MAX_ITERATIONS, MAX_LINEAR_STEPS, MAX_SECANT_STEPS,
+};
 use crate::envmap::{detail_by_name, EnvMapping, ENVMAP_NAMES, ENVMAP_SIZES, MAX_FILTER_SAMPLES};
 
 /// Largest `n` / `env_n` accepted (N² samples per light per pixel).
@@ -495,6 +497,7 @@ impl Method {
             "iterations" => Param::Whole(0..=MAX_ITERATIONS),
             "linear_steps" => Param::Whole(1..=MAX_LINEAR_STEPS),
             "secant_steps" => Param::Whole(0..=MAX_SECANT_STEPS),
+            "layers" => Param::Whole(1..=MAX_DISTANCE_LAYERS),
             "seam" => Param::Keyword(&["fill", "none"]),
             "reflector" => Param::Name,
             "capture" | "sphere_view" => Param::Vector,

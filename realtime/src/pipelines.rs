@@ -326,6 +326,7 @@ impl Pipelines {
                 storage_entry(5, true),
                 layout_entry(6, fragment, uniform_type()),
                 texture(7, cube),
+                texture(8, wgpu::TextureViewDimension::CubeArray),
             ],
         );
         let empty_layout = bind_group_layout(device, "empty bind group layout", &[]);

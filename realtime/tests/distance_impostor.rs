@@ -151,6 +151,54 @@ fn index_matched_glass_shows_the_room_as_if_absent() {
 }
 
 #[test]
+fn layered_maps_add_nothing_to_an_empty_room_and_complete_the_occluders() {
+    let search = |layers: u32| {
+        lookup(
+            "distance_search",
+            &[
+                ("linear_steps", "64"),
+                ("secant_steps", "4"),
+                ("layers", &layers.to_string()),
+            ],
+        )
+    };
+    // The empty room is star-shaped about the capture point: one surface per direction, so
+    // the peeled layers are empty and the layered search must find what the one-layer one does.
+    let empty = room("distance-room.toml", |t| t);
+    let one = render(&empty, &search(1));
+    let three = render(&empty, &search(3));
+    let empty_apart = rel_rms(&three, &one, BALL);
+
+    // Beside the occluders (convex boxes apart from each other) a direction from the capture
+    // point meets at most three surfaces: a box's near and far faces and the wall behind.
+    // Three layers hold them all, so a fourth changes nothing; one layer loses the walls
+    // behind the boxes, and two keep the far face as the last, solid, layer, losing them too.
+    let occluded = room("distance-room-occluders.toml", |t| t);
+    let outs: Vec<RasterOutput> = (1..=4).map(|k| render(&occluded, &search(k))).collect();
+    let versus_four: Vec<f64> = outs.iter().map(|o| rel_rms(o, &outs[3], BALL)).collect();
+    let costs: Vec<f64> = outs.iter().map(fetches).collect();
+    println!(
+        "layered search, relative RMS: empty room 3 vs 1 layer {empty_apart:.2e}; occluders, 1/2/3 layers vs 4 {versus_four:?}; fetches {costs:?}"
+    );
+    assert!(
+        empty_apart < 1e-3,
+        "further layers of an empty room must change nothing: {empty_apart}"
+    );
+    assert!(
+        versus_four[2] < 1e-3,
+        "three layers already hold every surface: {versus_four:?}"
+    );
+    assert!(
+        versus_four[0] > 0.05 && versus_four[1] > 0.05,
+        "one or two layers lose the walls behind the boxes: {versus_four:?}"
+    );
+    assert!(
+        costs.windows(2).all(|w| w[1] > w[0]),
+        "each layer costs fetches: {costs:?}"
+    );
+}
+
+#[test]
 fn bad_parameters_and_open_refractors_are_named() {
     let err = Method::parse("distance_impostor", &[("iterations".into(), "65".into())]).unwrap_err();
     assert!(err.contains("iterations") && err.contains("0..=64"), "{err}");

@@ -58,7 +58,8 @@ pub struct RasterArgs {
     /// envmap_sphere sphere_view=X,Y,Z (default: towards the camera), envmap_paraboloid
     /// seam=fill|none. Distance impostors (every envmap_cube parameter): distance_impostor
     /// iterations=1 (0..=64; 0 = envmap_cube); distance_search linear_steps=16 (1..=256),
-    /// secant_steps=4 (0..=64); both double_refraction=off|on (trace a dielectric to its exit).
+    /// secant_steps=4 (0..=64), layers=1 (1..=4: depth-peeled distance layers); both
+    /// double_refraction=off|on (trace a dielectric to its exit).
     #[arg(long = "param", value_name = "K=V", value_parser = parse_param)]
     pub params: Vec<(String, String)>,
 
