@@ -7,6 +7,8 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod access;
+pub mod budget;
 pub mod displacement;
 pub mod error;
 pub mod gltf;

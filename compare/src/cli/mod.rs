@@ -36,6 +36,16 @@ pub struct Cli {
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
+
+    /// Memory budget for what files and flags declare (images, meshes, displacement grids,
+    /// films, study sizes), checked before allocating: bytes, 512M, 8G, or 40% of physical
+    /// memory [default: 50% of physical memory, or $VERITY_MEMORY_LIMIT].
+    #[arg(long, global = true, value_name = "SIZE", value_parser = scenes::budget::parse_limit)]
+    pub memory_limit: Option<u64>,
+
+    /// Let glTF assets read files outside their own folder (absolute, `file:` or `..` URIs).
+    #[arg(long, global = true)]
+    pub allow_paths_outside: bool,
 }
 
 /// The subcommands.
@@ -153,6 +163,16 @@ pub fn run_from(args: impl IntoIterator<Item = OsString>) -> ExitCode {
 /// Runs the subcommand; `Ok` carries the exit status of a command that ran to the end
 /// (0, or `verity diff`'s 1 warn / 2 fail, `verity report`'s 1 when a bound fails).
 fn dispatch(cli: Cli, command_line: &str) -> Result<u8, CliError> {
+    match cli.memory_limit {
+        Some(bytes) => scenes::budget::set_limit(bytes),
+        None => {
+            if let Ok(v) = std::env::var("VERITY_MEMORY_LIMIT") {
+                scenes::budget::parse_limit(&v)
+                    .map_err(|e| CliError::input(format!("environment variable VERITY_MEMORY_LIMIT: {e}")))?;
+            }
+        }
+    }
+    scenes::access::set_outside_allowed(cli.allow_paths_outside);
     match cli.command {
         Command::Render(args) => render::run(&args, command_line).map(|()| 0),
         Command::ExportMitsuba(args) => export_mitsuba::run(&args).map(|()| 0),
