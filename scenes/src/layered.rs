@@ -250,11 +250,25 @@ impl LayeredImage {
     /// every part, and every text attribute. Channels come back in the file's order (sorted by
     /// name, as OpenEXR stores them), attributes sorted by name. In a multi-part file whose
     /// parts are named, channel names get the part name as prefix (`part.R`); all parts must
-    /// have the same size. Deep and subsampled images are refused. Errors name the file.
+    /// have the same size. Deep and subsampled images are refused. Only a regular file is
+    /// opened, and the memory its header declares is checked against the process-wide budget
+    /// ([`crate::budget`]) before any pixel is read. Errors name the file.
     pub fn read_exr(path: impl AsRef<Path>) -> Result<LayeredImage, String> {
+        Self::read_exr_in(path, &crate::budget::Ledger::new())
+    }
+
+    /// [`LayeredImage::read_exr`], charging the decoded size to `ledger` (a job reading several
+    /// images, e.g. `verity diff`, adds them up).
+    pub fn read_exr_in(
+        path: impl AsRef<Path>,
+        ledger: &crate::budget::Ledger,
+    ) -> Result<LayeredImage, String> {
         let path = path.as_ref();
         let fail = |msg: String| format!("{}: {msg}", path.display());
-        check_exr_meta(path).map_err(fail)?;
+        crate::access::regular_file(path).map_err(|why| fail(why.to_string()))?;
+        let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| fail(exr_header_error(e)))?;
+        let (bytes, what) = exr_decoded_bytes(&meta).map_err(fail)?;
+        ledger.charge(bytes, what).map_err(|e| fail(e.to_string()))?;
         let image = exr::prelude::read_all_flat_layers_from_file(path)
             .map_err(|e| fail(format!("cannot read EXR: {e}")))?;
         let first = image
@@ -408,12 +422,22 @@ fn read_text_attributes(attributes: &LayerAttributes, multi_part: bool, out: &mu
     }
 }
 
-/// Reads only the header and refuses files that could not be held in memory or are deep.
-fn check_exr_meta(path: &Path) -> Result<(), String> {
-    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| match e {
+/// The message for an EXR header that cannot be read.
+pub(crate) fn exr_header_error(e: exr::error::Error) -> String {
+    match e {
         exr::error::Error::Io(io) => format!("cannot open: {io}"),
         other => format!("not a valid EXR file: {other}"),
-    })?;
+    }
+}
+
+/// The bytes that decoding every part of an EXR file to f32 allocates, from its header alone:
+/// per channel the samples as stored (2 or 4 bytes) and their f32 copy, plus each part's
+/// chunk offset table (8 bytes per chunk; OpenEXR file layout, "Offset Tables"). Refuses deep
+/// images and data windows outside 1..=[`MAX_READ_DIMENSION`] pixels per side. Also returns
+/// what the bytes are for, for messages ("the 65536×65536 pixels of its 3 channels").
+pub(crate) fn exr_decoded_bytes(meta: &exr::meta::MetaData) -> Result<(u64, String), String> {
+    let mut total: u64 = 0;
+    let mut channels = 0;
     for header in &meta.headers {
         if header.deep {
             return Err("deep EXR images are not supported".into());
@@ -424,8 +448,23 @@ fn check_exr_meta(path: &Path) -> Result<(), String> {
                 "data window {w}x{h} is outside 1..={MAX_READ_DIMENSION} pixels per side"
             ));
         }
+        let pixels = crate::budget::bytes_of(w as u64, h as u64);
+        channels += header.channels.list.len();
+        for channel in &header.channels.list {
+            let stored = channel.sample_type.bytes_per_sample() as u64;
+            total = total.saturating_add(crate::budget::bytes_of(pixels, stored + 4));
+        }
+        total = total.saturating_add(crate::budget::bytes_of(header.chunk_count as u64, 8));
     }
-    Ok(())
+    let size = meta
+        .headers
+        .first()
+        .map(|h| format!("{}×{}", h.layer_size.x(), h.layer_size.y()))
+        .unwrap_or_default();
+    Ok((
+        total,
+        format!("the {size} pixels of the {channels} channels its header declares"),
+    ))
 }
 
 /// Writes `bytes` to `path` atomically: see [`write_atomic_with`].

@@ -34,12 +34,18 @@ pub const DEFAULT_SKY_RADIANCE: f32 = 1.0;
 /// environment of radiance [`DEFAULT_SKY_RADIANCE`] (a note says so on standard error); a
 /// TOML scene that includes it supplies its own lighting instead.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    load_in(path, &budget::Ledger::new())
+}
+
+/// [`load`], charging what the scene allocates to `ledger` (the caller's job: the renderer
+/// then charges its film to the same ledger).
+pub fn load_in(path: &Path, ledger: &budget::Ledger) -> Result<Scene, SceneError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase());
     match ext.as_deref() {
-        Some("toml") => toml::load(path),
+        Some("toml") => toml::load_in(path, ledger),
         Some("gltf") | Some("glb") => {
             let mut scene = gltf::load(path)?;
             let unlit = scene.lights.is_empty() && scene.shapes.iter().all(|s| s.emission.is_none());

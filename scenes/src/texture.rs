@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec4};
 
+use crate::budget::{self, Ledger};
 use crate::error::SceneError;
 use crate::model::WrapMode;
 
@@ -113,28 +114,50 @@ fn wrap_index(i: i64, n: i64, mode: WrapMode) -> i64 {
 /// Largest texture accepted, in texels (2^27 = 16384 × 8192, 2 GiB of RGBA f32).
 const MAX_TEXELS: u64 = 1 << 27;
 
+/// Bytes of one loaded texel (RGBA f32).
+const TEXEL_BYTES: u64 = 16;
+
 /// Loads an image file as a texture: PNG/JPEG (8/16-bit, decoded per `color_space`), EXR and
-/// Radiance HDR (always linear). Errors name the file.
-///
-/// The format is recognised from the file's first bytes, not its name. Grey images fill R,
-/// G and B; a missing alpha is 1. EXR files need `R`, `G`, `B` (and optionally `A`) or a
-/// single `Y` channel. NaN or infinite texels are an error.
+/// Radiance HDR (always linear). Errors name the file. See [`load_texture_in`].
 pub fn load_texture(
     path: &Path,
     color_space: ColorSpace,
     wrap: [WrapMode; 2],
 ) -> Result<Texture, SceneError> {
-    let bytes =
-        std::fs::read(path).map_err(|e| SceneError::new(path, format!("cannot read the image: {e}")))?;
+    load_texture_in(path, color_space, wrap, &Ledger::new())
+}
+
+/// Loads an image file as a texture, charging its memory to `ledger` (the scene's).
+///
+/// The format is recognised from the file's first bytes, not its name. Grey images fill R,
+/// G and B; a missing alpha is 1. EXR files need `R`, `G`, `B` (and optionally `A`) or a
+/// single `Y` channel. NaN or infinite texels are an error. Only a regular file is read, and
+/// its size, then the size its header declares (decoder buffers and the RGBA f32 texels), are
+/// checked against the ledger before they are allocated; the texels stay charged.
+pub fn load_texture_in(
+    path: &Path,
+    color_space: ColorSpace,
+    wrap: [WrapMode; 2],
+    ledger: &Ledger,
+) -> Result<Texture, SceneError> {
+    let err = |m: String| SceneError::new(path, m);
+    let meta =
+        crate::access::regular_file(path).map_err(|m| err(format!("cannot read the image: it {m}")))?;
+    ledger
+        .check(meta.len(), "the image file's bytes")
+        .map_err(|e| err(e.to_string()))?;
+    let bytes = crate::access::read_regular(path, meta.len())
+        .map_err(|m| err(format!("cannot read the image: it {m}")))?;
     // The decoders are third-party code fed with untrusted files: a panic in one of them
-    // becomes an error about this file, never a crash of the caller.
-    let decoded = std::panic::catch_unwind(|| {
+    // becomes an error about this file, never a crash of the caller. (The ledger is only read
+    // in there, so a panic cannot leave it half-updated.)
+    let decoded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         if bytes.starts_with(&EXR_MAGIC) {
-            decode_exr(&bytes)
+            decode_exr(&bytes, ledger)
         } else {
-            decode_image(&bytes, color_space)
+            decode_image(&bytes, color_space, ledger)
         }
-    })
+    }))
     .unwrap_or_else(|_| Err("the image decoder failed on this file".to_string()));
     let (width, height, texels) = decoded.map_err(|m| {
         SceneError::new(path, m).hint("use a PNG, JPEG (8/16-bit), OpenEXR or Radiance HDR image")
@@ -146,6 +169,9 @@ pub fn load_texture(
                 .hint("textures must hold finite values"),
         );
     }
+    ledger
+        .charge(texels.len() as u64 * TEXEL_BYTES, "the texture's texels")
+        .map_err(|e| err(e.to_string()))?;
     Ok(Texture {
         source: path.to_path_buf(),
         width,
@@ -161,29 +187,52 @@ const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
 /// Width, height and RGBA texels, or what went wrong.
 type Decoded = Result<(u32, u32, Vec<Vec4>), String>;
 
-/// Checks the size limits.
-fn check_size(width: u64, height: u64) -> Result<(u32, u32), String> {
+/// Checks the size limits of a `width`×`height` image before it is decoded: the texel count
+/// against [`MAX_TEXELS`], then the RGBA f32 texels plus `decoder_bytes` (the decoder's own
+/// buffers, freed after loading) against `ledger`.
+fn check_size(width: u64, height: u64, decoder_bytes: u64, ledger: &Ledger) -> Result<(u32, u32), String> {
     if width == 0 || height == 0 {
         return Err(format!("the image is empty ({width}×{height})"));
     }
-    if width * height > MAX_TEXELS {
+    let texels = budget::bytes_of(width, height);
+    if texels > MAX_TEXELS {
         return Err(format!("{width}×{height} texels is more than the limit of 2^27"));
     }
+    let bytes = budget::bytes_of(texels, TEXEL_BYTES).saturating_add(decoder_bytes);
+    ledger
+        .check(bytes, format!("{width}×{height} texels and their decoding"))
+        .map_err(|e| e.to_string())?;
     Ok((width as u32, height as u32))
 }
 
-/// PNG, JPEG or Radiance HDR through the `image` crate (its default memory limits apply).
-fn decode_image(bytes: &[u8], color_space: ColorSpace) -> Decoded {
-    let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(|e| e.to_string())?;
-    if reader.format().is_none() {
+/// PNG, JPEG or Radiance HDR through the `image` crate: the dimensions are read from the
+/// header and checked ([`check_size`]) before decoding, and the decoder's own allocation
+/// limit is set to the same budget.
+fn decode_image(bytes: &[u8], color_space: ColorSpace, ledger: &Ledger) -> Decoded {
+    let reader = || {
+        image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| e.to_string())
+    };
+    if reader()?.format().is_none() {
         return Err("not a PNG, JPEG, OpenEXR or Radiance HDR image".to_string());
     }
-    let img = reader
+    let (w, h) = reader()?
+        .into_dimensions()
+        .map_err(|e| format!("cannot read the image header: {e}"))?;
+    // The decoded image (at most RGBA f32) and one converted copy of it.
+    let decoder = budget::bytes_of(budget::bytes_of(u64::from(w), u64::from(h)), 2 * TEXEL_BYTES);
+    check_size(u64::from(w), u64::from(h), decoder, ledger)?;
+    let mut limited = reader()?;
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(w);
+    limits.max_image_height = Some(h);
+    limits.max_alloc = Some(ledger.limit().bytes.saturating_sub(ledger.used()));
+    limited.limits(limits);
+    let img = limited
         .decode()
         .map_err(|e| format!("cannot decode the image: {e}"))?;
-    let (width, height) = check_size(u64::from(img.width()), u64::from(img.height()))?;
+    let (width, height) = (img.width(), img.height());
     let color = img.color();
     let bits = 8 * color.bytes_per_pixel() / color.channel_count();
     let texels = match bits {
@@ -233,8 +282,15 @@ fn decode_unorm(c: f32, color_space: ColorSpace) -> f32 {
 }
 
 /// OpenEXR: the first valid layer, largest level; `R`,`G`,`B`[,`A`] or `Y`[,`A`]; linear.
-fn decode_exr(bytes: &[u8]) -> Decoded {
+fn decode_exr(bytes: &[u8], ledger: &Ledger) -> Decoded {
     use exr::prelude::{read, FlatSamples, ReadChannels, ReadLayers};
+    // The header first: what decoding would allocate, before it does.
+    let meta = exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
+        .map_err(crate::layered::exr_header_error)?;
+    let (decoder, _) = crate::layered::exr_decoded_bytes(&meta)?;
+    if let Some(h) = meta.headers.first() {
+        check_size(h.layer_size.x() as u64, h.layer_size.y() as u64, decoder, ledger)?;
+    }
     let image = read()
         .no_deep_data()
         .largest_resolution_level()
@@ -244,7 +300,7 @@ fn decode_exr(bytes: &[u8]) -> Decoded {
         .from_buffered(std::io::Cursor::new(bytes))
         .map_err(|e| format!("cannot decode the OpenEXR image: {e}"))?;
     let layer = &image.layer_data;
-    let (width, height) = check_size(layer.size.width() as u64, layer.size.height() as u64)?;
+    let (width, height) = check_size(layer.size.width() as u64, layer.size.height() as u64, 0, ledger)?;
     let n = width as usize * height as usize;
     let channel = |name: &str| -> Result<Option<Vec<f32>>, String> {
         let Some(c) = layer

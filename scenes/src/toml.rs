@@ -23,6 +23,7 @@ use std::path::Path;
 
 use read::{Ctx, Field, Table};
 
+use crate::budget::Ledger;
 use crate::{Scene, SceneError};
 
 /// Top-level sections of a scene file.
@@ -39,7 +40,16 @@ const SECTIONS: &[&str] = &[
 
 /// Loads a TOML scene file; relative paths in it are relative to its directory.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    load_str(&read_text(path)?, path)
+    load_in(path, &Ledger::new())
+}
+
+/// [`load`], charging what the scene allocates (textures, displacement heights, included
+/// meshes) to `ledger`: over its limit, an error names the field, before the allocation.
+pub fn load_in(path: &Path, ledger: &Ledger) -> Result<Scene, SceneError> {
+    let text = read_text(path)?;
+    let ctx = Ctx::new(path, &text);
+    let root = parse_document(&ctx, &text)?;
+    from_tree(&ctx, &root, ledger)
 }
 
 /// Loads a TOML scene file with some of its fields changed first ([`overrides`]): a bad path
@@ -51,13 +61,17 @@ pub fn load_with(path: &Path, changes: &[overrides::Override]) -> Result<Scene, 
     for o in changes {
         overrides::apply(&mut root, o).map_err(|e| SceneError::new(path, e).field(o.path.clone()))?;
     }
-    from_tree(&ctx, &root)
+    from_tree(&ctx, &root, &Ledger::new())
 }
 
-/// The UTF-8 text of a scene file.
+/// Largest scene file read, bytes: a scene file is text written by people or scripts (the
+/// built-in ones are under 20 KB); meshes and images live in their own files.
+const MAX_SCENE_FILE_BYTES: u64 = 64 << 20;
+
+/// The UTF-8 text of a scene file (a regular file of at most [`MAX_SCENE_FILE_BYTES`]).
 fn read_text(path: &Path) -> Result<String, SceneError> {
-    let bytes = std::fs::read(path).map_err(|e| {
-        let e = SceneError::new(path, format!("cannot read the scene file: {e}"));
+    let bytes = crate::access::read_regular(path, MAX_SCENE_FILE_BYTES).map_err(|why| {
+        let e = SceneError::new(path, format!("cannot read the scene file: it {why}"));
         if path.exists() {
             e
         } else {
@@ -95,11 +109,11 @@ pub fn parse_document(ctx: &Ctx, text: &str) -> Result<tree::Node, SceneError> {
 pub fn load_str(text: &str, path: &Path) -> Result<Scene, SceneError> {
     let ctx = Ctx::new(path, text);
     let root = parse_document(&ctx, text)?;
-    from_tree(&ctx, &root)
+    from_tree(&ctx, &root, &Ledger::new())
 }
 
 /// Reads a parsed document (the file of `ctx`).
-fn from_tree(ctx: &Ctx, root: &tree::Node) -> Result<Scene, SceneError> {
+fn from_tree(ctx: &Ctx, root: &tree::Node, ledger: &Ledger) -> Result<Scene, SceneError> {
     let path = ctx.file.as_path();
     let doc = Field::root(ctx, root).table()?;
     doc.only(SECTIONS, "a scene file")?;
@@ -108,7 +122,7 @@ fn from_tree(ctx: &Ctx, root: &tree::Node) -> Result<Scene, SceneError> {
     let camera = settings::camera(&doc.req("camera")?.table()?)?;
     let film = settings::film(section("film")?)?;
     let render = settings::render(section("render")?)?;
-    let mut textures = inputs::Textures::default();
+    let mut textures = inputs::Textures::new(ledger);
     let (materials, material_names) = materials::read_all(&doc, &mut textures)?;
     let drafts = shapes::read_all(&doc, &material_names, &mut textures)?;
     let lights = lights::read_all(&doc)?;
@@ -132,7 +146,7 @@ fn from_tree(ctx: &Ctx, root: &tree::Node) -> Result<Scene, SceneError> {
     };
     if let Some(list) = doc.get("include") {
         for t in list.tables()? {
-            include(&t, &mut scene, &mut names)?;
+            include(&t, &mut scene, &mut names, ledger)?;
         }
     }
     Ok(scene)
@@ -216,7 +230,7 @@ impl Names {
 /// `[[include]] file = "model.glb"`: loads a glTF asset and appends its materials, shapes
 /// and lights; the scene file's camera, film, render settings and environment win. With
 /// `displacement = { … }` every mesh of the asset is displaced (each needs uvs and normals).
-fn include(t: &Table, scene: &mut Scene, names: &mut Names) -> Result<(), SceneError> {
+fn include(t: &Table, scene: &mut Scene, names: &mut Names, ledger: &Ledger) -> Result<(), SceneError> {
     t.only(&["file", "displacement", "enabled"], "an include")?;
     if !t.bool_or("enabled", true)? {
         return Ok(());
@@ -232,10 +246,14 @@ fn include(t: &Table, scene: &mut Scene, names: &mut Names) -> Result<(), SceneE
             .err(format!("cannot include {}", path.display()))
             .hint("includes are glTF 2.0 assets (.gltf or .glb)"));
     }
-    if !path.is_file() {
-        return Err(file
-            .err(format!("file not found: {}", path.display()))
-            .hint("paths are relative to the scene file's directory"));
+    match crate::access::regular_file(&path) {
+        Ok(_) => {}
+        Err(crate::access::FileProblem::NotFound) => {
+            return Err(file
+                .err(format!("file not found: {}", path.display()))
+                .hint("paths are relative to the scene file's directory"))
+        }
+        Err(why) => return Err(file.err(format!("{} {why}", path.display()))),
     }
     let included = crate::gltf::load(&path).map_err(|e| {
         if e.hint.is_some() {
@@ -264,7 +282,7 @@ fn include(t: &Table, scene: &mut Scene, names: &mut Names) -> Result<(), SceneE
     let first_new = scene.shapes.len();
     scene.merge(included);
     if let Some(d) = t.get("displacement") {
-        displacement::include(&d, scene, first_new)?;
+        displacement::include(&d, scene, first_new, ledger)?;
     }
     Ok(())
 }

@@ -239,7 +239,63 @@ fn format_is_sniffed_and_errors_name_the_file() {
     let missing = dir.join("missing.png");
     expect_scene_error(
         load_texture(&missing, ColorSpace::Srgb, REPEAT),
-        &["missing.png", "cannot read the image"],
+        &["missing.png", "cannot read the image: it does not exist"],
+    );
+    // What exists but is not a regular file is said so, and a FIFO is never opened (opening
+    // one for reading blocks until a writer comes).
+    expect_scene_error(
+        load_texture(&dir, ColorSpace::Srgb, REPEAT),
+        &["cannot read the image: it is a directory, not a regular file"],
+    );
+    let fifo = dir.join("fifo.png");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status().unwrap();
+    assert!(made.success());
+    expect_scene_error(
+        load_texture(&fifo, ColorSpace::Srgb, REPEAT),
+        &[
+            "fifo.png",
+            "cannot read the image: it is a FIFO, not a regular file",
+        ],
+    );
+}
+
+/// Sizes declared by an image header are checked against the memory budget before the
+/// decoder allocates them: a 4096² PNG (a few KB of zeros) under a 64 MiB ledger is refused
+/// naming the size needed, and loads under a larger one; the ledger adds textures up.
+#[test]
+fn declared_sizes_are_checked_against_the_budget_before_decoding() {
+    use scenes::budget::{Ledger, Limit, Source};
+    use scenes::texture::load_texture_in;
+    let dir = scratch("budget");
+    let path = dir.join("big.png");
+    image::GrayImage::new(4096, 4096)
+        .save_with_format(&path, ImageFormat::Png)
+        .unwrap();
+    assert!(std::fs::metadata(&path).unwrap().len() < 200_000);
+    let ledger = |mib: u64| {
+        Ledger::with_limit(Limit {
+            bytes: mib << 20,
+            source: Source::Flag,
+        })
+    };
+    let small = ledger(64);
+    expect_scene_error(
+        load_texture_in(&path, ColorSpace::Linear, REPEAT, &small),
+        &[
+            "big.png",
+            "4096×4096 texels and their decoding need 768.0 MiB",
+            "--memory-limit",
+        ],
+    );
+    assert_eq!(small.used(), 0, "nothing was charged");
+    let large = ledger(1000);
+    let t = load_texture_in(&path, ColorSpace::Linear, REPEAT, &large).unwrap();
+    assert_eq!((t.width, t.height), (4096, 4096));
+    assert_eq!(large.used(), 4096 * 4096 * 16, "the texels stay charged");
+    // A second one would need the decoder's buffers on top of the first's texels.
+    expect_scene_error(
+        load_texture_in(&path, ColorSpace::Linear, REPEAT, &large),
+        &["on top of 256.0 MiB already loaded"],
     );
 }
 

@@ -11,14 +11,7 @@ pub const MAX_RESOLUTION: u32 = 16384;
 
 /// Loads a scene file; a missing or malformed file is bad input (exit 2).
 pub fn load_scene(path: &Path) -> Result<Scene, CliError> {
-    if !path.is_file() {
-        let why = if path.exists() {
-            "is not a file"
-        } else {
-            "no such file"
-        };
-        return Err(CliError::input(format!("{}: {why}", path.display())));
-    }
+    scenes::access::regular_file(path).map_err(|why| CliError::input(format!("{} {why}", path.display())))?;
     scenes::load(path).map_err(|e| CliError::input(e.to_string()))
 }
 

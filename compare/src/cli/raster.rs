@@ -230,7 +230,7 @@ mod tests {
         };
         let e = run(&args(&["/no/such/scene.toml"]), "").unwrap_err();
         assert_eq!(e.failure, super::super::Failure::Input);
-        assert!(e.message.contains("no such file"), "{}", e.message);
+        assert!(e.message.contains("does not exist"), "{}", e.message);
         let e = run(
             &args(&["x.toml", "--method", "area_quadrature", "--param", "n=99"]),
             "",

@@ -74,10 +74,10 @@ pub(crate) fn read(f: &Field, textures: &mut Textures) -> Result<Displacement, S
             Procedural::Bricks { rows: tiles }
         };
         let name = format!("procedural {word}, tiles {tiles}, {resolution}²");
-        (
-            textures.generated(name, wrap, || kind.texture(resolution, wrap)),
-            0,
-        )
+        let index = textures
+            .generated(name, resolution, wrap, || kind.texture(resolution, wrap))
+            .map_err(|e| pf.err(e.to_string()))?;
+        (index, 0)
     };
     Ok(Displacement {
         texture,
@@ -88,8 +88,13 @@ pub(crate) fn read(f: &Field, textures: &mut Textures) -> Result<Displacement, S
 
 /// `[[include]] displacement = { … }`: displaces every mesh shape the include added (shapes
 /// `first..` of `scene`); each needs texture coordinates and vertex normals, none may emit.
-pub(crate) fn include(f: &Field, scene: &mut crate::Scene, first: usize) -> Result<(), SceneError> {
-    let mut textures = Textures::default();
+pub(crate) fn include(
+    f: &Field,
+    scene: &mut crate::Scene,
+    first: usize,
+    ledger: &crate::budget::Ledger,
+) -> Result<(), SceneError> {
+    let mut textures = Textures::new(ledger);
     let mut d = read(f, &mut textures)?;
     d.texture += scene.textures.len();
     scene.textures.extend(textures.list);

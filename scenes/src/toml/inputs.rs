@@ -7,8 +7,9 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::read::Field;
+use crate::budget::{Exceeded, Ledger};
 use crate::model::{NormalMap, Rgb, TexRgb, TexScalar, WrapMode};
-use crate::texture::{load_texture, ColorSpace, Texture};
+use crate::texture::{load_texture_in, ColorSpace, Texture};
 use crate::SceneError;
 
 /// The range a reflectance-like or radiance-like constant must lie in.
@@ -40,12 +41,14 @@ impl Bound {
     }
 }
 
-/// The scene's textures, each file loaded once per (colour space, wrap mode).
-#[derive(Default)]
-pub(crate) struct Textures {
+/// The scene's textures, each file loaded once per (colour space, wrap mode), charged to the
+/// scene's memory ledger as they load.
+pub(crate) struct Textures<'a> {
     pub list: Vec<Arc<Texture>>,
     /// (source, colour space, wrap) of each entry of `list`.
     keys: Vec<(Source, ColorSpace, [WrapMode; 2])>,
+    /// The scene's memory budget.
+    pub ledger: &'a Ledger,
 }
 
 /// Where a texture of the registry came from.
@@ -57,7 +60,16 @@ enum Source {
     Generated(String),
 }
 
-impl Textures {
+impl<'a> Textures<'a> {
+    /// An empty registry charging `ledger`.
+    pub fn new(ledger: &'a Ledger) -> Self {
+        Textures {
+            list: Vec::new(),
+            keys: Vec::new(),
+            ledger,
+        }
+    }
+
     /// Loads (or reuses) the image named by the string `file`, relative to the scene file.
     pub fn load(
         &mut self,
@@ -70,28 +82,43 @@ impl Textures {
         if let Some(i) = self.keys.iter().position(|k| *k == key) {
             return Ok(i);
         }
-        if !path.is_file() {
-            return Err(file
-                .err(format!("file not found: {}", path.display()))
-                .hint("paths are relative to the scene file's directory"));
+        match crate::access::regular_file(&path) {
+            Ok(_) => {}
+            Err(crate::access::FileProblem::NotFound) => {
+                return Err(file
+                    .err(format!("file not found: {}", path.display()))
+                    .hint("paths are relative to the scene file's directory"))
+            }
+            Err(why) => return Err(file.err(format!("{} {why}", path.display()))),
         }
-        let texture = load_texture(&path, space, wrap)
+        let texture = load_texture_in(&path, space, wrap, self.ledger)
             .map_err(|e| file.err(format!("cannot load the texture: {e}")))?;
         self.list.push(Arc::new(texture));
         self.keys.push(key);
         Ok(self.list.len() - 1)
     }
 
-    /// Adds (or reuses) a linear texture generated at load time, named uniquely by `name`
-    /// (its generator and parameters).
-    pub fn generated(&mut self, name: String, wrap: [WrapMode; 2], make: impl FnOnce() -> Texture) -> usize {
-        let key = (Source::Generated(name), ColorSpace::Linear, wrap);
+    /// Adds (or reuses) a linear `side`² texture generated at load time, named uniquely by
+    /// `name` (its generator and parameters); its texels are charged to the ledger first.
+    pub fn generated(
+        &mut self,
+        name: String,
+        side: u32,
+        wrap: [WrapMode; 2],
+        make: impl FnOnce() -> Texture,
+    ) -> Result<usize, Exceeded> {
+        let key = (Source::Generated(name.clone()), ColorSpace::Linear, wrap);
         if let Some(i) = self.keys.iter().position(|k| *k == key) {
-            return i;
+            return Ok(i);
         }
+        let texels = u64::from(side) * u64::from(side);
+        self.ledger.charge(
+            texels * std::mem::size_of::<glam::Vec4>() as u64,
+            format!("the {name} texels"),
+        )?;
         self.list.push(Arc::new(make()));
         self.keys.push(key);
-        self.list.len() - 1
+        Ok(self.list.len() - 1)
     }
 }
 
