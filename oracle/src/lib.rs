@@ -11,6 +11,7 @@ pub mod frame;
 pub mod geometry;
 pub mod integrator;
 pub mod light;
+pub mod memory;
 pub mod render;
 pub mod sampler;
 pub mod sampling;

@@ -99,6 +99,9 @@ pub enum RenderError {
         /// Whether the state was saved for `--resume`.
         checkpointed: bool,
     },
+    /// What the render would allocate does not fit the memory budget ([`crate::memory`]).
+    #[error("{0}")]
+    Memory(#[from] scenes::budget::Exceeded),
     /// A checkpoint could not be read or written.
     #[error("checkpoint {path}: {message}")]
     Checkpoint {
@@ -129,6 +132,9 @@ pub fn render(
     if job.stop.spp == 0 {
         return Err(RenderError::Scene("spp must be at least 1".into()));
     }
+    // Before anything is allocated (callers that loaded the scene with a ledger have charged
+    // the same figures to it already, with the scene's own memory: `memory::charge`).
+    crate::memory::charge(scene, job.checkpoint.is_some(), &scenes::budget::Ledger::new())?;
     let accel =
         Accel::build(scene).map_err(|e| RenderError::Scene(format!("{}: {e}", scene.source.display())))?;
     let lights =

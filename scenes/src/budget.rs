@@ -195,15 +195,15 @@ impl fmt::Display for Exceeded {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "{} need {} ({} bytes)",
+            "{}: {} ({} bytes) needed",
             self.what,
             human(self.needed),
             self.needed
         )?;
         if self.used > 0 {
-            write!(f, ", on top of {} already loaded", human(self.used))?;
+            write!(f, " on top of {} already loaded", human(self.used))?;
         }
-        write!(f, ": over {}", self.limit)
+        write!(f, ", over {}", self.limit)
     }
 }
 
@@ -319,11 +319,10 @@ mod tests {
         assert_eq!(e.used, 90 << 20);
         assert_eq!(l.used(), 90 << 20, "a refused charge is not recorded");
         let m = e.to_string();
-        assert!(m.contains("third texels need 20.0 MiB (20971520 bytes)"), "{m}");
-        assert!(m.contains("on top of 90.0 MiB already loaded"), "{m}");
-        assert!(
-            m.contains("over the memory limit of 100.0 MiB (--memory-limit)"),
-            "{m}"
+        assert_eq!(
+            m,
+            "third texels: 20.0 MiB (20971520 bytes) needed on top of 90.0 MiB already loaded, \
+             over the memory limit of 100.0 MiB (--memory-limit)"
         );
         // Saturating: a declared size of u64::MAX does not wrap around to fit.
         assert!(l.check(u64::MAX, "everything").is_err());

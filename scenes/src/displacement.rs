@@ -278,12 +278,18 @@ pub fn displace_mesh(
     Ok((dicer.out, dicer.level))
 }
 
-/// N for [`displace_mesh`]: the largest edge extent in texels, capped (module header).
-fn dicing_level(mesh: &Mesh, texture: &Texture) -> u32 {
+/// N for [`displace_mesh`]: the largest edge extent in texels, capped (module header); the
+/// displaced mesh has N² triangles per base triangle. Triangles whose uvs are missing are
+/// skipped here ([`displace_mesh`] refuses such meshes).
+pub fn dicing_level(mesh: &Mesh, texture: &Texture) -> u32 {
     let texels = Vec2::new(texture.width as f32, texture.height as f32);
     let mut extent = 1.0f32;
     for idx in &mesh.indices {
-        let uv = idx.map(|i| mesh.uvs[i as usize]);
+        let uv = idx.map(|i| mesh.uvs.get(i as usize).copied());
+        let [Some(u0), Some(u1), Some(u2)] = uv else {
+            continue;
+        };
+        let uv = [u0, u1, u2];
         for (a, b) in [(uv[0], uv[1]), (uv[1], uv[2]), (uv[2], uv[0])] {
             let d = ((b - a) * texels).abs().max_element();
             if d.is_finite() {

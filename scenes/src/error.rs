@@ -50,6 +50,33 @@ impl SceneError {
     }
 }
 
+/// Untrusted text (a name, a URI from a file) as it may be echoed in a one-line message:
+/// quoted, with control characters, quotes and backslashes escaped (so a newline or U+202E
+/// cannot break or reorder the line), and cut to 80 characters.
+pub fn quoted(text: &str) -> String {
+    const MAX_CHARS: usize = 80;
+    let mut out = String::from("\"");
+    for (i, c) in text.chars().enumerate() {
+        if i == MAX_CHARS {
+            out.push('…');
+            break;
+        }
+        if c.is_control() || c == '"' || c == '\\' || is_bidi_control(c) {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// Unicode bidirectional formatting characters (UAX #9, §2): they reorder what a terminal
+/// shows after them.
+fn is_bidi_control(c: char) -> bool {
+    matches!(c, '\u{061c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+}
+
 impl fmt::Display for SceneError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}", self.file.display())?;
@@ -69,3 +96,18 @@ impl fmt::Display for SceneError {
 }
 
 impl std::error::Error for SceneError {}
+
+#[cfg(test)]
+mod tests {
+    use super::quoted;
+
+    #[test]
+    fn quoted_text_stays_on_one_line_in_order_and_short() {
+        assert_eq!(quoted("lamp"), "\"lamp\"");
+        assert_eq!(quoted("a\nb"), "\"a\\nb\"");
+        assert_eq!(quoted("say \"hi\""), "\"say \\\"hi\\\"\"");
+        assert_eq!(quoted("x\u{202e}y"), "\"x\\u{202e}y\"");
+        let long = "n".repeat(10_000_000);
+        assert_eq!(quoted(&long).chars().count(), 80 + 3);
+    }
+}

@@ -15,6 +15,22 @@ use crate::texture::Texture;
 /// Linear Rec.709 RGB triple (radiance, reflectance, …).
 pub type Rgb = Vec3;
 
+/// Largest magnitude of a world coordinate, metres. Loaders refuse positions, lengths and
+/// bounds beyond it, so that the renderers' products of coordinates (edge cross products,
+/// squared distances: up to (2·10¹⁵)² = 4·10³⁰) stay far inside f32's 3.4·10³⁸.
+pub const MAX_COORD: f32 = 1e15;
+
+/// Largest radiance, intensity or irradiance component a scene may declare (W, m, sr units
+/// as the scene's). The sun's radiance is about 2·10⁷ W m⁻² sr⁻¹; the cap leaves 18 orders of
+/// magnitude between a light and f32 overflow for the BSDF, cosine and pdf factors a sample
+/// multiplies it by.
+pub const MAX_RADIANCE: f32 = 1e20;
+
+/// Whether the box (`lo`, `hi`) is finite and within ±[`MAX_COORD`].
+pub fn within_world(lo: Vec3, hi: Vec3) -> bool {
+    lo.is_finite() && hi.is_finite() && lo.abs().max(hi.abs()).max_element() <= MAX_COORD
+}
+
 /// A whole scene, ready to render.
 #[derive(Clone, Debug)]
 pub struct Scene {

@@ -68,6 +68,16 @@ pub fn load_with(path: &Path, changes: &[overrides::Override]) -> Result<Scene, 
 /// built-in ones are under 20 KB); meshes and images live in their own files.
 const MAX_SCENE_FILE_BYTES: u64 = 64 << 20;
 
+/// The 1-based line of the top-level table or field `key` (`film`, `camera`) in the scene
+/// file at `path`, for errors found after loading (a film too large for the memory budget);
+/// `None` when the file cannot be read or has no such key.
+pub fn line_of(path: &Path, key: &str) -> Option<usize> {
+    let text = read_text(path).ok()?;
+    let ctx = Ctx::new(path, &text);
+    let root = parse_document(&ctx, &text).ok()?;
+    Field::root(&ctx, &root).table().ok()?.get(key)?.line
+}
+
 /// The UTF-8 text of a scene file (a regular file of at most [`MAX_SCENE_FILE_BYTES`]).
 fn read_text(path: &Path) -> Result<String, SceneError> {
     let bytes = crate::access::read_regular(path, MAX_SCENE_FILE_BYTES).map_err(|why| {
@@ -96,12 +106,33 @@ fn read_text(path: &Path) -> Result<String, SceneError> {
 /// [`read`] like scene files do.
 pub fn parse_document(ctx: &Ctx, text: &str) -> Result<tree::Node, SceneError> {
     tree::parse(text).map_err(|e| {
-        let mut err = SceneError::new(&ctx.file, format!("TOML syntax: {}", e.message().trim_end()));
+        let mut err = SceneError::new(&ctx.file, syntax_message(e.message(), text));
         if let Some(span) = e.span() {
             err = err.line(ctx.line_of(span.start));
         }
         err
     })
+}
+
+/// The parser's message as one line. The `toml` crate reports a table written twice as
+/// "invalid table header" with "duplicate key `K`" on a second line: that becomes
+/// "duplicate table [K] (first on line N)".
+fn syntax_message(message: &str, text: &str) -> String {
+    let lines: Vec<&str> = message.lines().map(str::trim).filter(|l| !l.is_empty()).collect();
+    let duplicate = lines
+        .iter()
+        .find_map(|l| l.strip_prefix("duplicate key `"))
+        .and_then(|rest| rest.split_once('`'))
+        .map(|(key, _)| key);
+    if let (Some(key), true) = (duplicate, lines.first() == Some(&"invalid table header")) {
+        let header = format!("[{key}]");
+        let first = text.lines().position(|l| l.trim() == header).map(|i| i + 1);
+        return match first {
+            Some(n) => format!("TOML syntax: duplicate table {header} (first on line {n})"),
+            None => format!("TOML syntax: duplicate table {header}"),
+        };
+    }
+    format!("TOML syntax: {}", lines.join("; "))
 }
 
 /// Loads a scene from TOML text; `path` names it in messages and anchors relative paths
@@ -152,6 +183,19 @@ fn from_tree(ctx: &Ctx, root: &tree::Node, ledger: &Ledger) -> Result<Scene, Sce
     Ok(scene)
 }
 
+/// Longest shape or light name, characters.
+const MAX_NAME_CHARS: usize = 64;
+
+/// Whether `name` can label an AOV channel and a file: 1 to [`MAX_NAME_CHARS`] ASCII
+/// letters, digits, `_` and `-` (no `.`, the EXR layer separator; no `/`, `:`, `*`, spaces,
+/// control or bidirectional characters).
+fn valid_name(name: &str) -> bool {
+    (1..=MAX_NAME_CHARS).contains(&name.len())
+        && name
+            .bytes()
+            .all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-')
+}
+
 /// Shape and light names: one namespace, because both name `visibility.<name>` AOVs.
 #[derive(Default)]
 struct Names {
@@ -200,16 +244,13 @@ impl Names {
             Some(l) => e.line(l),
             None => e,
         };
-        if name.is_empty() || name.contains('.') || name.chars().any(|c| c.is_whitespace() || c.is_control())
-        {
-            return Err(at(SceneError::new(
-                &ctx.file,
-                format!("invalid {what} name \"{name}\""),
-            )
-            .field(format!("{what} \"{name}\".name"))
-            .hint(
-                "names label AOV channels (visibility.<name>): use letters, digits, '_' and '-'",
-            )));
+        if !valid_name(name) {
+            let shown = crate::error::quoted(name);
+            return Err(at(SceneError::new(&ctx.file, format!("invalid {what} name {shown}"))
+                .field(format!("{what} {shown}.name"))
+                .hint(format!(
+                    "names label AOV channels (visibility.<name>) and files: use 1 to {MAX_NAME_CHARS} ASCII letters, digits, '_' and '-'"
+                ))));
         }
         let here = match line {
             Some(l) => format!("{what} on line {l}"),

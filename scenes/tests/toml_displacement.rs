@@ -349,7 +349,7 @@ fn displacements_are_charged_together_against_the_budget() {
     for part in [
         "many.toml:",
         "many.toml:35: field `shape \"p3\".displacement.procedural`",
-        "the procedural bumps, tiles 3, 1024² texels need 16.0 MiB",
+        "the procedural bumps, tiles 3, 1024² texels: 16.0 MiB (16777216 bytes) needed",
         "on top of 32.0 MiB already loaded",
         "over the memory limit of 40.0 MiB",
     ] {

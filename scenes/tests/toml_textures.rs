@@ -283,7 +283,7 @@ fn declared_sizes_are_checked_against_the_budget_before_decoding() {
         load_texture_in(&path, ColorSpace::Linear, REPEAT, &small),
         &[
             "big.png",
-            "4096×4096 texels and their decoding need 768.0 MiB",
+            "4096×4096 texels and their decoding: 768.0 MiB (805306368 bytes) needed",
             "--memory-limit",
         ],
     );

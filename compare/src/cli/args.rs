@@ -2,6 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
+use scenes::budget::{Exceeded, Ledger};
 use scenes::{Film, Scene};
 
 use super::CliError;
@@ -11,8 +12,25 @@ pub const MAX_RESOLUTION: u32 = 16384;
 
 /// Loads a scene file; a missing or malformed file is bad input (exit 2).
 pub fn load_scene(path: &Path) -> Result<Scene, CliError> {
+    load_scene_in(path, &Ledger::new())
+}
+
+/// [`load_scene`], charging the scene's memory to `ledger`.
+pub fn load_scene_in(path: &Path, ledger: &Ledger) -> Result<Scene, CliError> {
     scenes::access::regular_file(path).map_err(|why| CliError::input(format!("{} {why}", path.display())))?;
-    scenes::load(path).map_err(|e| CliError::input(e.to_string()))
+    scenes::load_in(path, ledger).map_err(|e| CliError::input(e.to_string()))
+}
+
+/// The error for a render of `scene` whose memory does not fit the budget (exit 2), naming
+/// the `--resolution` flag when it set the film, else the scene file's `film` (with its line).
+pub fn over_budget(scene_path: &Path, resolution_flag: bool, e: &Exceeded) -> CliError {
+    if resolution_flag {
+        return CliError::input(format!("--resolution: {e}"));
+    }
+    let line = scenes::toml::line_of(scene_path, "film")
+        .map(|l| format!(":{l}"))
+        .unwrap_or_default();
+    CliError::input(format!("{}{line}: field `film`: {e}", scene_path.display()))
 }
 
 /// `WxH` (also `W×H`), each side in 1..=[`MAX_RESOLUTION`].

@@ -11,9 +11,10 @@ use std::time::Duration;
 
 use clap::{Args, ValueEnum};
 use oracle::{CheckpointConfig, Progress, RenderJob, RenderResult, StopRule};
+use scenes::budget::Ledger;
 use scenes::{Film, IntegratorKind, RenderSettings, SamplerKind, Scene};
 
-use super::args::{exr_output, load_scene, parse_resolution};
+use super::args::{exr_output, load_scene_in, over_budget, parse_resolution};
 use super::CliError;
 use crate::progress::{format_duration, format_sig3, rate, ProgressMode, ProgressReporter};
 
@@ -149,8 +150,11 @@ pub fn integrator_name(kind: IntegratorKind) -> &'static str {
 pub fn run(args: &RenderArgs, command_line: &str) -> Result<(), CliError> {
     let out = output_path(args)?;
     let checkpoint = checkpoint_config(args, &out)?;
-    let mut scene = load_scene(&args.scene)?;
+    let ledger = Ledger::new();
+    let mut scene = load_scene_in(&args.scene, &ledger)?;
     let (stop, spp_is_cap) = apply_overrides(args, &mut scene);
+    oracle::memory::charge(&scene, checkpoint.is_some(), &ledger)
+        .map_err(|e| over_budget(&args.scene, args.resolution.is_some(), &e))?;
 
     let mut reporter = ProgressReporter::new(ProgressMode::detect(args.quiet), stop, spp_is_cap);
     reporter.note(&start_line(args, &scene, &stop, spp_is_cap, &out));

@@ -48,8 +48,9 @@ use super::{Analytic, Ray, SurfaceHit};
 const NODE_T_SHIFT: f32 = 2e-4;
 /// Relative padding of primitive bounding boxes (2⁻²⁰ ≈ 8 ULPs of the largest coordinate).
 const AABB_PAD: f32 = 1.0 / 1_048_576.0;
-/// Coordinates beyond this magnitude (m) are refused: cross products of edges would overflow.
-const MAX_COORD: f32 = 1e15;
+/// Coordinates beyond this magnitude (m) are refused: cross products of edges would overflow
+/// (the loaders refuse them first; scenes built in code are checked here).
+use scenes::MAX_COORD;
 
 /// BVH build preset (obvhs' `BvhBuildParams`); all use PLOC + reinsertion and CWBVH leaves of
 /// up to 3 primitives. Spatial pre-splits of the slow presets apply to triangle-only builds

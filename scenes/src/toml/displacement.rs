@@ -25,7 +25,7 @@ const DEFAULT_RESOLUTION: i64 = 256;
 pub(crate) fn read(f: &Field, textures: &mut Textures) -> Result<Displacement, SceneError> {
     let t = f.table()?;
     t.only(FIELDS, "a displacement")?;
-    let scale = t.req("scale")?.f32()?;
+    let scale = t.req("scale")?.length()?;
     let wrap = match t.get("wrap") {
         Some(w) => wrap_modes(&w)?,
         None => [WrapMode::Clamp; 2],

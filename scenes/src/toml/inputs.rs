@@ -17,7 +17,7 @@ use crate::SceneError;
 pub(crate) enum Bound {
     /// Every component in [0, 1] (reflectances: more would create energy).
     Unit,
-    /// Every component >= 0 (radiance, intensity).
+    /// Every component in [0, [`crate::MAX_RADIANCE`]] (radiance, intensity, irradiance).
     NonNegative,
 }
 
@@ -25,7 +25,7 @@ impl Bound {
     fn check(self, field: &Field, values: &[f32]) -> Result<(), SceneError> {
         let ok = |v: f32| match self {
             Bound::Unit => (0.0..=1.0).contains(&v),
-            Bound::NonNegative => v >= 0.0,
+            Bound::NonNegative => (0.0..=crate::MAX_RADIANCE).contains(&v),
         };
         if values.iter().all(|&v| ok(v)) {
             return Ok(());
@@ -35,7 +35,10 @@ impl Bound {
                 "must lie in [0, 1]",
                 "a reflectance above 1 creates energy; scale the lights instead",
             ),
-            Bound::NonNegative => ("must be >= 0", "negative light is not physical"),
+            Bound::NonNegative => (
+                "must lie in [0, 1e20]",
+                "negative light is not physical, and more than 1e20 overflows f32 once multiplied by a BSDF and a pdf",
+            ),
         };
         Err(field.err(format!("{what}, got {values:?}")).hint(hint))
     }

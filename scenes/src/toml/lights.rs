@@ -21,7 +21,9 @@ pub(crate) fn read_all(doc: &Table) -> Result<Vec<(Light, Option<usize>)>, Scene
     for t in list.tables()? {
         let name_field = t.req("name")?;
         let name = name_field.str()?.to_string();
-        let t = t.clone().renamed(format!("light \"{name}\""));
+        let t = t
+            .clone()
+            .renamed(format!("light {}", crate::error::quoted(&name)));
         lights.push((read_one(&t, name)?, name_field.line));
     }
     Ok(lights)
@@ -47,7 +49,7 @@ fn read_one(t: &Table, name: String) -> Result<Light, SceneError> {
     Ok(match kind {
         "point" => Light::Point {
             name,
-            position: t.req("position")?.vec3()?,
+            position: t.req("position")?.position()?,
             intensity: rgb_const(Some(t.req("intensity")?), Bound::NonNegative, glam::Vec3::ZERO)?,
         },
         "spot" => spot(t, name)?,
@@ -72,12 +74,12 @@ fn read_one(t: &Table, name: String) -> Result<Light, SceneError> {
 
 /// Spot: `position`, `direction` or `target`, `intensity`, `cutoff_angle`, `beam_width`.
 fn spot(t: &Table, name: String) -> Result<Light, SceneError> {
-    let position = t.req("position")?.vec3()?;
+    let position = t.req("position")?.position()?;
     let direction = match t.one_of(&["direction", "target"])? {
         Some("direction") => t.req("direction")?.direction()?,
         Some(_) => {
             let f = t.req("target")?;
-            (f.vec3()? - position)
+            (f.position()? - position)
                 .try_normalize()
                 .ok_or_else(|| f.err("the target is the spot's own position"))?
         }

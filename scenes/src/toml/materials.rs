@@ -36,10 +36,15 @@ pub(crate) fn read_all(
         if let Some(&first) = names.get(name) {
             let at = lines[first].map(|l| format!(" on line {l}")).unwrap_or_default();
             return Err(name_field
-                .err(format!("duplicate material name \"{name}\" (first defined{at})"))
+                .err(format!(
+                    "duplicate material name {} (first defined{at})",
+                    crate::error::quoted(name)
+                ))
                 .hint("give every material its own name"));
         }
-        let t = t.clone().renamed(format!("material \"{name}\""));
+        let t = t
+            .clone()
+            .renamed(format!("material {}", crate::error::quoted(name)));
         materials.push(read_one(&t, textures)?);
         names.insert(name.to_string(), materials.len() - 1);
         lines.push(t.line);
@@ -72,7 +77,7 @@ fn read_one(t: &Table, textures: &mut Textures) -> Result<Material, SceneError> 
         },
         "phong" => Material::Phong {
             reflectance: rgb("reflectance", 1.0)?,
-            exponent: t.req("exponent")?.non_negative()?,
+            exponent: phong_exponent(&t.req("exponent")?)?,
         },
         "ggx" => {
             let reflectance = rgb("reflectance", 1.0)?;
@@ -119,4 +124,19 @@ fn scalar(t: &Table, key: &str, channel: usize, textures: &mut Textures) -> Resu
 /// An index of refraction: finite and > 0.
 fn ior(field: Option<Field>, default: f32) -> Result<f32, SceneError> {
     field.map_or(Ok(default), |f| f.positive())
+}
+
+/// Largest Phong exponent: a lobe cosⁿ falls to half at θ ≈ √(2 ln 2 / n), 0.07° at n = 10⁶;
+/// beyond it the normalization (n + 2)/(2π) times cosⁿ underflows and overflows into NaN.
+const MAX_PHONG_EXPONENT: f32 = 1e6;
+
+/// A Phong exponent in [0, [`MAX_PHONG_EXPONENT`]].
+fn phong_exponent(f: &Field) -> Result<f32, SceneError> {
+    let n = f.non_negative()?;
+    if n > MAX_PHONG_EXPONENT {
+        return Err(f
+            .err(format!("must be at most 1e6, got {n:?}"))
+            .hint("a lobe of exponent 1e6 is 0.07° wide; use a mirror material for a sharper one"));
+    }
+    Ok(n)
 }

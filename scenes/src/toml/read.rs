@@ -196,11 +196,13 @@ impl<'a> Field<'a> {
         if allowed.contains(&s) {
             Ok(s)
         } else {
-            Err(self.err(format!("unknown value \"{s}\"")).hint(format!(
-                "use one of {}{}",
-                quoted(allowed),
-                did_you_mean(s, allowed)
-            )))
+            Err(self
+                .err(format!("unknown value {}", crate::error::quoted(s)))
+                .hint(format!(
+                    "use one of {}{}",
+                    quoted(allowed),
+                    did_you_mean(s, allowed)
+                )))
         }
     }
 
@@ -234,6 +236,30 @@ impl<'a> Field<'a> {
     /// A 3-vector `[x, y, z]`.
     pub fn vec3(&self) -> Result<Vec3, SceneError> {
         self.floats::<3>().map(Vec3::from)
+    }
+
+    /// A position or extent in metres, every component within ±[`crate::MAX_COORD`].
+    pub fn position(&self) -> Result<Vec3, SceneError> {
+        let v = self.vec3()?;
+        if v.abs().max_element() > crate::MAX_COORD {
+            return Err(self.beyond_world(&format!("{:?}", v.to_array())));
+        }
+        Ok(v)
+    }
+
+    /// A length in metres, |x| within [`crate::MAX_COORD`].
+    pub fn length(&self) -> Result<f32, SceneError> {
+        let v = self.f32()?;
+        if v.abs() > crate::MAX_COORD {
+            return Err(self.beyond_world(&format!("{v:?}")));
+        }
+        Ok(v)
+    }
+
+    /// The error for a coordinate or length beyond ±[`crate::MAX_COORD`].
+    pub fn beyond_world(&self, shown: &str) -> SceneError {
+        self.err(format!("{shown} is beyond ±{:e} m", crate::MAX_COORD))
+            .hint("scene coordinates and lengths are limited so that products of them stay finite in f32")
     }
 
     /// A non-zero 3-vector, normalised.

@@ -25,10 +25,10 @@ pub(crate) fn camera(t: &Table) -> Result<Camera, SceneError> {
         "the camera",
     )?;
     let target_field = t.req("target")?;
-    let target = target_field.vec3()?;
+    let target = target_field.position()?;
     let orbit = ["distance", "azimuth", "elevation"].map(|k| t.get(k));
     let eye = match (t.get("eye"), &orbit) {
-        (Some(eye), [None, None, None]) => eye.vec3()?,
+        (Some(eye), [None, None, None]) => eye.position()?,
         (Some(_), _) => {
             let extra = orbit.iter().flatten().next().expect("an orbit field is present");
             return Err(extra
@@ -41,7 +41,7 @@ pub(crate) fn camera(t: &Table) -> Result<Camera, SceneError> {
                     .err("the camera needs `eye`, or `distance` (with optional `azimuth`/`elevation`)")
                     .hint("add `eye = [x, y, z]`"));
             };
-            let d = distance_field.f32()?;
+            let d = distance_field.length()?;
             if !(d > 0.0 && d.is_finite()) {
                 return Err(distance_field.err(format!("must be a finite distance > 0 m, got {d}")));
             }

@@ -52,7 +52,7 @@ pub(crate) fn read_all(
             None => None,
         };
         let t = match &name {
-            Some((n, _)) => t.clone().renamed(format!("shape \"{n}\"")),
+            Some((n, _)) => t.clone().renamed(format!("shape {}", crate::error::quoted(n))),
             None => t,
         };
         // A disabled shape is read and checked like any other, then left out (studies switch
@@ -114,18 +114,26 @@ fn read_one(
         "rectangle" | "disk" => planar(t, kind, m)?,
         _ => cuboid(t, m)?,
     };
-    Ok(Draft {
-        shape: Shape {
-            name: String::new(),
-            geometry,
-            material,
-            emission,
-            normal_map,
-            displacement,
-        },
-        name,
-        kind,
-    })
+    let shape = Shape {
+        name: String::new(),
+        geometry,
+        material,
+        emission,
+        normal_map,
+        displacement,
+    };
+    if let Some(d) = t.get("displacement") {
+        let (lo, hi) = shape.bounds(&textures.list);
+        if !crate::within_world(lo, hi) {
+            return Err(d
+                .err(format!(
+                    "the displaced surface reaches beyond ±{:e} m (bounds {lo} .. {hi})",
+                    crate::MAX_COORD
+                ))
+                .hint("scale × the largest height must stay within the world's range"));
+        }
+    }
+    Ok(Draft { shape, name, kind })
 }
 
 /// A shape's `displacement`: rectangles only (meshes get theirs on `[[include]]`), never on
@@ -174,7 +182,9 @@ fn material_index(f: &Field, materials: &HashMap<String, usize>) -> Result<usize
             did_you_mean(name, &known)
         )
     };
-    Err(f.err(format!("unknown material \"{name}\"")).hint(hint))
+    Err(f
+        .err(format!("unknown material {}", crate::error::quoted(name)))
+        .hint(hint))
 }
 
 /// `emission = { radiance = …, two_sided = false }`.
@@ -189,9 +199,9 @@ fn emission(f: &Field, textures: &mut Textures) -> Result<Emission, SceneError> 
 
 /// Sphere `center`, `radius`; a transform must be a similarity (no shear, uniform scale).
 fn sphere(t: &Table, m: Option<(Affine3A, Field)>, emissive: bool) -> Result<Geometry, SceneError> {
-    let mut center = t.req("center")?.vec3()?;
+    let mut center = t.req("center")?.position()?;
     let rf = t.req("radius")?;
-    let mut radius = rf.f32()?;
+    let mut radius = rf.length()?;
     if radius <= 0.0 {
         let hint = if emissive {
             "an emitting sphere needs a positive area; use a point light for a point source"
@@ -214,7 +224,7 @@ fn sphere(t: &Table, m: Option<(Affine3A, Field)>, emissive: bool) -> Result<Geo
 
 /// Rectangle or disk: `half_u` + `half_v`, or `size`/`radius` + `normal` (+ `up`).
 fn planar(t: &Table, kind: &str, m: Option<(Affine3A, Field)>) -> Result<Geometry, SceneError> {
-    let mut center = t.req("center")?.vec3()?;
+    let mut center = t.req("center")?.position()?;
     let (mut hu, mut hv) = if t.has("half_u") || t.has("half_v") {
         for key in ["size", "radius", "normal", "up"] {
             if let Some(f) = t.get(key) {
@@ -223,7 +233,7 @@ fn planar(t: &Table, kind: &str, m: Option<(Affine3A, Field)>) -> Result<Geometr
                     .hint("give either half_u and half_v, or size (or radius) with normal and up"));
             }
         }
-        (t.req("half_u")?.vec3()?, t.req("half_v")?.vec3()?)
+        (t.req("half_u")?.position()?, t.req("half_v")?.position()?)
     } else {
         sized(t, kind)?
     };
@@ -283,10 +293,13 @@ fn sized(t: &Table, kind: &str) -> Result<(Vec3, Vec3), SceneError> {
     })?;
     let f = t.req(which)?;
     let (w, h) = if which == "radius" {
-        let r = f.f32()?;
+        let r = f.length()?;
         (2.0 * r, 2.0 * r)
     } else {
         let [w, h] = f.floats::<2>()?;
+        if w.abs().max(h.abs()) > crate::MAX_COORD {
+            return Err(f.beyond_world(&format!("{:?}", [w, h])));
+        }
         (w, h)
     };
     if !(w > 0.0 && h > 0.0) {
@@ -323,9 +336,9 @@ fn frame(n: Vec3, up: Option<Field>) -> Result<(Vec3, Vec3), SceneError> {
 
 /// Box `center`, `size` → 12 triangles, counter-clockwise seen from outside.
 fn cuboid(t: &Table, m: Option<(Affine3A, Field)>) -> Result<Geometry, SceneError> {
-    let center = t.req("center")?.vec3()?;
+    let center = t.req("center")?.position()?;
     let sf = t.req("size")?;
-    let size = sf.vec3()?;
+    let size = sf.position()?;
     if size.min_element() <= 0.0 {
         return Err(sf
             .err(format!("every side must be > 0, got {:?}", size.to_array()))
@@ -373,13 +386,19 @@ pub(crate) fn box_mesh(center: Vec3, half: Vec3, m: &Affine3A) -> Mesh {
     mesh
 }
 
-/// Fails when a transform pushed a value past the f32 range.
+/// Fails when a transform pushed a value beyond ±[`crate::MAX_COORD`] (or past the f32 range).
 fn finite(f: &Field, values: &[Vec3]) -> Result<(), SceneError> {
-    if values.iter().all(|v| v.is_finite()) {
+    if values
+        .iter()
+        .all(|v| v.is_finite() && v.abs().max_element() <= crate::MAX_COORD)
+    {
         Ok(())
     } else {
         Err(f
-            .err("the transform sends the shape to infinity")
-            .hint("check the scale factors"))
+            .err(format!(
+                "the transform sends the shape beyond ±{:e} m",
+                crate::MAX_COORD
+            ))
+            .hint("check the scale factors and translations"))
     }
 }

@@ -22,19 +22,28 @@ pub(crate) fn read(field: &Field) -> Result<Affine3A, SceneError> {
         })?;
         let f = t.req(kind)?;
         let s = match kind {
-            "translate" => Affine3A::from_translation(f.vec3()?),
+            "translate" => Affine3A::from_translation(f.position()?),
             "rotate" => rotation(&f)?,
             "scale" => scaling(&f)?,
             _ => matrix(&f)?,
         };
         m = s * m;
+        if !(m.is_finite() && m.to_cols_array().iter().all(|v| v.abs() <= crate::MAX_COORD)) {
+            return Err(f
+                .err(format!(
+                    "the transform reaches beyond ±{:e} (factors or offsets)",
+                    crate::MAX_COORD
+                ))
+                .hint("scene coordinates are limited so that products of them stay finite in f32"));
+        }
     }
-    let det = m.matrix3.determinant();
+    // In f64: the product of three factors of up to 1e15 overflows f32.
+    let det = Mat3::from(m.matrix3).as_dmat3().determinant();
     let size = Mat3::from(m.matrix3)
         .to_cols_array()
         .iter()
         .fold(0.0f32, |a, v| a.max(v.abs()));
-    if det.abs() <= 1e-9 * size.powi(3) {
+    if det.abs() <= 1e-9 * f64::from(size).powi(3) {
         return Err(field
             .err(format!("the transform is singular (determinant {det})"))
             .hint("a zero scale flattens the shape; use a small non-zero scale or remove the shape"));
