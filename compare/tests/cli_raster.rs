@@ -97,3 +97,25 @@ fn no_usable_adapter_exits_3_with_the_install_hint() {
     assert!(text(&o).contains("mesa-vulkan-drivers"), "{}", text(&o));
     assert!(!out.exists(), "no output without a render");
 }
+
+/// The outputs are checked before the GPU is touched: a PNG preview path that is a directory
+/// is bad input (exit 2), one line naming it, and the EXR is not written.
+#[test]
+fn raster_checks_its_outputs_before_rendering() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli-raster-outputs");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("r.png")).unwrap();
+    let out = dir.join("r.exr");
+    let o = raster(&out, &[("WGPU_BACKEND", "none-such")], &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr),
+        format!(
+            "error: {}: is a directory (the PNG preview beside --out {}); nothing was written\n",
+            dir.join("r.png").display(),
+            out.display()
+        )
+    );
+    assert!(!out.exists(), "the EXR must not be written");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

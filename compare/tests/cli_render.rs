@@ -242,7 +242,10 @@ fn cli_render_resume_with_a_bad_checkpoint_fails_with_exit_1() {
     let stderr = text(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "a render failure exits 1:\n{stderr}");
     assert!(
-        stderr.contains("error: ") && stderr.contains("r.exr.checkpoint"),
+        stderr.ends_with(&format!(
+            "error: rendering {scene}: checkpoint r.exr.checkpoint: is not a Verity checkpoint \
+             (bad magic); delete it or drop --resume\n"
+        )),
         "{stderr}"
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
@@ -251,6 +254,93 @@ fn cli_render_resume_with_a_bad_checkpoint_fails_with_exit_1() {
         before,
         "a failed render keeps the old output"
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Every output (EXR, PNG preview, checkpoint) is checked before rendering: when one cannot
+/// be written the command fails as bad input (exit 2) with one line naming it, and nothing is
+/// written, not even the outputs that could be.
+#[test]
+fn cli_render_checks_every_output_before_rendering() {
+    let dir = test_dir("outputs");
+    let scene = cornell_box();
+    let render = |extra: &[&str]| {
+        let args = [
+            &[
+                "render",
+                &scene,
+                "--resolution",
+                "8x8",
+                "--spp",
+                "1",
+                "--out",
+                "r.exr",
+            ],
+            extra,
+        ];
+        verity_in(&dir, &args.concat())
+    };
+    std::fs::write(dir.join("r.exr"), b"the old EXR").unwrap();
+    std::fs::create_dir(dir.join("r.png")).unwrap();
+    let out = render(&[]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert_eq!(
+        text(&out.stderr),
+        "error: r.png: is a directory (the PNG preview beside --out r.exr); nothing was written\n"
+    );
+    assert_eq!(std::fs::read(dir.join("r.exr")).unwrap(), b"the old EXR");
+    assert!(
+        text(&out.stdout).is_empty(),
+        "nothing rendered: {}",
+        text(&out.stdout)
+    );
+
+    std::fs::remove_dir(dir.join("r.png")).unwrap();
+    std::fs::create_dir(dir.join("r.exr.checkpoint")).unwrap();
+    let out = render(&["--checkpoint-every", "1"]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert_eq!(
+        text(&out.stderr),
+        "error: r.exr.checkpoint: is a directory (the checkpoint of --out r.exr); nothing was written\n"
+    );
+    assert_eq!(std::fs::read(dir.join("r.exr")).unwrap(), b"the old EXR");
+    assert_eq!(entries(&dir), ["r.exr", "r.exr.checkpoint"], "nothing written");
+
+    // With checkpoints off, the checkpoint path is not an output.
+    let out = render(&["--checkpoint-every", "0", "--quiet"]);
+    assert_success(&out, "no checkpoint");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `--out` a symbolic link: the render replaces the link's target and keeps the link.
+#[cfg(unix)]
+#[test]
+fn cli_render_writes_through_a_symbolic_link() {
+    let dir = test_dir("symlink");
+    std::fs::create_dir(dir.join("renders")).unwrap();
+    std::fs::write(dir.join("renders/latest.exr"), b"the old EXR").unwrap();
+    std::os::unix::fs::symlink("renders/latest.exr", dir.join("link.exr")).unwrap();
+    let out = verity_in(
+        &dir,
+        &[
+            "render",
+            &cornell_box(),
+            "--resolution",
+            "8x8",
+            "--spp",
+            "1",
+            "--out",
+            "link.exr",
+            "--quiet",
+        ],
+    );
+    assert_success(&out, "render to a link");
+    let link = std::fs::symlink_metadata(dir.join("link.exr")).unwrap();
+    assert!(link.file_type().is_symlink(), "the link was replaced by a file");
+    let img = LayeredImage::read_exr(dir.join("renders/latest.exr")).expect("the target is the new EXR");
+    assert_eq!((img.width, img.height), (8, 8));
+    assert_eq!(entries(&dir.join("renders")), ["latest.exr"]);
+    assert_eq!(entries(&dir), ["link.exr", "link.png", "renders"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -291,6 +381,40 @@ fn cli_render_resumes_from_checkpoint_bit_exactly() {
     }
     child.kill().unwrap();
     child.wait().unwrap();
+
+    // A flipped byte in the accumulators is refused (exit 1, one line naming the file and
+    // what to do), and the checkpoint is left for the user to delete.
+    let intact = std::fs::read(&checkpoint).unwrap();
+    let mut damaged = intact.clone();
+    damaged[100] ^= 0x10;
+    std::fs::write(&checkpoint, &damaged).unwrap();
+    let out = verity_in(
+        &dir,
+        &[&common[..], &["--time", "0.001", "--resume", "--out", "k.exr"]].concat(),
+    );
+    let stderr = text(&out.stderr);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "a corrupt checkpoint exits 1:\n{stderr}"
+    );
+    assert_eq!(
+        stderr
+            .lines()
+            .filter(|l| l.starts_with("error: "))
+            .collect::<Vec<_>>(),
+        [format!(
+            "error: rendering {scene}: checkpoint k.exr.checkpoint: is corrupt: the SHA-256 of its \
+             contents does not match the checksum it carries; delete it or drop --resume"
+        )],
+        "{stderr}"
+    );
+    assert!(
+        !dir.join("k.exr").exists(),
+        "nothing is written from a corrupt checkpoint"
+    );
+    assert_eq!(std::fs::read(&checkpoint).unwrap(), damaged);
+    std::fs::write(&checkpoint, &intact).unwrap();
 
     // Resume with a budget already spent: the render stops at the checkpoint's spp.
     let out = verity_in(

@@ -1,16 +1,34 @@
 //! Checkpoints: the film's exact f64 accumulators, so a resumed render ends with the same
-//! bits as an uninterrupted one. Format (little endian): magic `VRTYCKP1`, u64 job
-//! fingerprint, u32 width, u32 height, u32 light count, u32 spp, u64 paths, u64 rays,
-//! u64 non-finite samples, f64 seconds, then the film's f64 values.
+//! bits as an uninterrupted one.
+//!
+//! Format 2 (little endian): magic `VRTYCKP2`, u64 job fingerprint, u32 width, u32 height,
+//! u32 light count, u32 spp, u64 paths, u64 rays, u64 non-finite samples, f64 seconds, the
+//! film's f64 values, then the SHA-256 (FIPS 180-4) of every byte before it. The checksum
+//! makes a damaged file (flipped bits, a torn copy, a truncation) a refusal instead of an
+//! image that silently differs: a resumed render would otherwise carry the damage into every
+//! later sample's mean. A file that passes the checksum is still refused when its values are
+//! impossible ([`Film::check_invariants`]): a checksum proves the file is what was written,
+//! not that what was written was sound. Format 1 (`VRTYCKP1`, no checksum) is refused with a
+//! message saying so; its renders must be started afresh.
+//!
+//! Every refusal says what to do: delete the file or drop `--resume`.
 
 use std::fmt::Write as _;
+use std::io::Read;
 use std::path::Path;
+
+use sha2::{Digest, Sha256};
 
 use crate::film::Film;
 use crate::render::{RenderError, RenderJob};
 
-const MAGIC: &[u8; 8] = b"VRTYCKP1";
+const MAGIC: &[u8; 8] = b"VRTYCKP2";
+/// What every format's magic starts with; the last byte is the format version.
+const MAGIC_FAMILY: &[u8; 7] = b"VRTYCKP";
 const HEADER: usize = 8 + 8 + 4 * 4 + 8 * 3 + 8;
+const CHECKSUM: usize = 32;
+/// What every refusal ends with.
+const ADVICE: &str = "delete it or drop --resume";
 
 /// A loaded checkpoint.
 pub struct State {
@@ -64,9 +82,19 @@ fn err(path: &Path, message: impl Into<String>) -> RenderError {
     }
 }
 
+/// A refusal of the file at `path`: `why`, then what to do.
+fn refuse(path: &Path, why: impl std::fmt::Display) -> RenderError {
+    err(path, format!("{why}; {ADVICE}"))
+}
+
+/// Size in bytes of the checkpoint of a film shaped like `like`.
+fn file_len(like: &Film) -> usize {
+    HEADER + like.data.len() * 8 + CHECKSUM
+}
+
 /// Writes `film` atomically.
 pub fn save(path: &Path, fingerprint: u64, film: &Film, seconds: f64) -> Result<(), RenderError> {
-    let mut bytes = Vec::with_capacity(HEADER + film.data.len() * 8);
+    let mut bytes = Vec::with_capacity(file_len(film));
     bytes.extend_from_slice(MAGIC);
     bytes.extend_from_slice(&fingerprint.to_le_bytes());
     for v in [film.width, film.height, film.light_count as u32, film.spp] {
@@ -79,37 +107,72 @@ pub fn save(path: &Path, fingerprint: u64, film: &Film, seconds: f64) -> Result<
     for v in &film.data {
         bytes.extend_from_slice(&v.to_le_bytes());
     }
+    let checksum = Sha256::digest(&bytes);
+    bytes.extend_from_slice(&checksum);
     scenes::layered::write_atomic(path, &bytes).map_err(|e| err(path, e.to_string()))
 }
 
 /// Reads a checkpoint written for the same job (`fingerprint`) and film shape as `like`.
+/// At most one byte more than that job's checkpoint is read, whatever the file's size.
 pub fn load(path: &Path, fingerprint: u64, like: &Film) -> Result<State, RenderError> {
-    let bytes = std::fs::read(path).map_err(|e| err(path, e.to_string()))?;
-    if bytes.len() < HEADER || &bytes[..8] != MAGIC {
-        return Err(err(path, "not a Verity checkpoint (bad magic or truncated)"));
+    let expected = file_len(like);
+    let mut bytes = Vec::with_capacity(expected);
+    std::fs::File::open(path)
+        .and_then(|f| f.take(expected as u64 + 1).read_to_end(&mut bytes))
+        .map_err(|e| refuse(path, format_args!("cannot be read ({e})")))?;
+    if bytes.len() < MAGIC.len() || !bytes.starts_with(MAGIC_FAMILY) {
+        return Err(refuse(path, "is not a Verity checkpoint (bad magic)"));
     }
-    let u64_at = |o: usize| u64::from_le_bytes(bytes[o..o + 8].try_into().expect("8 bytes"));
-    let u32_at = |o: usize| u32::from_le_bytes(bytes[o..o + 4].try_into().expect("4 bytes"));
-    if u64_at(8) != fingerprint {
-        return Err(err(
+    if &bytes[..8] != MAGIC {
+        return Err(refuse(
             path,
-            "written for a different scene, settings or oracle version; delete it or drop --resume",
+            format_args!(
+                "is in checkpoint format `{}`, not this version's `{}` (format 2 adds a SHA-256 \
+                 checksum); it cannot be resumed",
+                String::from_utf8_lossy(&bytes[..8]),
+                String::from_utf8_lossy(MAGIC)
+            ),
+        ));
+    }
+    if bytes.len() != expected {
+        let size = if bytes.len() > expected {
+            format!("more than {expected}")
+        } else {
+            bytes.len().to_string()
+        };
+        return Err(refuse(
+            path,
+            format_args!(
+                "holds {size} bytes where this job's checkpoint holds {expected}: it is \
+                 truncated, or written for a different scene, resolution or settings"
+            ),
+        ));
+    }
+    let (content, checksum) = bytes.split_at(expected - CHECKSUM);
+    if Sha256::digest(content).as_slice() != checksum {
+        return Err(refuse(
+            path,
+            "is corrupt: the SHA-256 of its contents does not match the checksum it carries",
+        ));
+    }
+    let u64_at = |o: usize| u64::from_le_bytes(std::array::from_fn(|i| content[o + i]));
+    let u32_at = |o: usize| u32::from_le_bytes(std::array::from_fn(|i| content[o + i]));
+    if u64_at(8) != fingerprint {
+        return Err(refuse(
+            path,
+            "written for a different scene, settings or oracle version",
         ));
     }
     let (width, height, lights, spp) = (u32_at(16), u32_at(20), u32_at(24) as usize, u32_at(28));
     if width != like.width || height != like.height || lights != like.light_count {
-        return Err(err(
+        return Err(refuse(
             path,
-            format!("film {width}x{height} with {lights} lights does not match the job"),
+            format_args!("film {width}x{height} with {lights} lights does not match the job"),
         ));
     }
-    let body = &bytes[HEADER..];
-    if body.len() != like.data.len() * 8 {
-        return Err(err(path, "truncated accumulator data"));
-    }
-    let data = body
+    let data = content[HEADER..]
         .chunks_exact(8)
-        .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+        .map(|c| f64::from_le_bytes(std::array::from_fn(|i| c[i])))
         .collect();
     let film = Film {
         spp,
@@ -119,8 +182,14 @@ pub fn load(path: &Path, fingerprint: u64, like: &Film) -> Result<State, RenderE
         data,
         ..like.clone()
     };
-    Ok(State {
-        film,
-        seconds: f64::from_le_bytes(bytes[56..64].try_into().expect("8 bytes")),
-    })
+    let seconds = f64::from_bits(u64_at(56));
+    film.check_invariants()
+        .map_err(|why| refuse(path, format_args!("holds values no render produces ({why})")))?;
+    if !(seconds.is_finite() && seconds >= 0.0) {
+        return Err(refuse(
+            path,
+            format_args!("holds values no render produces (render time {seconds} s)"),
+        ));
+    }
+    Ok(State { film, seconds })
 }

@@ -108,6 +108,73 @@ impl Film {
         self.data.chunks_mut(row)
     }
 
+    /// Checks what [`PixelStats::add`] and the render loop guarantee of any film they fill, so
+    /// that buffers read back from a file (a checkpoint) are refused when no render could have
+    /// produced them:
+    /// - every value is finite (`add` drops non-finite samples);
+    /// - `paths` = spp × pixels (every sample traces one camera path, kept or dropped);
+    /// - each pixel's sample count is a whole number in 0..=spp, and the samples missing from
+    ///   all pixels add up to `nonfinite` (a sample is either counted or dropped);
+    /// - each M2 ≥ 0: Welford's update adds δ·(x − μₙ) with δ = x − μₙ₋₁ and μₙ = μₙ₋₁ + δ/n,
+    ///   which lies between μₙ₋₁ and x even after rounding (rounding is monotonic and both
+    ///   ends are floats), so x − μₙ has δ's sign or is 0 and M2 never decreases from 0
+    ///   (Welford 1962, cited above);
+    /// - the coverage count is whole and at most the sample count, and each light's visibility
+    ///   sum (one 0 or 1 per covered sample) is whole and at most the coverage count.
+    ///
+    /// The first violation is described with its pixel.
+    pub fn check_invariants(&self) -> Result<(), String> {
+        let spp = f64::from(self.spp);
+        let pixels = u64::from(self.width) * u64::from(self.height);
+        if u64::from(self.spp).checked_mul(pixels) != Some(self.paths) {
+            return Err(format!(
+                "{} camera paths for {} spp over {pixels} pixels",
+                self.paths, self.spp
+            ));
+        }
+        let whole_in = |v: f64, max: f64| v.fract() == 0.0 && (0.0..=max).contains(&v);
+        let mut dropped = 0u64;
+        for (i, px) in self.pixels().enumerate() {
+            let (x, y) = (i as u64 % u64::from(self.width), i as u64 / u64::from(self.width));
+            let at = |what: &str| Err(format!("pixel ({x}, {y}): {what}"));
+            if let Some(v) = px.iter().find(|v| !v.is_finite()) {
+                return at(&format!("an accumulator is {v}"));
+            }
+            let n = px[PixelStats::COUNT];
+            if !whole_in(n, spp) {
+                return at(&format!(
+                    "sample count {n} is not a whole number in 0..={}",
+                    self.spp
+                ));
+            }
+            if let Some(m2) = px[PixelStats::M2..PixelStats::M2 + 3].iter().find(|m| **m < 0.0) {
+                return at(&format!("negative sum of squared deviations (M2) {m2}"));
+            }
+            let covered = px[PixelStats::COVERAGE];
+            if !whole_in(covered, n) {
+                return at(&format!(
+                    "coverage count {covered} is not a whole number in 0..={n}"
+                ));
+            }
+            if let Some(v) = px[PixelStats::VISIBILITY..]
+                .iter()
+                .find(|v| !whole_in(**v, covered))
+            {
+                return at(&format!(
+                    "light visibility count {v} is not a whole number in 0..={covered}"
+                ));
+            }
+            dropped += u64::from(self.spp) - n as u64;
+        }
+        if dropped != self.nonfinite {
+            return Err(format!(
+                "the pixels miss {dropped} samples but {} were dropped as non-finite",
+                self.nonfinite
+            ));
+        }
+        Ok(())
+    }
+
     fn pixels(&self) -> std::slice::Chunks<'_, f64> {
         self.data.chunks(PixelStats::stride(self.light_count))
     }

@@ -15,16 +15,15 @@
 //! [`LayeredImage::attributes`]. Every write is atomic ([`write_atomic`]): readers see the old
 //! file or the new one, never a partial one.
 
-use std::fs::{self, File, OpenOptions};
-use std::io::{self, BufWriter, Write};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::io;
+use std::path::Path;
 
 use exr::meta::attribute::{AttributeValue, Text};
 use exr::meta::header::{standard_names, LayerAttributes};
 use exr::prelude::{AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer, WritableImage};
 use glam::Vec3;
 
+pub use crate::atomic::{write_atomic, write_atomic_with};
 use crate::texture::linear_to_srgb;
 
 /// Largest width or height [`LayeredImage::read_exr`] accepts (guards against headers that
@@ -465,81 +464,4 @@ pub(crate) fn exr_decoded_bytes(meta: &exr::meta::MetaData) -> Result<(u64, Stri
         total,
         format!("the {size} pixels of the {channels} channels its header declares"),
     ))
-}
-
-/// Writes `bytes` to `path` atomically: see [`write_atomic_with`].
-pub fn write_atomic(path: impl AsRef<Path>, bytes: &[u8]) -> io::Result<()> {
-    write_atomic_with(path.as_ref(), |file| file.write_all(bytes))
-}
-
-/// Writes a file atomically: `write` fills a new temporary file in the same directory, which
-/// is flushed, fsynced and then renamed over `path` (an atomic replace on POSIX and on NTFS).
-/// Readers see the old file or the complete new one, never a partial one. If `write` or any
-/// step fails, the temporary file is removed and an old file at `path` is left untouched.
-/// I/O errors name the file.
-pub fn write_atomic_with(
-    path: impl AsRef<Path>,
-    write: impl FnOnce(&mut BufWriter<File>) -> io::Result<()>,
-) -> io::Result<()> {
-    let path = path.as_ref();
-    let named = |e: io::Error| io::Error::new(e.kind(), format!("{}: {e}", path.display()));
-    let tmp = temp_path(path).map_err(named)?;
-    let file = OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&tmp)
-        .map_err(named)?;
-    let result = (|| {
-        let mut writer = BufWriter::new(file);
-        write(&mut writer)?;
-        let file = writer.into_inner().map_err(io::IntoInnerError::into_error)?;
-        file.sync_all()?;
-        drop(file);
-        fs::rename(&tmp, path)
-    })();
-    match result {
-        Ok(()) => {
-            sync_parent_dir(path);
-            Ok(())
-        }
-        Err(e) => {
-            let _ = fs::remove_file(&tmp);
-            // Messages from `write` that already name the file are passed on as they are.
-            if e.to_string().contains(&path.display().to_string()) {
-                Err(e)
-            } else {
-                Err(named(e))
-            }
-        }
-    }
-}
-
-/// A fresh temporary name beside `path`: `.<name>.<pid>.<n>.tmp` (hidden, unique per process
-/// and call, so concurrent writers never share one).
-fn temp_path(path: &Path) -> io::Result<PathBuf> {
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let name = path
-        .file_name()
-        .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidInput, "the path does not name a file"))?;
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let tmp_name = format!(".{}.{}.{n}.tmp", name.to_string_lossy(), std::process::id());
-    Ok(path.with_file_name(tmp_name))
-}
-
-/// Makes the rename durable where the platform allows fsync on a directory (best effort: the
-/// data itself is already synced, so a failure here cannot lose the old or the new file).
-fn sync_parent_dir(path: &Path) {
-    #[cfg(unix)]
-    if let Some(dir) = path.parent() {
-        let dir = if dir.as_os_str().is_empty() {
-            Path::new(".")
-        } else {
-            dir
-        };
-        if let Ok(d) = File::open(dir) {
-            let _ = d.sync_all();
-        }
-    }
-    #[cfg(not(unix))]
-    let _ = path;
 }

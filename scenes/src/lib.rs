@@ -8,6 +8,7 @@
 #![warn(missing_docs)]
 
 pub mod access;
+pub mod atomic;
 pub mod budget;
 pub mod displacement;
 pub mod error;

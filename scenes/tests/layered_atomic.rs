@@ -3,6 +3,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use scenes::atomic::check_writable;
 use scenes::layered::{write_atomic, write_atomic_with, LayeredImage};
 
 fn test_dir(name: &str) -> PathBuf {
@@ -105,5 +106,113 @@ fn layered_atomic_missing_directory_is_an_error_naming_the_file() {
         .write_png_preview(path.with_extension("png"), 0.0)
         .unwrap_err();
     assert!(err.to_string().contains("img.png"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A writer killed mid-write (SIGKILL runs no clean-up) leaves its hidden temporary file; the
+/// next write of the same file removes it once its process is gone, and leaves alone the
+/// temporary files of live writers and of other files.
+#[cfg(target_os = "linux")]
+#[test]
+fn layered_atomic_write_removes_leftovers_of_killed_writers() {
+    let dir = test_dir("leftover");
+    // Linux process ids stay below 2^22 (proc(5), /proc/sys/kernel/pid_max): 99999999 is
+    // never running; process 1 always is.
+    let dead = ".img.exr.99999999.0.tmp";
+    let live = ".img.exr.1.0.tmp";
+    let other_file = ".other.exr.99999999.0.tmp";
+    let not_ours = ".img.exr.99999999.tmp";
+    for name in [dead, live, other_file, not_ours] {
+        std::fs::write(dir.join(name), b"half a file").unwrap();
+    }
+    image(0.5).write_exr(dir.join("img.exr")).unwrap();
+    assert_eq!(
+        entries(&dir),
+        [live, not_ours, other_file, "img.exr"],
+        "only the dead writer's temporary file of img.exr goes"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A symbolic link is written through: its target is replaced, the link stays a link.
+#[cfg(unix)]
+#[test]
+fn layered_atomic_write_through_symbolic_links() {
+    use std::os::unix::fs::symlink;
+    let dir = test_dir("symlink");
+    std::fs::create_dir(dir.join("real")).unwrap();
+    let target = dir.join("real").join("a.bin");
+    write_atomic(&target, b"old").unwrap();
+    symlink("real/a.bin", dir.join("link.bin")).unwrap();
+    symlink("link.bin", dir.join("link2.bin")).unwrap();
+    write_atomic(dir.join("link2.bin"), b"new").unwrap();
+    assert_eq!(std::fs::read(&target).unwrap(), b"new");
+    for link in ["link.bin", "link2.bin"] {
+        let meta = std::fs::symlink_metadata(dir.join(link)).unwrap();
+        assert!(meta.file_type().is_symlink(), "{link} was replaced by a file");
+    }
+    assert_eq!(entries(&dir.join("real")), ["a.bin"], "temporary file left");
+
+    // A dangling link: the write creates its target.
+    symlink("real/b.bin", dir.join("dangling.bin")).unwrap();
+    write_atomic(dir.join("dangling.bin"), b"created").unwrap();
+    assert_eq!(std::fs::read(dir.join("real/b.bin")).unwrap(), b"created");
+    assert!(std::fs::symlink_metadata(dir.join("dangling.bin"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
+
+    // A loop of links is an error naming the file, not a hang.
+    symlink("loop2.bin", dir.join("loop1.bin")).unwrap();
+    symlink("loop1.bin", dir.join("loop2.bin")).unwrap();
+    let err = write_atomic(dir.join("loop1.bin"), b"x").unwrap_err().to_string();
+    assert!(
+        err.contains("loop1.bin") && err.contains("more than 40 symbolic links"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `check_writable` refuses, before any work, what a write could not replace, naming the
+/// file, and writes nothing.
+#[test]
+fn layered_atomic_check_writable_refuses_before_anything_is_written() {
+    let dir = test_dir("check");
+    std::fs::create_dir(dir.join("a.png")).unwrap();
+    write_atomic(dir.join("old.exr"), b"old").unwrap();
+    check_writable(dir.join("old.exr")).unwrap();
+    check_writable(dir.join("new.exr")).unwrap();
+    let err = check_writable(dir.join("a.png")).unwrap_err().to_string();
+    assert_eq!(err, format!("{}: is a directory", dir.join("a.png").display()));
+    let missing = dir.join("nowhere").join("x.exr");
+    let err = check_writable(&missing).unwrap_err().to_string();
+    assert_eq!(
+        err,
+        format!(
+            "{}: directory {} does not exist",
+            missing.display(),
+            dir.join("nowhere").display()
+        )
+    );
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink("a.png", dir.join("b.png")).unwrap();
+        let err = check_writable(dir.join("b.png")).unwrap_err().to_string();
+        assert_eq!(
+            err,
+            format!(
+                "{}: is a directory (the target of the link, {})",
+                dir.join("b.png").display(),
+                dir.join("a.png").display()
+            )
+        );
+    }
+    let mut expected = vec!["a.png", "old.exr"];
+    if cfg!(unix) {
+        expected.push("b.png");
+    }
+    expected.sort();
+    assert_eq!(entries(&dir), expected, "a check writes nothing");
+    assert_eq!(std::fs::read(dir.join("old.exr")).unwrap(), b"old");
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -49,7 +49,10 @@ pub fn parse_resolution(s: &str) -> Result<Film, String> {
     }
 }
 
-/// Checks an `--out` EXR path (a `.exr` file, not a directory) and creates its directory.
+/// Checks an `--out` EXR path (a `.exr` file, not a directory), creates its directory, and
+/// checks that both outputs, the EXR and the PNG preview beside it, can be written
+/// ([`writable_output`]), so that a command never renders only to fail at the end or leaves
+/// one of them replaced and the other not.
 pub fn exr_output(out: PathBuf) -> Result<PathBuf, CliError> {
     let is_exr = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
     if !is_exr || out.file_stem().is_none() {
@@ -73,7 +76,20 @@ pub fn exr_output(out: PathBuf) -> Result<PathBuf, CliError> {
             ))
         })?;
     }
+    writable_output(&out, &format!("--out {}", out.display()))?;
+    writable_output(
+        &out.with_extension("png"),
+        &format!("the PNG preview beside --out {}", out.display()),
+    )?;
     Ok(out)
+}
+
+/// Checks, before any work, that an output file (`role`: what it is, for the message) can be
+/// written atomically ([`scenes::atomic::check_writable`]); bad input (exit 2) otherwise:
+/// `PATH: is a directory (ROLE); nothing was written`.
+pub fn writable_output(path: &Path, role: &str) -> Result<(), CliError> {
+    scenes::atomic::check_writable(path)
+        .map_err(|e| CliError::input(format!("{e} ({role}); nothing was written")))
 }
 
 #[cfg(test)]

@@ -14,7 +14,7 @@ use oracle::{CheckpointConfig, Progress, RenderJob, RenderResult, StopRule};
 use scenes::budget::Ledger;
 use scenes::{Film, IntegratorKind, RenderSettings, SamplerKind, Scene};
 
-use super::args::{exr_output, load_scene_in, over_budget, parse_resolution};
+use super::args::{exr_output, load_scene_in, over_budget, parse_resolution, writable_output};
 use super::CliError;
 use crate::progress::{format_duration, format_sig3, rate, ProgressMode, ProgressReporter};
 
@@ -212,7 +212,8 @@ fn output_path(args: &RenderArgs) -> Result<PathBuf, CliError> {
     exr_output(out)
 }
 
-/// `<out>.checkpoint` at the chosen interval, or none with `--checkpoint-every 0`.
+/// `<out>.checkpoint` at the chosen interval, or none with `--checkpoint-every 0`; checked
+/// to be writable now, like the other outputs.
 fn checkpoint_config(args: &RenderArgs, out: &Path) -> Result<Option<CheckpointConfig>, CliError> {
     let interval = args.checkpoint_every.unwrap_or(DEFAULT_CHECKPOINT_INTERVAL);
     if interval.is_zero() {
@@ -225,8 +226,10 @@ fn checkpoint_config(args: &RenderArgs, out: &Path) -> Result<Option<CheckpointC
     }
     let mut path = out.as_os_str().to_owned();
     path.push(".checkpoint");
+    let path = PathBuf::from(path);
+    writable_output(&path, &format!("the checkpoint of --out {}", out.display()))?;
     Ok(Some(CheckpointConfig {
-        path: path.into(),
+        path,
         interval,
         resume: args.resume,
     }))

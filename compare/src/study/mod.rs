@@ -6,6 +6,7 @@
 //! values are errors naming the file, the field and its line (the scene files' located reader,
 //! `scenes::toml::read`). Running it is [`run`]; what it produces is [`result`].
 
+pub mod cache;
 pub mod result;
 pub mod run;
 pub mod stability;

@@ -12,7 +12,7 @@ use scenes::{RenderSettings, Scene};
 use sha2::{Digest, Sha256};
 
 use super::result::*;
-use super::{stability, MaskSpec, ScenePoint, Study, Target, Variant};
+use super::{cache, stability, MaskSpec, ScenePoint, Study, Target, Variant};
 use crate::cli::render::integrator_name;
 use crate::metrics::{self, Mask, MetricValue, RgbImage};
 use crate::progress::{ProgressMode, ProgressReporter, StepProgress};
@@ -25,7 +25,7 @@ pub struct RunOptions {
     pub quick: bool,
     /// The report folder.
     pub out_dir: PathBuf,
-    /// Where ground truths are cached (`<hash>.exr`).
+    /// Where ground truths are cached (`<hash>.exr` and its checksum, study/cache.rs).
     pub cache_dir: PathBuf,
     /// Progress display.
     pub progress: ProgressMode,
@@ -221,11 +221,14 @@ pub fn ground_truth_hash(scene: &Scene, settings: &RenderSettings) -> String {
     let mut h = Sha256::new();
     let code = env!("VERITY_ORACLE_SOURCE_HASH");
     h.update(format!("{scene:?}\n{settings:?}\noracle {} {code}", oracle::VERSION).as_bytes());
-    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+    super::cache::hex(&h.finalize())
 }
 
 /// The ground truth from the cache, or rendered (with progress) and cached; a copy goes into
-/// the report folder as `<name>.exr` (its preview is to be `<name>.png`).
+/// the report folder as `<name>.exr` (its preview is to be `<name>.png`). A cache entry is
+/// used only when its checksum matches and it decodes ([`cache::Entry::read`]); otherwise a
+/// one-line note on stderr says so (even with `--quiet`: a damaged cache is news), and the
+/// entry is rendered again and replaced.
 pub fn ground_truth(
     scene: &Scene,
     settings: RenderSettings,
@@ -233,8 +236,15 @@ pub fn ground_truth(
     name: &str,
 ) -> Result<(LayeredImage, GroundTruthInfo), StudyError> {
     let hash = ground_truth_hash(scene, &settings);
-    let cached_path = opts.cache_dir.join(format!("{hash}.exr"));
-    let cached = LayeredImage::read_exr(&cached_path).ok();
+    let entry = cache::Entry::new(&opts.cache_dir, &hash);
+    let cached = match entry.read() {
+        cache::Lookup::Hit(img) => Some(img),
+        cache::Lookup::Missing => None,
+        cache::Lookup::Corrupt(why) => {
+            eprintln!("{}", cache::corrupt_note(&entry, &why));
+            None
+        }
+    };
     let was_cached = cached.is_some();
     let image = match cached {
         Some(img) => img,
@@ -265,7 +275,9 @@ pub fn ground_truth(
             .map_err(|e| StudyError::Input(e.to_string()))?;
             reporter.finish();
             fs::create_dir_all(&opts.cache_dir).map_err(io_err(&opts.cache_dir))?;
-            r.image.write_exr(&cached_path).map_err(io_err(&cached_path))?;
+            entry
+                .write(&r.image)
+                .map_err(|e| StudyError::Run(e.to_string()))?;
             r.image
         }
     };
