@@ -80,6 +80,102 @@ fn diff_exit_statuses_follow_idiff() {
     assert!(text.contains("--mask rect:5,5,1,1"), "{text}");
 }
 
+/// A reference pixel of 1e20 (its square overflows f32) once made relMSE NaN, which passed
+/// every `--fail`; a NaN now fails whatever the bound, a non-finite reference names its file
+/// and pixel, and a file that cannot be read is named once.
+#[test]
+fn diff_never_passes_a_non_finite_value_and_names_the_file() {
+    let huge = image(&tmp("huge-ref.exr"), 16, 16, |i| if i == 0 { 1e20 } else { 0.5 });
+    let flat = image(&tmp("flat.exr"), 16, 16, |_| 0.5);
+    let (huge, flat) = (huge.to_str().unwrap(), flat.to_str().unwrap());
+    // One pixel of 256 with relMSE (1e20 − 0.5)²/(1e40 + 0.01) = 1: relMSE 1/256.
+    let (code, text) = diff(&[huge, flat, "--fail", "1e-2"]);
+    assert_eq!(code, 0, "{text}");
+    assert!(
+        text.contains("relmse") && text.contains("3.906250e-3") && text.contains("PASS"),
+        "{text}"
+    );
+    let (code, text) = diff(&[huge, flat, "--fail", "1e-3"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("FAIL"), "{text}");
+    // NaN in the test image: every metric is NaN; the failure says which and why.
+    let nan = image(
+        &tmp("nan-test.exr"),
+        16,
+        16,
+        |i| if i == 5 { f32::NAN } else { 0.5 },
+    );
+    let nan = nan.to_str().unwrap();
+    for flags in [&["--warn", "1"][..], &["--metric", "psnr", "--fail", "10"], &[]] {
+        let (code, text) = diff(&[&[flat, nan][..], flags].concat());
+        assert_eq!(code, 2, "{flags:?}: {text}");
+        assert!(
+            text.contains("FAIL: ")
+                && text.contains("is NaN: not finite (1 NaN/Inf pixels in ")
+                && text.contains(nan),
+            "{flags:?}: {text}"
+        );
+        assert!(!text.contains("PASS") && !text.contains("WARNING"), "{text}");
+    }
+    // Identical images: PSNR is +∞ dB, its exact value, and passes.
+    let (code, text) = diff(&[flat, flat, "--metric", "psnr", "--fail", "60"]);
+    assert_eq!(code, 0, "{text}");
+    // A non-finite reference pixel: an error naming the file, the pixel and the channel.
+    let bad_ref = image(&tmp("inf-ref.exr"), 16, 16, |i| {
+        if i == 3 * 16 + 4 {
+            f32::INFINITY
+        } else {
+            0.5
+        }
+    });
+    let bad_ref = bad_ref.to_str().unwrap();
+    let (code, text) = diff(&[bad_ref, flat]);
+    assert_eq!(code, 2, "{text}");
+    assert_eq!(
+        text.trim(),
+        format!("error: {bad_ref}: the reference has a non-finite pixel at (4, 3): R inf")
+    );
+    // A file that cannot be read: its path once.
+    let (code, text) = diff(&[flat, "/nonexistent/b.exr"]);
+    assert_eq!(code, 4, "{text}");
+    assert_eq!(text.matches("/nonexistent/b.exr").count(), 1, "{text}");
+    assert_eq!(text.lines().count(), 1, "{text}");
+}
+
+/// Bounds that cannot mean anything are refused before any file is read: one `error:` line
+/// naming the flag, exit 2.
+#[test]
+fn diff_refuses_bounds_outside_the_metric_range() {
+    let flat = image(&tmp("flat-flags.exr"), 16, 16, |_| 0.5);
+    let flat = flat.to_str().unwrap();
+    let cases: [(&[&str], &str); 11] = [
+        (&["--fail", "nan"], "--fail NaN: the bound must be a finite number"),
+        (&["--warn", "nan"], "--warn NaN: the bound must be a finite number"),
+        (&["--fail", "inf"], "--fail inf: the bound must be a finite number"),
+        (&["--fail=-1"], "--fail -1: relmse takes values in [0, ∞)"),
+        (&["--metric", "ssim", "--warn", "1.5"], "--warn 1.5: ssim takes values in [-1, 1]"),
+        (&["--metric", "flip_ldr", "--fail", "2"], "--fail 2: flip_ldr takes values in [0, 1]"),
+        (&["--fail", "1", "--fail-percent", "nan"], "--fail-percent NaN: a percentage of pixels must be in [0, 100]"),
+        (&["--fail", "1", "--fail-percent", "200"], "--fail-percent 200: a percentage of pixels must be in [0, 100]"),
+        (&["--fail", "1", "--fail-percent", "-1"], "--fail-percent -1: a percentage of pixels must be in [0, 100]"),
+        (
+            &["--metric", "ssim", "--fail", "2.5", "--fail-percent", "5"],
+            "--fail 2.5: with --fail-percent, the bound is on the per-pixel ssim error map (1 − SSIM), which takes values in [0, 2]",
+        ),
+        (&["--metric", "psnr", "--fail", "30", "--fail-percent", "5"], "--fail-percent needs a per-pixel metric; psnr has no map"),
+    ];
+    for (flags, want) in cases {
+        let (code, text) = diff(&[&[flat, flat][..], flags].concat());
+        assert_eq!(code, 2, "{flags:?}: {text}");
+        assert_eq!(text.trim(), format!("error: {want}"), "{flags:?}");
+    }
+    // In range: accepted (PSNR has no range but finiteness; SSIM's bound may be negative,
+    // written as a separate word too).
+    assert_eq!(diff(&[flat, flat, "--metric", "psnr", "--fail", "-5"]).0, 0);
+    assert_eq!(diff(&[flat, flat, "--metric", "ssim", "--fail", "-1"]).0, 0);
+    assert_eq!(diff(&[flat, flat, "--fail", "0", "--fail-percent", "0"]).0, 0);
+}
+
 fn study_error(body: &str) -> String {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/studies/test-bad.toml");
     compare::study::load_str(body, &path).unwrap_err().to_string()

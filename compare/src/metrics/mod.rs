@@ -117,6 +117,11 @@ impl Metric {
         }
     }
 
+    /// [`Metric::range`] as people write it: `[0, ∞)`, `[-1, 1]`, `(-∞, ∞]`.
+    pub fn range_text(self) -> String {
+        interval_text(self.range())
+    }
+
     /// Whether `value` of this metric can be compared with a bound: NaN never can (every
     /// comparison with NaN is false, so a bound on it would pass silently), nor can ±∞ —
     /// except PSNR's +∞ dB, its exact value for identical images (zero MSE).
@@ -142,6 +147,21 @@ impl fmt::Display for Metric {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
     }
+}
+
+/// `[lo, hi]` with an open end at ±∞: `[0, ∞)`, `[-1, 1]`, `(-∞, ∞]` (PSNR reaches +∞).
+pub(crate) fn interval_text((lo, hi): (f64, f64)) -> String {
+    let lo = if lo == f64::NEG_INFINITY {
+        "(-∞".to_string()
+    } else {
+        format!("[{lo}")
+    };
+    let hi = match hi {
+        f64::INFINITY if lo.starts_with('(') => "∞]".to_string(),
+        f64::INFINITY => "∞)".to_string(),
+        _ => format!("{hi}]"),
+    };
+    format!("{lo}, {hi}")
 }
 
 /// An RGB image with the reference's per-pixel variance of the mean, when it has one.
