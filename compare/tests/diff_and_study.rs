@@ -80,9 +80,108 @@ fn diff_exit_statuses_follow_idiff() {
     assert!(text.contains("--mask rect:5,5,1,1"), "{text}");
 }
 
+/// A reference pixel of 1e20 (its square overflows f32) once made relMSE NaN, which passed
+/// every `--fail`; a NaN now fails whatever the bound, a non-finite reference names its file
+/// and pixel, and a file that cannot be read is named once.
+#[test]
+fn diff_never_passes_a_non_finite_value_and_names_the_file() {
+    let huge = image(&tmp("huge-ref.exr"), 16, 16, |i| if i == 0 { 1e20 } else { 0.5 });
+    let flat = image(&tmp("flat.exr"), 16, 16, |_| 0.5);
+    let (huge, flat) = (huge.to_str().unwrap(), flat.to_str().unwrap());
+    // One pixel of 256 with relMSE (1e20 − 0.5)²/(1e40 + 0.01) = 1: relMSE 1/256.
+    let (code, text) = diff(&[huge, flat, "--fail", "1e-2"]);
+    assert_eq!(code, 0, "{text}");
+    assert!(
+        text.contains("relmse") && text.contains("3.906250e-3") && text.contains("PASS"),
+        "{text}"
+    );
+    let (code, text) = diff(&[huge, flat, "--fail", "1e-3"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("FAIL"), "{text}");
+    // NaN in the test image: every metric is NaN; the failure says which and why.
+    let nan = image(
+        &tmp("nan-test.exr"),
+        16,
+        16,
+        |i| if i == 5 { f32::NAN } else { 0.5 },
+    );
+    let nan = nan.to_str().unwrap();
+    for flags in [&["--warn", "1"][..], &["--metric", "psnr", "--fail", "10"], &[]] {
+        let (code, text) = diff(&[&[flat, nan][..], flags].concat());
+        assert_eq!(code, 2, "{flags:?}: {text}");
+        assert!(
+            text.contains("FAIL: ")
+                && text.contains("is NaN: not finite (1 NaN/Inf pixels in ")
+                && text.contains(nan),
+            "{flags:?}: {text}"
+        );
+        assert!(!text.contains("PASS") && !text.contains("WARNING"), "{text}");
+    }
+    // Identical images: PSNR is +∞ dB, its exact value, and passes.
+    let (code, text) = diff(&[flat, flat, "--metric", "psnr", "--fail", "60"]);
+    assert_eq!(code, 0, "{text}");
+    // A non-finite reference pixel: an error naming the file, the pixel and the channel.
+    let bad_ref = image(&tmp("inf-ref.exr"), 16, 16, |i| {
+        if i == 3 * 16 + 4 {
+            f32::INFINITY
+        } else {
+            0.5
+        }
+    });
+    let bad_ref = bad_ref.to_str().unwrap();
+    let (code, text) = diff(&[bad_ref, flat]);
+    assert_eq!(code, 2, "{text}");
+    assert_eq!(
+        text.trim(),
+        format!("error: {bad_ref}: the reference has a non-finite pixel at (4, 3): R inf")
+    );
+    // A file that cannot be read: its path once.
+    let (code, text) = diff(&[flat, "/nonexistent/b.exr"]);
+    assert_eq!(code, 4, "{text}");
+    assert_eq!(text.matches("/nonexistent/b.exr").count(), 1, "{text}");
+    assert_eq!(text.lines().count(), 1, "{text}");
+}
+
+/// Bounds that cannot mean anything are refused before any file is read: one `error:` line
+/// naming the flag, exit 2.
+#[test]
+fn diff_refuses_bounds_outside_the_metric_range() {
+    let flat = image(&tmp("flat-flags.exr"), 16, 16, |_| 0.5);
+    let flat = flat.to_str().unwrap();
+    let cases: [(&[&str], &str); 11] = [
+        (&["--fail", "nan"], "--fail NaN: the bound must be a finite number"),
+        (&["--warn", "nan"], "--warn NaN: the bound must be a finite number"),
+        (&["--fail", "inf"], "--fail inf: the bound must be a finite number"),
+        (&["--fail=-1"], "--fail -1: relmse takes values in [0, ∞)"),
+        (&["--metric", "ssim", "--warn", "1.5"], "--warn 1.5: ssim takes values in [-1, 1]"),
+        (&["--metric", "flip_ldr", "--fail", "2"], "--fail 2: flip_ldr takes values in [0, 1]"),
+        (&["--fail", "1", "--fail-percent", "nan"], "--fail-percent NaN: a percentage of pixels must be in [0, 100]"),
+        (&["--fail", "1", "--fail-percent", "200"], "--fail-percent 200: a percentage of pixels must be in [0, 100]"),
+        (&["--fail", "1", "--fail-percent", "-1"], "--fail-percent -1: a percentage of pixels must be in [0, 100]"),
+        (
+            &["--metric", "ssim", "--fail", "2.5", "--fail-percent", "5"],
+            "--fail 2.5: with --fail-percent, the bound is on the per-pixel ssim error map (1 − SSIM), which takes values in [0, 2]",
+        ),
+        (&["--metric", "psnr", "--fail", "30", "--fail-percent", "5"], "--fail-percent needs a per-pixel metric; psnr has no map"),
+    ];
+    for (flags, want) in cases {
+        let (code, text) = diff(&[&[flat, flat][..], flags].concat());
+        assert_eq!(code, 2, "{flags:?}: {text}");
+        assert_eq!(text.trim(), format!("error: {want}"), "{flags:?}");
+    }
+    // In range: accepted (PSNR has no range but finiteness; SSIM's bound may be negative,
+    // written as a separate word too).
+    assert_eq!(diff(&[flat, flat, "--metric", "psnr", "--fail", "-5"]).0, 0);
+    assert_eq!(diff(&[flat, flat, "--metric", "ssim", "--fail", "-1"]).0, 0);
+    assert_eq!(diff(&[flat, flat, "--fail", "0", "--fail-percent", "0"]).0, 0);
+}
+
 fn study_error(body: &str) -> String {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/studies/test-bad.toml");
-    compare::study::load_str(body, &path).unwrap_err().to_string()
+    match compare::study::load_str(body, &path) {
+        Ok(_) => panic!("accepted:\n{body}"),
+        Err(e) => e.to_string(),
+    }
 }
 
 const GOOD: &str = r#"scene = "../cornell-box.toml"
@@ -332,4 +431,240 @@ fn scene_set_and_masks_within_a_rectangle() {
         let e = study_error(&text);
         assert!(e.contains(want), "expected `{want}` in: {e}");
     }
+}
+
+/// A study's name becomes a folder under the output directory: it must not leave it.
+#[test]
+fn study_names_are_file_name_safe() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/studies/test-bad.toml");
+    let long = "a".repeat(101);
+    for bad in [
+        "../../esc",
+        "/tmp/abs",
+        "",
+        ".",
+        "..",
+        ".hidden",
+        "a/b",
+        "a..b",
+        "tab\there",
+        long.as_str(),
+    ] {
+        let body = format!("name = \"{}\"\n{GOOD}", bad.replace('\t', "\\t"));
+        let e = study_error(&body);
+        assert!(
+            e.starts_with(&format!(
+                "{}:1: field `name`: invalid study name `{bad}`: ",
+                path.display()
+            )),
+            "{bad:?}: {e}"
+        );
+    }
+    let ok = compare::study::load_str(&format!("name = \"shadow-v1.2_b\"\n{GOOD}"), &path).unwrap();
+    assert_eq!(ok.name, "shadow-v1.2_b");
+    // Without `name`, the file stem made safe: `my study.v2.toml` → `my_study_v2`.
+    let stem = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/studies/my study.v2.toml");
+    assert_eq!(compare::study::load_str(GOOD, &stem).unwrap().name, "my_study_v2");
+}
+
+/// Everything a study names is checked when it is read, before any render: the scene at each
+/// scene point, its lights and shapes, masks and metrics named once, bounds that can hold.
+#[test]
+fn study_references_are_checked_before_rendering() {
+    let with_mask = |mask: &str| GOOD.replace("[[method]]", &format!("[[mask]]\n{mask}\n[[method]]"));
+    let cases = [
+        (
+            GOOD.replace("spp = 16", "spp = 16\nvisibility_of = \"nolight\""),
+            "test-bad.toml:5: field `ground_truth.visibility_of`: the scene has no light `nolight`; its lights: light",
+        ),
+        (
+            SWEPT.replace("visibility_of = \"light\"", "visibility_of = \"lamp\""),
+            "field `ground_truth.visibility_of`: the scene has no light `lamp` at scene_sweep light_size = 0.25; its lights: light",
+        ),
+        (
+            with_mask("name = \"m\"\nobjects = [\"floor\", \"tall_blok\"]"),
+            "test-bad.toml:7: field `mask[0].objects[1]`: mask `m`: the scene has no shape `tall_blok`; shapes: floor, ceiling, back,",
+        ),
+        (
+            with_mask("name = \"m\"\nobjects = []"),
+            "field `mask[0].objects`: an objects mask needs at least one shape name",
+        ),
+        (
+            with_mask("name = \"m\"\ninterior = true\n[[mask]]\nname = \"m\"\nrectangle = [0, 0, 1, 1]"),
+            "test-bad.toml:9: field `mask[1].name`: a mask named `m` is already declared, mask[0] (line 5)",
+        ),
+        (
+            format!("metrics = [\"relmse\", \"mse\", \"relmse\"]\n{GOOD}"),
+            "test-bad.toml:1: field `metrics[2]`: `relmse` is listed twice",
+        ),
+        (
+            GOOD.replace("max = 1.0", "max = -1"),
+            "test-bad.toml:11: field `threshold[0].max`: max -1 can never hold: relmse takes values in [0, ∞)",
+        ),
+        (
+            GOOD.replace("metric = \"relmse\"\nmax = 1.0", "metric = \"ssim\"\nmin = 2"),
+            "field `threshold[0].min`: min 2 can never hold: ssim takes values in [-1, 1]",
+        ),
+        (
+            GOOD.replace("metric = \"relmse\"\nmax = 1.0", "metric = \"flip_ldr\"\nmin = 1.5"),
+            "min 1.5 can never hold: flip_ldr takes values in [0, 1]",
+        ),
+        (GOOD.replace("max = 1.0", "max = nan"), "field `threshold[0].max`: expected a finite number"),
+        (GOOD.replace("max = 1.0", "max = inf"), "field `threshold[0].max`: expected a finite number"),
+        (GOOD.replace("max = 1.0", "max = 1.0\nmin = 2.0"), "field `threshold[0].min`: min 2 is above max 1"),
+        (
+            GOOD.replace("[[method]]", "[stability]\nmask = \"floor\"\n[[method]]"),
+            "test-bad.toml:6: field `stability.mask`: no [[mask]] named `floor`",
+        ),
+        (
+            format!("metrics = [\"mse\"]\n{}", GOOD.replace("relmse", "mse")),
+            "test-bad.toml:1: field `stability.metric`: `relmse` is not in the study's `metrics`",
+        ),
+    ];
+    for (text, want) in cases {
+        let e = study_error(&text);
+        assert!(e.contains(want), "expected `{want}` in: {e}");
+    }
+    // A scene that does not load is an error at `scene` when the study is read (it used to be
+    // found by the first render).
+    let broken = tmp("broken-scene.toml");
+    std::fs::write(&broken, "[camera]\neye = [0, 0]\n").unwrap();
+    let e = study_error(&GOOD.replace("../cornell-box.toml", broken.to_str().unwrap()));
+    assert!(
+        e.contains("test-bad.toml:1: field `scene`: the scene does not load: ")
+            && e.contains("broken-scene.toml"),
+        "{e}"
+    );
+}
+
+/// A study with a shadow method swept over `bias` × `slope_bias` × `normal_offset`.
+fn shadow_grid(bias: usize, slope: usize, offset: usize) -> String {
+    let values = |n: usize, top: f64| {
+        (0..n)
+            .map(|i| format!("{}", top * (i + 1) as f64 / n as f64))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    SWEPT
+        .replace(
+            "sweep = { map = [512, 256] }",
+            &format!(
+                "sweep = {{ bias = [{}], slope_bias = [{}], normal_offset = [{}] }}",
+                values(bias, 5.0),
+                values(slope, 50.0),
+                values(offset, 50.0)
+            ),
+        )
+        .replace("scene = { light_size = 1.0 }\n", "")
+}
+
+/// A grid is counted from its sweep lengths before any variant exists: 64 × 1000 × 64 is one
+/// error line, not 4 million variants (6.2 GB, then an abort).
+#[test]
+fn study_grids_are_counted_before_they_are_built() {
+    let e = study_error(&shadow_grid(1000, 64, 64));
+    assert!(
+        e.contains("test-bad.toml:12: field `method[0].sweep`: the study has 8192000 renders (2 scene points × 4096000 method grid points (1000 × 64 × 64)), more than the 10000 a study may have"),
+        "{e}"
+    );
+    // The scene sweep multiplies: 2 × 8000 is over, 2 × 4000 not.
+    assert!(study_error(&shadow_grid(1000, 8, 1)).contains("the study has 16000 renders"));
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/studies/test-bad.toml");
+    assert!(compare::study::load_str(&shadow_grid(1000, 4, 1), &path).is_ok());
+}
+
+fn report(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_verity"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).to_string(),
+        String::from_utf8_lossy(&out.stderr).to_string(),
+    )
+}
+
+/// `verity report --dry-run` checks the study and prints its plan without rendering (no GPU
+/// needed), and a run over the memory budget is one error naming the field and the bytes.
+#[test]
+fn dry_runs_print_the_plan_and_check_the_memory_budget() {
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let absolute = |s: &str| s.replace("\"../", &format!("\"{}/", scenes.display()));
+    let quick = "[quick]\nresolution = [16, 16]\nspp = 2\n[[method]]";
+    let good = tmp("dry-good.toml");
+    std::fs::write(&good, absolute(&GOOD.replacen("[[method]]", quick, 1))).unwrap();
+    let out_dir = tmp("dry-out");
+    let _ = std::fs::remove_dir_all(&out_dir);
+    let (code, stdout, stderr) = report(&[
+        "report",
+        good.to_str().unwrap(),
+        "--quick",
+        "--dry-run",
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    for want in [
+        "study `dry-good` (",
+        "quick run: 16x16, ground truth 2 spp direct-unshadowed, ssaa 1",
+        "scene points: 1",
+        "variants: 2 (2 per scene point)",
+        "renders: 2 raster (0 for flicker), 1 ground truths (0 for flicker)",
+        "estimated memory: ",
+        "dry run: the study is valid; nothing rendered",
+    ] {
+        assert!(stdout.contains(want), "expected `{want}` in: {stdout}");
+    }
+    assert!(!out_dir.exists(), "a dry run writes nothing");
+    // A bad reference is the same one-line error as a real run's (exit 2).
+    let bad = tmp("dry-bad.toml");
+    std::fs::write(
+        &bad,
+        absolute(&GOOD.replace("spp = 16", "spp = 16\nvisibility_of = \"nolight\"")),
+    )
+    .unwrap();
+    let (code, _, stderr) = report(&["report", bad.to_str().unwrap(), "--dry-run"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.starts_with("error: ")
+            && stderr.contains("dry-bad.toml:5: field `ground_truth.visibility_of`"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    // Over the budget: the scene sweep's 20 points need more than 1 MiB.
+    let values: Vec<String> = (1..=20).map(|i| format!("{}", 0.05 * i as f64)).collect();
+    let sweep = tmp("dry-sweep.toml");
+    std::fs::write(
+        &sweep,
+        absolute(
+            &SWEPT
+                .replace("[0.25, 1.0]", &format!("[{}]", values.join(", ")))
+                .replace("sweep = { map = [512, 256] }", "params = { map = 256 }")
+                .replacen("[[method]]", quick, 1),
+        ),
+    )
+    .unwrap();
+    let (code, _, stderr) = report(&[
+        "--memory-limit",
+        "1M",
+        "report",
+        sweep.to_str().unwrap(),
+        "--quick",
+        "--dry-run",
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("dry-sweep.toml:5: field `scene_sweep.values`: the quick run's 20 renders at 16x16 (20 scene points × 1 variants) need ")
+            && stderr.contains("over the memory limit of 1.0 MiB (--memory-limit)")
+            && stderr.contains("raise the limit with --memory-limit SIZE or VERITY_MEMORY_LIMIT"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    let (code, stdout, stderr) = report(&["report", sweep.to_str().unwrap(), "--quick", "--dry-run"]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    assert!(
+        stdout.contains("scene points: 20") && stdout.contains("variants: 20 (1 per scene point)"),
+        "{stdout}"
+    );
 }

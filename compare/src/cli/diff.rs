@@ -9,8 +9,13 @@
 //!   `-fail`/`-failpercent`).
 //! - `--warn T`: warn when the value is worse than T.
 //!
-//! NaN/Inf in B always fails. Exit status: 0 pass, 1 warn, 2 fail (also for bad usage),
-//! 3 the images differ in size, 4 a file cannot be read (or lacks R, G, B).
+//! NaN/Inf in B always fails, and so does any metric whose value is not a number that can be
+//! compared with a bound (NaN, ±∞; [`Metric::check_value`]: PSNR's +∞ of identical images is
+//! exact and passes): `NaN > T` is false, so a NaN would otherwise pass every `--fail`. Bounds
+//! are checked before any file is read: finite, within the criterion's range
+//! ([`Metric::range`]; with `--fail-percent`, the range of its per-pixel map), a percentage in
+//! [0, 100]. Exit status: 0 pass, 1 warn, 2 fail (also for bad usage), 3 the images differ in
+//! size, 4 a file cannot be read (or lacks R, G, B).
 
 use std::path::PathBuf;
 
@@ -38,21 +43,96 @@ pub struct DiffArgs {
     #[arg(long, value_name = "MASK", default_value = "all")]
     pub mask: String,
     /// Fail when the criterion is worse than T (or, with --fail-percent, when too many pixels are).
-    #[arg(long, value_name = "T")]
+    #[arg(long, value_name = "T", allow_negative_numbers = true)]
     pub fail: Option<f64>,
     /// With --fail: the percentage of pixels allowed above T.
-    #[arg(long, value_name = "P", requires = "fail")]
+    #[arg(long, value_name = "P", requires = "fail", allow_negative_numbers = true)]
     pub fail_percent: Option<f64>,
     /// Warn when the criterion is worse than T.
-    #[arg(long, value_name = "T")]
+    #[arg(long, value_name = "T", allow_negative_numbers = true)]
     pub warn: Option<f64>,
 }
 
+/// Reads an EXR; the reader's message already starts with the path.
 fn read(path: &PathBuf) -> Result<LayeredImage, CliError> {
-    LayeredImage::read_exr(path).map_err(|e| CliError {
+    LayeredImage::read_exr(path).map_err(|message| CliError {
         failure: Failure::Status(4),
-        message: format!("{}: {e}", path.display()),
+        message,
     })
+}
+
+/// The range of `metric`'s per-pixel error map, which `--fail-percent` compares with `--fail`:
+/// the metric's own range, but 1 − SSIM ∈ [0, 2] for `ssim` (its map is an error, larger is
+/// worse); None for the metrics without a map (rmse, psnr).
+fn map_range(metric: Metric) -> Option<(f64, f64)> {
+    metric.map_name()?;
+    Some(match metric {
+        Metric::Ssim => (0.0, 2.0),
+        m => m.range(),
+    })
+}
+
+/// Refuses bounds that cannot mean anything: not finite, outside the criterion's range, a
+/// percentage outside [0, 100] (`NaN > T` is false for every T, so NaN bounds passed silently).
+fn check_bounds(args: &DiffArgs, criterion: Metric) -> Result<(), CliError> {
+    let finite = |flag: &str, v: f64| {
+        if v.is_finite() {
+            Ok(())
+        } else {
+            Err(CliError::input(format!(
+                "{flag} {v}: the bound must be a finite number"
+            )))
+        }
+    };
+    let within = |flag: &str, v: f64, (lo, hi): (f64, f64), what: String| {
+        finite(flag, v)?;
+        if v < lo || v > hi {
+            return Err(CliError::input(format!("{flag} {v}: {what}")));
+        }
+        Ok(())
+    };
+    let metric_range = |flag: &str, v: f64| {
+        within(
+            flag,
+            v,
+            criterion.range(),
+            format!("{criterion} takes values in {}", criterion.range_text()),
+        )
+    };
+    if let Some(p) = args.fail_percent {
+        let map = map_range(criterion).ok_or_else(|| {
+            CliError::input(format!(
+                "--fail-percent needs a per-pixel metric; {criterion} has no map"
+            ))
+        })?;
+        if let Some(t) = args.fail {
+            let map_name = if criterion == Metric::Ssim {
+                " (1 − SSIM)"
+            } else {
+                ""
+            };
+            within(
+                "--fail",
+                t,
+                map,
+                format!(
+                    "with --fail-percent, the bound is on the per-pixel {criterion} error map{map_name}, which takes values in {}",
+                    metrics::interval_text(map)
+                ),
+            )?;
+        }
+        if !(0.0..=100.0).contains(&p) {
+            return Err(CliError::input(format!(
+                "--fail-percent {p}: a percentage of pixels must be in [0, 100]"
+            )));
+        }
+    } else if let Some(t) = args.fail {
+        metric_range("--fail", t)?;
+    }
+    if let Some(t) = args.warn {
+        metric_range("--warn", t)?;
+    }
+    Ok(())
 }
 
 /// The mask `spec` for images like `a`.
@@ -107,6 +187,12 @@ fn worse(metric: Metric, value: f64, t: f64) -> bool {
 
 /// Runs `verity diff`; returns 0 pass, 1 warn, 2 fail.
 pub fn run(args: &DiffArgs) -> Result<u8, CliError> {
+    let list = if args.metrics.is_empty() {
+        vec![Metric::RelMse]
+    } else {
+        args.metrics.clone()
+    };
+    check_bounds(args, list[0])?;
     let a_img = read(&args.reference)?;
     let b_img = read(&args.test)?;
     let status = |code: u8, message: String| CliError {
@@ -131,14 +217,10 @@ pub fn run(args: &DiffArgs) -> Result<u8, CliError> {
         ));
     }
     let mask = parse_mask(&args.mask, &a_img).map_err(CliError::input)?;
-    let list = if args.metrics.is_empty() {
-        vec![Metric::RelMse]
-    } else {
-        args.metrics.clone()
-    };
     let values = metrics::evaluate(&a, &b, &mask, &list).map_err(|e| match e {
         MetricError::SizeMismatch(m) => status(3, m),
-        MetricError::BadInput(m) => CliError::input(m),
+        // The only bad input left is the reference's (a non-finite pixel, a mask of nothing).
+        MetricError::BadInput(m) => CliError::input(format!("{}: {m}", args.reference.display())),
     })?;
     println!(
         "{} vs {} over `{}` ({} pixels):",
@@ -155,23 +237,24 @@ pub fn run(args: &DiffArgs) -> Result<u8, CliError> {
             v.noise_floor
         );
     }
-    let criterion = &values[0];
-    if criterion.non_finite > 0 {
-        println!(
-            "FAIL: {} NaN/Inf pixels in {}",
-            criterion.non_finite,
-            args.test.display()
-        );
-        return Ok(2);
+    // Any value that cannot be compared fails, criterion or not: a NaN passes no bound.
+    for v in &values {
+        if let Err(why) = v.metric.check_value(v.value) {
+            let cause = if v.non_finite > 0 {
+                format!(" ({} NaN/Inf pixels in {})", v.non_finite, args.test.display())
+            } else {
+                String::new()
+            };
+            println!("FAIL: {why}{cause}");
+            return Ok(2);
+        }
     }
+    let criterion = &values[0];
     if let Some(t) = args.fail {
         let failed = match args.fail_percent {
             Some(p) => {
                 let map = criterion.map.as_ref().ok_or_else(|| {
-                    CliError::input(format!(
-                        "--fail-percent needs a per-pixel metric; {} has no map",
-                        criterion.metric
-                    ))
+                    CliError::run(format!("{}: no per-pixel map was computed", criterion.metric))
                 })?;
                 // Every map is an error (1 − SSIM for ssim): larger is worse.
                 let over = (0..map.len())

@@ -1,10 +1,13 @@
-//! `verity report [STUDY] [--out DIR] [--quick]`: run a study and write its report
+//! `verity report [STUDY] [--out DIR] [--quick] [--dry-run]`: run a study and write its report
 //! (compare/src/report, compare/src/study). With no STUDY, the built-in default study
-//! ([`DEFAULT_STUDY`]).
+//! ([`DEFAULT_STUDY`]). `--dry-run` checks the study whole (every reference, the scene at
+//! every scene point, the size and memory against the budget) and prints its plan without
+//! rendering or writing anything, and without a GPU.
 //!
-//! Exit status: 0 when the report is written and every declared bound holds; 1 when a bound
-//! fails (the report is still written, failing rows first) or rendering fails; 2 bad input
-//! (study, scene or mask); 3 no GPU adapter.
+//! Exit status: 0 when the report is written and every declared bound holds (or the dry run
+//! finds nothing wrong); 1 when a bound fails (the report is still written, failing rows
+//! first) or rendering fails; 2 bad input (study, scene or mask; a run over the memory
+//! budget); 3 no GPU adapter.
 
 use std::path::{Path, PathBuf};
 
@@ -14,7 +17,7 @@ use realtime::Renderer;
 use super::CliError;
 use crate::progress::ProgressMode;
 use crate::study::run::{run_study, RunOptions, StudyError};
-use crate::study::{self, DEFAULT_STUDY};
+use crate::study::{self, plan, DEFAULT_STUDY};
 
 /// Flags of `verity report`.
 #[derive(Args, Clone, Debug)]
@@ -38,6 +41,11 @@ pub struct ReportArgs {
     /// No progress on stderr.
     #[arg(long, short)]
     pub quiet: bool,
+
+    /// Check the study and print its plan (scene points, variants, renders, estimated
+    /// memory) without rendering.
+    #[arg(long)]
+    pub dry_run: bool,
 }
 
 /// The default study: relative to the current directory, else to the workspace the binary
@@ -56,6 +64,18 @@ fn default_study() -> PathBuf {
 pub fn run(args: &ReportArgs) -> Result<u8, CliError> {
     let path = args.study.clone().unwrap_or_else(default_study);
     let study = study::load(&path).map_err(|e| CliError::input(e.to_string()))?;
+    let cli_error = |e: StudyError| match e {
+        StudyError::Input(m) => CliError::input(m),
+        StudyError::Run(m) => CliError::run(m),
+        StudyError::Unavailable(m) => CliError::unavailable(m),
+    };
+    // Size and memory before the GPU is touched (run_study checks them again).
+    let plan = plan::plan(&study, args.quick).map_err(cli_error)?;
+    if args.dry_run {
+        println!("{plan}");
+        println!("dry run: the study is valid; nothing rendered");
+        return Ok(0);
+    }
     let out_dir = args.out.clone().unwrap_or_else(|| {
         PathBuf::from("out").join(if args.quick {
             format!("{}-quick", study.name)
@@ -70,11 +90,7 @@ pub fn run(args: &ReportArgs) -> Result<u8, CliError> {
         progress: ProgressMode::detect(args.quiet),
     };
     let renderer = Renderer::new().map_err(|e| CliError::unavailable(e.to_string()))?;
-    let result = run_study(&study, &renderer, &opts).map_err(|e| match e {
-        StudyError::Input(m) => CliError::input(m),
-        StudyError::Run(m) => CliError::run(m),
-        StudyError::Unavailable(m) => CliError::unavailable(m),
-    })?;
+    let result = run_study(&study, &renderer, &opts).map_err(cli_error)?;
     crate::report::write(&result, &out_dir)
         .map_err(|e| CliError::run(format!("{}: {e}", out_dir.display())))?;
     let failures = result.failures();

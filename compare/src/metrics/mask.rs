@@ -132,13 +132,14 @@ impl Mask {
         self.pixels[i]
     }
 
-    /// Mean of `values` over the selected pixels (f64 accumulation); NaN if none is selected.
-    pub fn mean(&self, values: &[f32]) -> f64 {
+    /// Mean of `values` (f32 maps or f64 terms) over the selected pixels, accumulated in f64;
+    /// NaN if none is selected.
+    pub fn mean<T: Copy + Into<f64>>(&self, values: &[T]) -> f64 {
         let (sum, n) = values
             .iter()
             .zip(&self.pixels)
             .filter(|(_, &p)| p)
-            .fold((0.0f64, 0usize), |(s, n), (&v, _)| (s + v as f64, n + 1));
+            .fold((0.0f64, 0usize), |(s, n), (&v, _)| (s + v.into(), n + 1));
         sum / n as f64
     }
 

@@ -21,8 +21,11 @@
 //! ([`display_value`]); SSIM then takes the sRGB-encoded luminance, LDR-FLIP the clamped
 //! linear RGB (linear RGB → XYZ → YyCxCz, as the reference tool does for linear input).
 //!
-//! A test image with NaN or ±Inf in any selected pixel always fails: its metrics are NaN and
-//! [`MetricValue::non_finite`] counts the pixels. A non-finite reference is an error.
+//! Every sum, square and mean is accumulated in f64 (per-pixel maps are stored in f32), so no
+//! finite input overflows a metric. A test image with NaN or ±Inf in any selected pixel always
+//! fails: its metrics are NaN and [`MetricValue::non_finite`] counts the pixels; a NaN value
+//! never passes a bound ([`Metric::check_value`]). A non-finite reference is an error naming
+//! the pixel.
 
 pub mod flip;
 pub mod mask;
@@ -101,6 +104,36 @@ impl Metric {
         matches!(self, Metric::Psnr | Metric::Ssim)
     }
 
+    /// The values the metric can take, (lowest, highest): [0, ∞) for the error metrics, [0, 1]
+    /// for FLIP (its map is in [0, 1]: FLIP paper, final error), [−1, 1] for SSIM (Wang et al.
+    /// 2004, §III-B: bounded by 1, equal to 1 only for identical signals) and (−∞, +∞] dB for
+    /// PSNR (+∞ at zero MSE). A bound outside this range can never hold or always holds.
+    pub fn range(self) -> (f64, f64) {
+        match self {
+            Metric::Mse | Metric::Rmse | Metric::RelMse | Metric::Smape => (0.0, f64::INFINITY),
+            Metric::FlipLdr | Metric::FlipHdr => (0.0, 1.0),
+            Metric::Ssim => (-1.0, 1.0),
+            Metric::Psnr => (f64::NEG_INFINITY, f64::INFINITY),
+        }
+    }
+
+    /// [`Metric::range`] as people write it: `[0, ∞)`, `[-1, 1]`, `(-∞, ∞]`.
+    pub fn range_text(self) -> String {
+        interval_text(self.range())
+    }
+
+    /// Whether `value` of this metric can be compared with a bound: NaN never can (every
+    /// comparison with NaN is false, so a bound on it would pass silently), nor can ±∞ —
+    /// except PSNR's +∞ dB, its exact value for identical images (zero MSE).
+    pub fn check_value(self, value: f64) -> Result<(), String> {
+        let exact_infinity = self == Metric::Psnr && value == f64::INFINITY;
+        if value.is_finite() || exact_infinity {
+            Ok(())
+        } else {
+            Err(format!("{self} is {value}: not finite"))
+        }
+    }
+
     /// The name of the per-pixel error map this metric writes (`error.<name>.Y`), if any.
     pub fn map_name(self) -> Option<&'static str> {
         match self {
@@ -114,6 +147,21 @@ impl fmt::Display for Metric {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
     }
+}
+
+/// `[lo, hi]` with an open end at ±∞: `[0, ∞)`, `[-1, 1]`, `(-∞, ∞]` (PSNR reaches +∞).
+pub(crate) fn interval_text((lo, hi): (f64, f64)) -> String {
+    let lo = if lo == f64::NEG_INFINITY {
+        "(-∞".to_string()
+    } else {
+        format!("[{lo}")
+    };
+    let hi = match hi {
+        f64::INFINITY if lo.starts_with('(') => "∞]".to_string(),
+        f64::INFINITY => "∞)".to_string(),
+        _ => format!("{hi}]"),
+    };
+    format!("{lo}, {hi}")
 }
 
 /// An RGB image with the reference's per-pixel variance of the mean, when it has one.
@@ -252,8 +300,13 @@ fn check_inputs(reference: &RgbImage, test: &RgbImage, mask: &Mask) -> Result<()
         )));
     }
     if let Some(i) = (0..reference.rgb.len()).find(|&i| mask.selects(i) && !reference.rgb[i].is_finite()) {
+        let c = reference.rgb[i];
+        let (name, value) = [("R", c.x), ("G", c.y), ("B", c.z)]
+            .into_iter()
+            .find(|(_, v)| !v.is_finite())
+            .unwrap_or(("R", c.x));
         return Err(MetricError::BadInput(format!(
-            "the reference has a non-finite pixel at ({}, {})",
+            "the reference has a non-finite pixel at ({}, {}): {name} {value}",
             i % reference.width,
             i / reference.width
         )));
@@ -293,36 +346,47 @@ pub(crate) fn value_and_map(
 
 /// Mean of a per-channel term over the mask's pixels and the three channels, and the per-pixel
 /// map (mean over channels).
+///
+/// The terms are computed and summed in f64: a finite f32 pixel is below 3.4e38, so a squared
+/// difference stays below 4.7e77 and a sum over any image far below f64's 1.8e308, where the
+/// same square in f32 overflows from 1.8e19 (a reference pixel of 1e20 made relMSE ∞/∞ = NaN).
+/// The map is stored in f32 for the EXR layers and PNGs; a pixel beyond f32's range saturates
+/// to +∞ there, which the mean never sees.
 fn pixelwise(
     reference: &RgbImage,
     test: &RgbImage,
     mask: &Mask,
-    term: fn(f32, f32) -> f32,
+    term: fn(f64, f64) -> f64,
 ) -> (f64, Option<Vec<f32>>) {
-    let map: Vec<f32> = reference
+    let per_pixel: Vec<f64> = reference
         .rgb
         .iter()
         .zip(&test.rgb)
-        .map(|(r, a)| (term(a.x, r.x) + term(a.y, r.y) + term(a.z, r.z)) / 3.0)
+        .map(|(r, a)| {
+            let t = |a: f32, r: f32| term(f64::from(a), f64::from(r));
+            (t(a.x, r.x) + t(a.y, r.y) + t(a.z, r.z)) / 3.0
+        })
         .collect();
-    (mask.mean(&map), Some(mask.zero_outside(map)))
+    let value = mask.mean(&per_pixel);
+    let map = per_pixel.iter().map(|&v| v as f32).collect();
+    (value, Some(mask.zero_outside(map)))
 }
 
 /// (a − r)².
-fn squared_error(a: f32, r: f32) -> f32 {
+fn squared_error(a: f64, r: f64) -> f64 {
     (a - r) * (a - r)
 }
 
 /// (a − r)² / (r² + ε): Rousselle, Knaus, Zwicker, "Adaptive Sampling and Reconstruction using
 /// Greedy Error Minimization", SIGGRAPH Asia 2011, §6 (relative MSE), ε = 0.01.
-fn relative_squared_error(a: f32, r: f32) -> f32 {
-    (a - r) * (a - r) / (r * r + RELATIVE_EPSILON)
+fn relative_squared_error(a: f64, r: f64) -> f64 {
+    (a - r) * (a - r) / (r * r + f64::from(RELATIVE_EPSILON))
 }
 
 /// |a − r| / (|a| + |r| + ε): Vogels et al., "Denoising with Kernel Prediction and Asymmetric
 /// Loss Functions", SIGGRAPH 2018, §6 (SMAPE), ε = 0.01.
-fn smape_term(a: f32, r: f32) -> f32 {
-    (a - r).abs() / (a.abs() + r.abs() + RELATIVE_EPSILON)
+fn smape_term(a: f64, r: f64) -> f64 {
+    (a - r).abs() / (a.abs() + r.abs() + f64::from(RELATIVE_EPSILON))
 }
 
 /// PSNR = 10 log₁₀(peak² / MSE) with peak 1 (linear radiance; values above 1 count fully).
@@ -448,7 +512,7 @@ mod tests {
         let e = evaluate(&nan_ref, &r, &Mask::all(2, 1), &[Metric::Mse]).unwrap_err();
         assert!(
             e.to_string()
-                .contains("reference has a non-finite pixel at (0, 0)"),
+                .contains("the reference has a non-finite pixel at (0, 0): R NaN"),
             "{e}"
         );
         let mut empty = Mask::all(2, 1);
@@ -457,6 +521,57 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("selects no pixel"));
+    }
+
+    #[test]
+    fn huge_finite_pixels_do_not_overflow_the_accumulation() {
+        // 1e20² overflows f32; accumulated in f64 every metric stays finite and exact.
+        let r = image(&[1e20, 0.5, 0.5, 0.5]);
+        let a = image(&[0.5, 0.5, 0.5, 0.5]);
+        let all = Mask::all(4, 1);
+        let v = evaluate(
+            &r,
+            &a,
+            &all,
+            &[Metric::Mse, Metric::RelMse, Metric::Smape, Metric::Psnr],
+        )
+        .unwrap();
+        let want = [1e40 / 4.0, 0.25, 0.25, -10.0 * (1e40f64 / 4.0).log10()];
+        for (got, want) in v.iter().zip(want) {
+            assert!(got.is_finite(), "{}: {}", got.metric, got.value);
+            assert!(
+                (got.value / want - 1.0).abs() < 1e-6,
+                "{}: {} vs {want}",
+                got.metric,
+                got.value
+            );
+        }
+        // Test pixels near f32::MAX: the squared error is 1e77, still finite in f64.
+        let big = image(&[f32::MAX, -f32::MAX]);
+        let v = evaluate(
+            &image(&[-f32::MAX, f32::MAX]),
+            &big,
+            &Mask::all(2, 1),
+            &[Metric::Mse],
+        )
+        .unwrap();
+        assert!(v[0].is_finite() && v[0].value > 1e77, "{}", v[0].value);
+    }
+
+    #[test]
+    fn a_value_is_comparable_only_when_it_is_a_number_in_the_metric_range() {
+        assert!(Metric::RelMse
+            .check_value(f64::NAN)
+            .unwrap_err()
+            .contains("not finite"));
+        assert!(Metric::Mse.check_value(f64::INFINITY).is_err());
+        assert_eq!(Metric::Mse.check_value(0.25), Ok(()));
+        // PSNR of identical images is +∞ dB: exact, not a failure.
+        assert_eq!(Metric::Psnr.check_value(f64::INFINITY), Ok(()));
+        assert!(Metric::Psnr.check_value(f64::NAN).is_err());
+        assert_eq!(Metric::Ssim.range(), (-1.0, 1.0));
+        assert_eq!(Metric::FlipLdr.range(), (0.0, 1.0));
+        assert_eq!(Metric::RelMse.range(), (0.0, f64::INFINITY));
     }
 
     #[test]

@@ -37,16 +37,21 @@ impl NoiseFloors {
                 values: metrics.iter().map(|&m| (m, perfect(m))).collect(),
             };
         };
-        let per_pixel = |f: &dyn Fn(Vec3, Vec3) -> f32| -> f64 {
-            let map: Vec<f32> = reference
+        // Per-channel terms in f64, as the metrics' own (a variance of 1e38 or r² of 1e40 stay
+        // finite): the mean over channels of `f(r, σ²)` per pixel, then over the mask.
+        let per_pixel = |f: &dyn Fn(f64, f64) -> f64| -> f64 {
+            let map: Vec<f64> = reference
                 .rgb
                 .iter()
                 .zip(variance)
-                .map(|(&r, &v)| f(r, v))
+                .map(|(&r, &v)| {
+                    let (r, v) = (r.as_dvec3(), v.max(Vec3::ZERO).as_dvec3());
+                    (f(r.x, v.x) + f(r.y, v.y) + f(r.z, v.z)) / 3.0
+                })
                 .collect();
             mask.mean(&map)
         };
-        let mse = per_pixel(&|_, v| v.max(Vec3::ZERO).element_sum() / 3.0);
+        let mse = per_pixel(&|_, v| v);
         let mut resampled: Option<RgbImage> = None;
         let values = metrics
             .iter()
@@ -55,9 +60,7 @@ impl NoiseFloors {
                     Metric::Mse => mse,
                     Metric::Rmse => mse.sqrt(),
                     Metric::Psnr => psnr(mse),
-                    Metric::RelMse => per_pixel(&|r, v| {
-                        (v.max(Vec3::ZERO) / (r * r + Vec3::splat(RELATIVE_EPSILON))).element_sum() / 3.0
-                    }),
+                    Metric::RelMse => per_pixel(&|r, v| v / (r * r + f64::from(RELATIVE_EPSILON))),
                     Metric::Smape | Metric::Ssim | Metric::FlipLdr | Metric::FlipHdr => {
                         let noisy = resampled.get_or_insert_with(|| resample(reference, variance));
                         value_and_map(m, reference, noisy, mask).0

@@ -13,26 +13,29 @@
 //! curve (SSIM is meant for display-referred signals). At the image border the window is
 //! truncated and renormalised, so the map has the image's size (the paper's MATLAB code
 //! instead drops a 5-pixel border; the difference only affects border pixels).
+//!
+//! The local statistics are computed in f64: σ² = E[x²] − μ² cancels catastrophically in f32
+//! on bright flat regions; the per-pixel map is stored in f32 (its values are in [−1, 1]).
 
 use scenes::texture::linear_to_srgb;
 
 use super::{display_value, RgbImage};
 
 /// σ of the Gaussian window in pixels (Wang et al. 2004, §III-C).
-const SIGMA: f32 = 1.5;
+const SIGMA: f64 = 1.5;
 /// Window radius: the 11×11 window of the paper.
 const RADIUS: usize = 5;
 /// C₁ = (0.01·L)², L = 1.
-const C1: f32 = 1e-4;
+const C1: f64 = 1e-4;
 /// C₂ = (0.03·L)², L = 1.
-const C2: f32 = 9e-4;
+const C2: f64 = 9e-4;
 
 /// The per-pixel SSIM of `test` against `reference` (same size), in [−1, 1].
 pub fn ssim_map(reference: &RgbImage, test: &RgbImage) -> Vec<f32> {
     let (w, h) = (reference.width, reference.height);
     let x = display_luminance(reference);
     let y = display_luminance(test);
-    let product = |a: &[f32], b: &[f32]| -> Vec<f32> { a.iter().zip(b).map(|(p, q)| p * q).collect() };
+    let product = |a: &[f64], b: &[f64]| -> Vec<f64> { a.iter().zip(b).map(|(p, q)| p * q).collect() };
     let mu_x = blur(&x, w, h);
     let mu_y = blur(&y, w, h);
     let xx = blur(&product(&x, &x), w, h);
@@ -44,31 +47,33 @@ pub fn ssim_map(reference: &RgbImage, test: &RgbImage) -> Vec<f32> {
             let sx = (xx[i] - mx * mx).max(0.0);
             let sy = (yy[i] - my * my).max(0.0);
             let sxy = xy[i] - mx * my;
-            ((2.0 * mx * my + C1) * (2.0 * sxy + C2)) / ((mx * mx + my * my + C1) * (sx + sy + C2))
+            let ssim =
+                ((2.0 * mx * my + C1) * (2.0 * sxy + C2)) / ((mx * mx + my * my + C1) * (sx + sy + C2));
+            ssim as f32
         })
         .collect()
 }
 
 /// sRGB-encoded Rec.709 luminance of the clamped display values.
-fn display_luminance(img: &RgbImage) -> Vec<f32> {
+fn display_luminance(img: &RgbImage) -> Vec<f64> {
     img.rgb
         .iter()
         .map(|c| {
             let y = 0.2126 * display_value(c.x) + 0.7152 * display_value(c.y) + 0.0722 * display_value(c.z);
-            linear_to_srgb(y.clamp(0.0, 1.0))
+            f64::from(linear_to_srgb(y.clamp(0.0, 1.0)))
         })
         .collect()
 }
 
 /// Separable Gaussian blur (window 2·RADIUS+1), truncated and renormalised at the border.
-fn blur(values: &[f32], w: usize, h: usize) -> Vec<f32> {
-    let weights: Vec<f32> = (0..=2 * RADIUS)
+fn blur(values: &[f64], w: usize, h: usize) -> Vec<f64> {
+    let weights: Vec<f64> = (0..=2 * RADIUS)
         .map(|k| {
-            let d = k as f32 - RADIUS as f32;
+            let d = k as f64 - RADIUS as f64;
             (-d * d / (2.0 * SIGMA * SIGMA)).exp()
         })
         .collect();
-    let pass = |src: &[f32], stride: usize, len: usize, lines: usize, line_stride: usize| -> Vec<f32> {
+    let pass = |src: &[f64], stride: usize, len: usize, lines: usize, line_stride: usize| -> Vec<f64> {
         let mut out = vec![0.0; src.len()];
         for line in 0..lines {
             for i in 0..len {

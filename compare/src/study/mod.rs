@@ -2,13 +2,19 @@
 //! the masks and the thresholds (format reference: compare/README.md, "Study files").
 //!
 //! A study is read once and checked whole before anything renders: unknown fields, unknown
-//! methods, parameters or metrics, thresholds that name no method or mask, and sweeps with no
-//! values are errors naming the file, the field and its line (the scene files' located reader,
-//! `scenes::toml::read`). Running it is [`run`]; what it produces is [`result`].
+//! methods, parameters or metrics, thresholds that name no method or mask or can never hold,
+//! duplicate masks or metrics, sweeps with no values, a grid larger than [`plan::MAX_RENDERS`],
+//! and — with the scene loaded at every scene point ([`scene_check`]) — a `visibility_of` that
+//! names no light or a mask object that names no shape are errors naming the file, the field
+//! and its line (the scene files' located reader, `scenes::toml::read`). The run's size and
+//! memory are checked against the budget by [`plan`] before the first render. Running it is
+//! [`run`]; what it produces is [`result`].
 
 pub mod cache;
+pub mod plan;
 pub mod result;
 pub mod run;
+mod scene_check;
 pub mod stability;
 
 use std::path::{Path, PathBuf};
@@ -74,6 +80,8 @@ pub struct SceneSweep {
     pub set: Vec<String>,
     /// The values in the order listed (towards the failure regime), as written and as TOML.
     pub values: Vec<(String, scenes::toml::tree::Value)>,
+    /// Line of `values` in the study file (for errors about the sweep's size).
+    pub line: Option<usize>,
 }
 
 /// One scene of a study: the scene file as written, or one value of its scene sweep.
@@ -185,6 +193,8 @@ pub struct Quality {
     /// Warm-up and timed raster frames, instead of `[raster]`'s (quick mode only: the tests
     /// check errors, and one timed frame is enough for a cost on the chart).
     pub frames: Option<(u32, u32)>,
+    /// Where `resolution` is declared, field and line (None: the scene's film).
+    pub resolution_at: Option<(&'static str, Option<usize>)>,
 }
 
 /// Raster settings shared by every method of the study.
@@ -257,6 +267,8 @@ pub struct MethodSpec {
     pub params: Vec<(String, String)>,
     /// Swept parameters, each with its values in the order listed (towards the failure regime).
     pub sweep: Vec<(String, Vec<String>)>,
+    /// Line of `sweep` (else of the `[[method]]` table) in the study file.
+    pub sweep_line: Option<usize>,
 }
 
 /// One point of a method's grid: the method with every parameter set.
@@ -311,6 +323,14 @@ impl Variant {
 }
 
 impl MethodSpec {
+    /// The number of grid points, the product of the sweep lengths (saturating), computed
+    /// without building them.
+    pub fn count(&self) -> u64 {
+        self.sweep
+            .iter()
+            .fold(1u64, |n, (_, values)| n.saturating_mul(values.len() as u64))
+    }
+
     /// Every grid point: the cartesian product of the sweeps, first key slowest.
     pub fn variants(&self) -> Vec<Variant> {
         let mut points: Vec<Vec<(String, String)>> = vec![Vec::new()];
@@ -423,6 +443,8 @@ pub struct Stability {
 pub struct Flicker {
     /// Number of frames (≥ 2).
     pub frames: u32,
+    /// Line of `frames` in the study file.
+    pub line: Option<usize>,
     /// What moves.
     pub motion: Motion,
 }
@@ -493,10 +515,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
     let root = scenes::toml::parse_document(&ctx, text)?;
     let doc = Field::root(&ctx, &root).table()?;
     doc.only(FIELDS, "a study file")?;
-    let stem = path
-        .file_stem()
-        .map_or("study".into(), |s| s.to_string_lossy().into_owned());
-    let name = opt_str(&doc, "name")?.unwrap_or(stem);
+    let name = study_name(&doc, path)?;
     let scene_field = doc.req("scene")?;
     let scene = ctx.resolve(scene_field.str()?);
     if !scene.exists() {
@@ -510,7 +529,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
     };
     let scene_sweep = doc
         .get("scene_sweep")
-        .map(|f| scene_sweep(&f.table()?, &scene, &scene_set))
+        .map(|f| scene_sweep(&f.table()?, &scene))
         .transpose()?;
     let gt_table = doc.req("ground_truth")?.table()?;
     let (ground_truth, full) = ground_truth(&gt_table)?;
@@ -520,26 +539,14 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
         None => full,
     };
     let metrics = match doc.get("metrics") {
-        Some(f) => f.array()?.iter().map(metric).collect::<Result<Vec<_>, _>>()?,
+        Some(f) => metric_list(&f)?,
         None => Metric::ALL.to_vec(),
     };
     let masks = list(&doc, "mask", |t| mask(t, &ctx))?;
+    check_unique_masks(&masks, &doc)?;
     let methods = list(&doc, "method", method)?;
     if methods.is_empty() {
         return Err(doc.err("a study needs at least one [[method]]").field("method"));
-    }
-    // Two entries must not measure under one name (their reports would overwrite each other).
-    let mut seen = std::collections::HashSet::new();
-    for v in methods.iter().flat_map(MethodSpec::variants) {
-        if !seen.insert(v.method_label()) {
-            return Err(doc
-                .err(format!(
-                    "two [[method]] entries measure the variant `{}`",
-                    v.method_label()
-                ))
-                .field("method")
-                .hint("give one of them a label = \"…\""));
-        }
     }
     let stability = match doc.get("stability") {
         Some(f) => stability(&f.table()?, &scene)?,
@@ -570,8 +577,112 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
         thresholds,
         stability,
     };
+    // The grid's size first, from the sweep lengths: everything after builds variants.
+    plan::check_count(&study)?;
+    scene_check::check(&study, &doc)?;
+    check_unique_labels(&study, &doc)?;
     check_references(&study, &doc)?;
     Ok(study)
+}
+
+/// Longest study name: it names the report folder (`out/<name>`, `out/<name>-quick`).
+pub const MAX_NAME_LEN: usize = 100;
+
+/// Why `name` is not a file-name-safe study name, if it is not: ASCII letters, digits, `_`,
+/// `-` and `.`, not starting with `.` (no hidden folder, no `.` or `..`), no `..`, 1 to
+/// [`MAX_NAME_LEN`] characters. The name becomes a folder under the output directory, so a
+/// `/`, `..` or an absolute path would write outside it.
+fn name_problem(name: &str) -> Option<String> {
+    let len = name.chars().count();
+    if len == 0 {
+        return Some("it is empty".into());
+    }
+    if len > MAX_NAME_LEN {
+        return Some(format!("it has {len} characters, more than {MAX_NAME_LEN}"));
+    }
+    if let Some(c) = name
+        .chars()
+        .find(|c| !(c.is_ascii_alphanumeric() || "_-.".contains(*c)))
+    {
+        return Some(format!("`{}` is not allowed", c.escape_default()));
+    }
+    if name.starts_with('.') {
+        return Some("it starts with `.`".into());
+    }
+    if name.contains("..") {
+        return Some("it contains `..`".into());
+    }
+    None
+}
+
+/// The study's `name`, checked by [`name_problem`]; without one, the file stem made safe:
+/// every character but ASCII letters, digits, `-` and `_` becomes `_` (`my study.toml` →
+/// `my_study`, `v1.2.toml` → `v1_2`), cut to [`MAX_NAME_LEN`] characters.
+fn study_name(doc: &Table, path: &Path) -> Result<String, SceneError> {
+    if let Some(f) = doc.get("name") {
+        let name = f.str()?;
+        if let Some(why) = name_problem(name) {
+            return Err(f
+                .err(format!("invalid study name `{name}`: {why}"))
+                .hint("use letters, digits, '_', '-' and '.' (not first), at most 100 characters: it names the report folder"));
+        }
+        return Ok(name.to_string());
+    }
+    let stem = path
+        .file_stem()
+        .map_or("study".into(), |s| file_safe(&s.to_string_lossy()));
+    Ok(stem.chars().take(MAX_NAME_LEN).collect())
+}
+
+/// `metrics = [...]`: known names, each once.
+fn metric_list(f: &Field) -> Result<Vec<Metric>, SceneError> {
+    let mut out: Vec<Metric> = Vec::new();
+    for item in f.array()? {
+        let m = metric(&item)?;
+        if out.contains(&m) {
+            return Err(item.err(format!("`{m}` is listed twice")));
+        }
+        out.push(m);
+    }
+    Ok(out)
+}
+
+/// Mask names are unique: thresholds and the report select masks by name.
+fn check_unique_masks(masks: &[MaskSpec], doc: &Table) -> Result<(), SceneError> {
+    for (i, m) in masks.iter().enumerate() {
+        if let Some(first) = masks[..i].iter().position(|k| k.name() == m.name()) {
+            let tables = doc.req("mask")?.tables()?;
+            let line = tables[first]
+                .line
+                .map_or(String::new(), |l| format!(" (line {l})"));
+            return Err(tables[i]
+                .req("name")?
+                .err(format!(
+                    "a mask named `{}` is already declared, mask[{first}]{line}",
+                    m.name()
+                ))
+                .hint("give each [[mask]] its own name"));
+        }
+    }
+    Ok(())
+}
+
+/// Two entries must not measure under one name (their reports would overwrite each other).
+/// Builds the variants: call after [`plan::check_count`].
+fn check_unique_labels(study: &Study, doc: &Table) -> Result<(), SceneError> {
+    let mut seen = std::collections::HashSet::new();
+    for v in study.methods.iter().flat_map(MethodSpec::variants) {
+        if !seen.insert(v.method_label()) {
+            return Err(doc
+                .err(format!(
+                    "two [[method]] entries measure the variant `{}`",
+                    v.method_label()
+                ))
+                .field("method")
+                .hint("give one of them a label = \"…\""));
+        }
+    }
+    Ok(())
 }
 
 fn opt_str(t: &Table, key: &str) -> Result<Option<String>, SceneError> {
@@ -625,6 +736,7 @@ fn ground_truth(t: &Table) -> Result<(GroundTruth, Quality), SceneError> {
         resolution: t.get("resolution").map(|f| resolution(&f)).transpose()?,
         spp: t.req("spp")?.int_in(1, 1 << 24)? as u32,
         frames: None,
+        resolution_at: t.get("resolution").map(|f| ("ground_truth.resolution", f.line)),
     };
     Ok((
         GroundTruth {
@@ -647,6 +759,10 @@ fn quality(t: &Table, full: Quality) -> Result<Quality, SceneError> {
     };
     Ok(Quality {
         frames,
+        resolution_at: match t.get("resolution") {
+            Some(f) => Some(("quick.resolution", f.line)),
+            None => full.resolution_at,
+        },
         resolution: t
             .get("resolution")
             .map(|f| resolution(&f))
@@ -727,16 +843,24 @@ fn mask(t: &Table, ctx: &Ctx) -> Result<MaskSpec, SceneError> {
             .hint("choose another name"));
     }
     match t.one_of(&["objects", "rectangle", "file", "interior"])? {
-        Some("objects") => Ok(MaskSpec::Objects {
-            name,
-            objects: t
-                .req("objects")?
+        Some("objects") => {
+            let field = t.req("objects")?;
+            let objects: Vec<String> = field
                 .array()?
                 .iter()
                 .map(|f| f.str().map(str::to_string))
-                .collect::<Result<_, _>>()?,
-            within: t.get("within").map(rectangle).transpose()?,
-        }),
+                .collect::<Result<_, _>>()?;
+            if objects.is_empty() {
+                return Err(field
+                    .err("an objects mask needs at least one shape name")
+                    .hint("e.g. objects = [\"floor\"]"));
+            }
+            Ok(MaskSpec::Objects {
+                name,
+                objects,
+                within: t.get("within").map(rectangle).transpose()?,
+            })
+        }
         Some("rectangle") => Ok(MaskSpec::Rectangle {
             name,
             rect: rectangle(t.req("rectangle")?)?,
@@ -836,6 +960,7 @@ fn method(t: &Table) -> Result<MethodSpec, SceneError> {
         label,
         params,
         sweep,
+        sweep_line: t.get("sweep").map_or(t.line, |f| f.line),
     })
 }
 
@@ -851,12 +976,15 @@ fn scene_set(f: &Field, scene: &Path) -> Result<Vec<Override>, SceneError> {
             edit: Edit::Set(v.node.value.clone()),
         })
         .collect();
-    check_scene_edits(scene, f, |_| ("scene_set".to_string(), edits.clone()), 1)?;
+    require_toml(scene, f)?;
+    scenes::toml::load_with(scene, &edits)
+        .map_err(|e| f.err(format!("scene_set: the scene does not load: {e}")))?;
     Ok(edits)
 }
 
-/// `[scene_sweep]`: each value must make a valid scene, after `fixed` (checked now, by loading it).
-fn scene_sweep(t: &Table, scene: &Path, fixed: &[Override]) -> Result<SceneSweep, SceneError> {
+/// `[scene_sweep]`: each value must make a valid scene, after `[scene_set]` (checked with the
+/// other scene points, by loading each, in [`scene_check`]).
+fn scene_sweep(t: &Table, scene: &Path) -> Result<SceneSweep, SceneError> {
     t.only(&["name", "set", "values"], "[scene_sweep]")?;
     let name_field = t.req("name")?;
     let name = name_field.str()?.to_string();
@@ -889,50 +1017,27 @@ fn scene_sweep(t: &Table, scene: &Path, fixed: &[Override]) -> Result<SceneSweep
     if values.len() < 2 {
         return Err(values_field.err("a scene sweep needs at least two values"));
     }
-    let sweep = SceneSweep { name, set, values };
-    check_scene_edits(
-        scene,
-        &values_field,
-        |k| {
-            let (text, value) = &sweep.values[k];
-            let edits = fixed
-                .iter()
-                .cloned()
-                .chain(sweep.set.iter().map(|path| Override {
-                    path: path.clone(),
-                    edit: Edit::Set(value.clone()),
-                }))
-                .collect();
-            (format!("scene_sweep {} = {text}", sweep.name), edits)
-        },
-        sweep.values.len(),
-    )?;
-    Ok(sweep)
+    require_toml(scene, &values_field)?;
+    Ok(SceneSweep {
+        name,
+        set,
+        values,
+        line: values_field.line,
+    })
 }
 
-/// Loads the scene with each of `count` sets of edits (`edits(k)` gives a description and the
-/// edits); the first failure is an error at `field` with the scene's own message.
-fn check_scene_edits(
-    scene: &Path,
-    field: &Field,
-    edits: impl Fn(usize) -> (String, Vec<Override>),
-    count: usize,
-) -> Result<(), SceneError> {
-    let is_toml = scene.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml"));
-    if !is_toml {
-        return Err(field
-            .err(format!(
-                "scene fields can only be changed in a TOML scene file, not {}",
-                scene.display()
-            ))
-            .hint("include the asset from a .toml scene ([[include]]) and point the study at that"));
+/// Scene fields can be edited (`[scene_set]`, `[scene_sweep]`, a flicker `shift`) only in a
+/// TOML scene; the error is at `field`.
+fn require_toml(scene: &Path, field: &Field) -> Result<(), SceneError> {
+    if scene.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) {
+        return Ok(());
     }
-    for k in 0..count {
-        let (what, list) = edits(k);
-        scenes::toml::load_with(scene, &list)
-            .map_err(|e| field.err(format!("{what}: the scene does not load: {e}")))?;
-    }
-    Ok(())
+    Err(field
+        .err(format!(
+            "scene fields can only be changed in a TOML scene file, not {}",
+            scene.display()
+        ))
+        .hint("include the asset from a .toml scene ([[include]]) and point the study at that"))
 }
 
 fn threshold(t: &Table) -> Result<Threshold, SceneError> {
@@ -974,6 +1079,22 @@ fn threshold(t: &Table) -> Result<Threshold, SceneError> {
             return Err(t.req("min")?.err(format!("min {lo} is above max {hi}")));
         }
     }
+    // A bound past the end of the measure's range can never hold (flicker is a mean of
+    // absolute values, ≥ 0: stability.rs).
+    let (name, range, range_text) = match metric {
+        Some(m) => (m.name(), m.range(), m.range_text()),
+        None => ("flicker", (0.0, f64::INFINITY), "[0, ∞)".to_string()),
+    };
+    if let Some(hi) = max.filter(|&hi| hi < range.0) {
+        return Err(t.req("max")?.err(format!(
+            "max {hi} can never hold: {name} takes values in {range_text}"
+        )));
+    }
+    if let Some(lo) = min.filter(|&lo| lo > range.1) {
+        return Err(t.req("min")?.err(format!(
+            "min {lo} can never hold: {name} takes values in {range_text}"
+        )));
+    }
     Ok(Threshold {
         method: t.req("method")?.str()?.to_string(),
         params: params(t.get("params").map(|f| f.table()).transpose()?)?,
@@ -1013,7 +1134,7 @@ fn stability(t: &Table, scene: &Path) -> Result<Stability, SceneError> {
 }
 
 /// `[stability.flicker]`: a camera orbit (`orbit_degrees`, `orbit_distance`) or scene fields
-/// shifted per frame (`shift`, `step`), each frame's scene checked by loading it.
+/// shifted per frame (`shift`, `step`; each frame's scene is loaded in [`scene_check`]).
 fn flicker(f: &Table, scene: &Path) -> Result<Flicker, SceneError> {
     f.only(
         &["frames", "orbit_degrees", "orbit_distance", "shift", "step"],
@@ -1040,19 +1161,9 @@ fn flicker(f: &Table, scene: &Path) -> Result<Flicker, SceneError> {
             if step == 0.0 || fields.is_empty() {
                 return Err(step_field.err("a light motion needs fields to shift and a non-zero step"));
             }
-            let motion = Motion::Shift { fields, step };
-            check_scene_edits(
-                scene,
-                &shift,
-                |k| {
-                    (
-                        format!("flicker frame {}", k + 1),
-                        shifted(&motion, k as u32 + 1),
-                    )
-                },
-                frames as usize - 1,
-            )?;
-            motion
+            // Each frame's scene is loaded with the other scene points (scene_check).
+            require_toml(scene, &shift)?;
+            Motion::Shift { fields, step }
         }
         None => {
             return Err(f
@@ -1060,7 +1171,11 @@ fn flicker(f: &Table, scene: &Path) -> Result<Flicker, SceneError> {
                 .hint("e.g. shift = \"shape.light.center[0]\", step = 0.005"))
         }
     };
-    Ok(Flicker { frames, motion })
+    Ok(Flicker {
+        frames,
+        line: f.get("frames").and_then(|x| x.line),
+        motion,
+    })
 }
 
 /// The scene edits of frame `k` of a `Shift` motion (none for an orbit).
@@ -1077,13 +1192,18 @@ pub fn shifted(motion: &Motion, k: u32) -> Vec<Override> {
     }
 }
 
-/// Thresholds name declared methods, masks and metrics; the stability metric is measured.
+/// Thresholds name declared methods, masks and metrics and select at least one variant; the
+/// stability metric is measured, its mask declared. Builds the variants: call after
+/// [`plan::check_count`].
 fn check_references(study: &Study, doc: &Table) -> Result<(), SceneError> {
     let thresholds = doc
         .get("threshold")
         .map(|f| f.tables())
         .transpose()?
         .unwrap_or_default();
+    let points = study.scene_points();
+    let everywhere = study.variants();
+    let first = study.variants_at(&points[0]);
     for (th, t) in study.thresholds.iter().zip(&thresholds) {
         let Some(m) = study
             .methods
@@ -1101,13 +1221,10 @@ fn check_references(study: &Study, doc: &Table) -> Result<(), SceneError> {
                 names.join(", ")
             )));
         };
-        let at_every_point: Vec<Variant> = study
-            .scene_points()
+        let of_this_entry = everywhere
             .iter()
-            .flat_map(|p| study.variants_at(p))
-            .filter(|v| v.method == m.name && v.label == m.label)
-            .collect();
-        if !at_every_point.iter().any(|v| th.applies_to(v)) {
+            .filter(|v| v.method == m.name && v.label == m.label);
+        if !of_this_entry.clone().any(|v| th.applies_to(v)) {
             if !th.scene.is_empty() {
                 let declared = study.scene_sweep.as_ref().map_or("none".to_string(), |s| {
                     let values: Vec<&str> = s.values.iter().map(|(v, _)| v.as_str()).collect();
@@ -1128,7 +1245,6 @@ fn check_references(study: &Study, doc: &Table) -> Result<(), SceneError> {
                     .req("on")?
                     .err("measuring `flicker` needs a [stability.flicker] motion"));
             }
-            let first = study.variants_at(&study.scene_points()[0]);
             if !first.iter().any(|v| th.applies_to(v)) {
                 return Err(t
                     .req("on")?
@@ -1149,21 +1265,37 @@ fn check_references(study: &Study, doc: &Table) -> Result<(), SceneError> {
                 .err(format!("`{metric}` is not in the study's `metrics`")));
         }
     }
+    // `[stability]`'s own fields where written; the defaults (relmse over `all`) are
+    // reported at the study's `metrics`, which leaves them out.
+    let stability = doc.get("stability").map(|f| f.table()).transpose()?;
+    let located = |key: &str, message: String| -> SceneError {
+        match stability.as_ref().and_then(|t| t.get(key)) {
+            Some(f) => f.err(message),
+            None => doc
+                .get("metrics")
+                .map_or_else(|| doc.err(message.clone()), |f| f.err(message.clone()))
+                .field(format!("stability.{key}"))
+                .hint(format!("set [stability] {key} = …, the default is not measured")),
+        }
+    };
     let m = &study.stability.mask;
     if m != "all" && !study.masks.iter().any(|k| k.name() == m) {
-        return Err(doc.err(format!("stability.mask: no [[mask]] named `{m}`")));
+        return Err(located("mask", format!("no [[mask]] named `{m}`")));
     }
     if study.stability.metric.higher_is_better() {
-        return Err(doc.err(format!(
-            "stability.metric `{}`: break points need an error metric (lower is better), not psnr or ssim",
-            study.stability.metric
-        )));
+        return Err(located(
+            "metric",
+            format!(
+                "`{}`: break points need an error metric (lower is better), not psnr or ssim",
+                study.stability.metric
+            ),
+        ));
     }
     if !study.metrics.contains(&study.stability.metric) {
-        return Err(doc.err(format!(
-            "stability.metric `{}` is not in the study's `metrics`",
-            study.stability.metric
-        )));
+        return Err(located(
+            "metric",
+            format!("`{}` is not in the study's `metrics`", study.stability.metric),
+        ));
     }
     Ok(())
 }

@@ -229,12 +229,23 @@ impl ThresholdCheck {
             "image" | "flicker" => String::new(),
             other => format!(" of the {other}"),
         };
+        // A NaN or ±∞ holds no bound (run.rs `bound_holds`); say so instead of printing a
+        // comparison that looks as if it should have passed.
+        let comparable = crate::metrics::Metric::parse(&self.metric)
+            .map_or(self.value.is_finite(), |m| m.check_value(self.value).is_ok());
+        let value = if comparable {
+            format!("{:.4e}", self.value)
+        } else {
+            format!(
+                "{}, which is not finite (NaN/Inf pixels, or not measured) and holds no bound",
+                self.value
+            )
+        };
         format!(
-            "{study}: {} {}{on} over `{}` = {:.4e}, expected {} ({}) [{}]",
+            "{study}: {} {}{on} over `{}` = {value}, expected {} ({}) [{}]",
             self.variant,
             self.metric,
             self.mask,
-            self.value,
             bounds.join(" and "),
             self.reason,
             self.location

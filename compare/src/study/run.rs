@@ -12,9 +12,9 @@ use scenes::{RenderSettings, Scene};
 use sha2::{Digest, Sha256};
 
 use super::result::*;
-use super::{cache, stability, MaskSpec, ScenePoint, Study, Target, Variant};
+use super::{cache, plan, stability, MaskSpec, ScenePoint, Study, Target, Variant};
 use crate::cli::render::integrator_name;
-use crate::metrics::{self, Mask, MetricValue, RgbImage};
+use crate::metrics::{self, Mask, Metric, MetricValue, RgbImage};
 use crate::progress::{ProgressMode, ProgressReporter, StepProgress};
 use crate::report::colormap;
 
@@ -93,7 +93,9 @@ pub fn prepare(
 
 /// Runs `study` on `renderer`, writing images under `opts.out_dir`: at each scene point (the
 /// scene as written, or each scene-sweep value) its ground truth, masks and every variant.
+/// The run's size and memory are checked first ([`plan::plan`]), before anything is written.
 pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Result<StudyResult, StudyError> {
+    plan::plan(study, opts.quick)?;
     for sub in ["", "methods"] {
         let d = opts.out_dir.join(sub);
         fs::create_dir_all(&d).map_err(io_err(&d))?;
@@ -110,7 +112,8 @@ pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Resul
         let (gt, gt_info) = ground_truth(&scene, settings, opts, &format!("ground_truth{}", point.suffix()))?;
         gt.write_png_preview(opts.out_dir.join(&gt_info.png), 0.0)
             .map_err(io_err(&opts.out_dir))?;
-        let reference = RgbImage::from_layered(&gt, "ground truth").map_err(StudyError::Run)?;
+        let gt_path = opts.out_dir.join(&gt_info.exr).display().to_string();
+        let reference = RgbImage::from_layered(&gt, &gt_path).map_err(StudyError::Run)?;
         let masks = build_masks(study, &scene, &gt, point)?;
         for variant in study.variants_at(point) {
             let line = format!("[{}/{total}] {}", results.len() + 1, variant.label());
@@ -430,8 +433,13 @@ fn measure_variant(
     let mut per_mask = Vec::new();
     let mut maps: Vec<MetricValue> = Vec::new();
     for mask in masks {
-        let values = metrics::evaluate(reference, &test, mask, &study.metrics)
-            .map_err(|e| StudyError::Run(format!("{}: {e}", variant.label())))?;
+        let values = metrics::evaluate(reference, &test, mask, &study.metrics).map_err(|e| match e {
+            // The ground truth itself is bad (a non-finite pixel): name its file.
+            metrics::MetricError::BadInput(m) => {
+                StudyError::Input(format!("{}: {m}", opts.out_dir.join(&gt_info.exr).display()))
+            }
+            e => StudyError::Run(format!("{}: {e}", variant.label())),
+        })?;
         per_mask.push(MaskMetrics {
             mask: mask.name.clone(),
             values: values.iter().map(MetricEntry::from).collect(),
@@ -537,6 +545,17 @@ fn visibility_metrics(
         .collect()
 }
 
+/// Whether `value` of `metric` (None: flicker) is within `[min, max]`. A value that cannot be
+/// compared ([`Metric::check_value`]: NaN, ±∞ but PSNR's exact +∞) holds no bound, `min` and
+/// `max` alike: every comparison with NaN is false, so `!(value > max)` would let it pass.
+pub fn bound_holds(metric: Option<Metric>, value: f64, min: Option<f64>, max: Option<f64>) -> bool {
+    let comparable = match metric {
+        Some(m) => m.check_value(value).is_ok(),
+        None => value.is_finite(),
+    };
+    comparable && max.is_none_or(|m| value <= m) && min.is_none_or(|m| value >= m)
+}
+
 /// Every threshold against every variant it applies to (flicker bounds: the variants of the
 /// first scene point, `at_first`, the only ones flicker is measured on).
 fn check_thresholds(
@@ -562,8 +581,7 @@ fn check_thresholds(
                     .map(|f| f.flicker),
             }
             .unwrap_or(f64::NAN);
-            let passed =
-                value.is_finite() && th.max.is_none_or(|m| value <= m) && th.min.is_none_or(|m| value >= m);
+            let passed = bound_holds(th.metric, value, th.min, th.max);
             checks.push(ThresholdCheck {
                 variant: v.label(),
                 metric: th.metric.map_or("flicker", |m| m.name()).into(),
@@ -583,4 +601,48 @@ fn check_thresholds(
         }
     }
     checks
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_nan_holds_no_bound() {
+        for (min, max) in [(None, Some(1.0)), (Some(0.5), None), (Some(0.0), Some(1e30))] {
+            assert!(
+                !bound_holds(Some(Metric::RelMse), f64::NAN, min, max),
+                "{min:?} {max:?}"
+            );
+            assert!(!bound_holds(None, f64::NAN, min, max), "flicker {min:?} {max:?}");
+            assert!(!bound_holds(Some(Metric::Mse), f64::INFINITY, min, None));
+        }
+        assert!(bound_holds(Some(Metric::RelMse), 0.5, Some(0.1), Some(1.0)));
+        assert!(!bound_holds(Some(Metric::RelMse), 2.0, Some(0.1), Some(1.0)));
+        // PSNR of an exact image is +∞ dB: above any `min`, above every `max`.
+        assert!(bound_holds(Some(Metric::Psnr), f64::INFINITY, Some(40.0), None));
+        assert!(!bound_holds(Some(Metric::Psnr), f64::INFINITY, None, Some(40.0)));
+    }
+
+    #[test]
+    fn a_failed_non_finite_value_says_so() {
+        let check = ThresholdCheck {
+            variant: "pcf(taps=4)".into(),
+            metric: "relmse".into(),
+            on: "image".into(),
+            mask: "all".into(),
+            value: f64::NAN,
+            max: Some(0.1),
+            min: Some(0.01),
+            passed: false,
+            reason: "r".into(),
+            location: "s.toml:9".into(),
+        };
+        let m = check.message("s");
+        assert!(
+            m.contains("relmse over `all` = NaN, which is not finite (NaN/Inf pixels, or not measured) and holds no bound"),
+            "{m}"
+        );
+        assert!(m.contains("expected ≤ 1e-1 and ≥ 1e-2 (r) [s.toml:9]"), "{m}");
+    }
 }

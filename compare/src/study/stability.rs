@@ -14,9 +14,12 @@
 //!   frames count ([`Mask::interior`]): a moving silhouette changes every method's error, and
 //!   that is the rasteriser's aliasing, not the method's flicker. Its noise floor is what the
 //!   reference's own noise alone gives: E|n_{k+1} − n_k| = √(2/π)·√(σ²_k + σ²_{k+1}) for
-//!   independent normal errors (the mean absolute value of a normal deviate).
+//!   independent normal errors (the mean absolute value of a normal deviate). The sums run in
+//!   f64; a NaN or ±Inf pixel of an approximation makes its flicker NaN (which holds no bound)
+//!   instead of being skipped, and a motion that leaves no pixel interior in two consecutive
+//!   frames is an error, not a flicker of 0.
 
-use glam::{Affine3A, Quat, Vec3};
+use glam::{Affine3A, DVec3, Quat, Vec3};
 use realtime::Renderer;
 use scenes::{RenderSettings, Scene};
 
@@ -217,10 +220,20 @@ pub fn flicker(
         refs.push((rgb, var));
         interiors.push(Mask::interior(&img));
     }
+    let no_pixels = || {
+        StudyError::Input(format!(
+            "{}: [stability.flicker]: no pixel is interior in two consecutive frames, so flicker cannot be measured",
+            study.path.display()
+        ))
+    };
     let noise_floor = mean_over_pairs(&refs, &interiors, |k, i| {
-        let s = (refs[k].1[i] + refs[k + 1].1[i]).max(Vec3::ZERO).powf(0.5);
-        s * (2.0 / std::f32::consts::PI).sqrt()
-    });
+        let s = (refs[k].1[i] + refs[k + 1].1[i])
+            .max(Vec3::ZERO)
+            .as_dvec3()
+            .powf(0.5);
+        s * (2.0 / std::f64::consts::PI).sqrt()
+    })
+    .ok_or_else(no_pixels)?;
     let mut out = Vec::new();
     for v in variants {
         let mut errors = Vec::new();
@@ -232,9 +245,15 @@ pub fn flicker(
             let a = img
                 .rgb("")
                 .ok_or_else(|| StudyError::Run("raster image without RGB".into()))?;
-            errors.push(a.iter().zip(r).map(|(a, r)| *a - *r).collect::<Vec<Vec3>>());
+            errors.push(
+                a.iter()
+                    .zip(r)
+                    .map(|(a, r)| a.as_dvec3() - r.as_dvec3())
+                    .collect::<Vec<DVec3>>(),
+            );
         }
-        let value = mean_over_pairs(&refs, &interiors, |k, i| (errors[k + 1][i] - errors[k][i]).abs());
+        let value = mean_over_pairs(&refs, &interiors, |k, i| (errors[k + 1][i] - errors[k][i]).abs())
+            .ok_or_else(no_pixels)?;
         out.push(FlickerResult {
             variant: v.label(),
             motion: f.motion.describe(),
@@ -247,12 +266,13 @@ pub fn flicker(
 }
 
 /// Mean over consecutive frame pairs k, pixels i interior in both frames and channels of
-/// `delta(k, i) / (|r_k,i| + ε)`.
+/// `delta(k, i) / (|r_k,i| + ε)`, in f64; NaN when a term is not finite (never skipped: a
+/// skipped NaN pixel would make a broken method look stable); None when no pixel counts.
 fn mean_over_pairs(
     refs: &[(Vec<Vec3>, Vec<Vec3>)],
     interiors: &[Mask],
-    delta: impl Fn(usize, usize) -> Vec3,
-) -> f64 {
+    delta: impl Fn(usize, usize) -> DVec3,
+) -> Option<f64> {
     let mut sum = 0.0f64;
     let mut n = 0usize;
     for k in 0..refs.len() - 1 {
@@ -260,19 +280,44 @@ fn mean_over_pairs(
             if !(interiors[k].selects(i) && interiors[k + 1].selects(i)) {
                 continue;
             }
-            let rel = delta(k, i) / (refs[k].0[i].abs() + Vec3::splat(RELATIVE_EPSILON));
-            if rel.is_finite() {
-                sum += rel.element_sum() as f64 / 3.0;
-                n += 1;
-            }
+            let r = refs[k].0[i].abs().as_dvec3() + DVec3::splat(f64::from(RELATIVE_EPSILON));
+            sum += (delta(k, i) / r).element_sum() / 3.0;
+            n += 1;
         }
     }
-    sum / n.max(1) as f64
+    (n > 0).then(|| sum / n as f64)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn flicker_of_a_nan_pixel_is_nan_and_of_no_pixel_is_none() {
+        let refs = vec![(vec![Vec3::splat(0.5); 2], vec![Vec3::ZERO; 2]); 2];
+        let all = vec![Mask::all(2, 1); 2];
+        let errors = [
+            [DVec3::ZERO, DVec3::ZERO],
+            [DVec3::splat(0.051), DVec3::splat(f64::NAN)],
+        ];
+        let delta = |k: usize, i: usize| (errors[k + 1][i] - errors[k][i]).abs();
+        // One pixel moved by 0.051 / 0.51 = 0.1, the other is NaN: NaN, not 0.1.
+        assert!(mean_over_pairs(&refs, &all, delta).is_some_and(f64::is_nan));
+        let finite = |k: usize, i: usize| if i == 0 { delta(k, i) } else { DVec3::ZERO };
+        let v = mean_over_pairs(&refs, &all, finite).unwrap();
+        assert!((v - 0.05).abs() < 1e-7, "{v}");
+        // Huge but finite errors stay finite in f64 (their f32 difference overflowed).
+        let big = |_: usize, _: usize| DVec3::splat(2.0 * f64::from(f32::MAX));
+        assert!(mean_over_pairs(&refs, &all, big).is_some_and(f64::is_finite));
+        let none = vec![
+            Mask {
+                pixels: vec![false; 2],
+                ..Mask::all(2, 1)
+            };
+            2
+        ];
+        assert_eq!(mean_over_pairs(&refs, &none, delta), None);
+    }
 
     #[test]
     fn breakpoint_is_the_first_value_past_k_times_best() {
