@@ -564,7 +564,7 @@ fn shadow_grid(bias: usize, slope: usize, offset: usize) -> String {
 fn study_grids_are_counted_before_they_are_built() {
     let e = study_error(&shadow_grid(1000, 64, 64));
     assert!(
-        e.contains("test-bad.toml:12: field `method[0].sweep`: the study has 8192000 renders (2 scene points × 4096000 method grid points (1000 × 64 × 64)), more than the 10000 a study may have"),
+        e.contains("test-bad.toml:12: field `method[0].sweep`: the study has 8192000 renders (scene points 2 × method grid points 4096000 (1000 × 64 × 64)), more than the 10000 a study may have"),
         "{e}"
     );
     // The scene sweep multiplies: 2 × 8000 is over, 2 × 4000 not.
@@ -655,7 +655,7 @@ fn dry_runs_print_the_plan_and_check_the_memory_budget() {
     ]);
     assert_eq!(code, 2, "{stderr}");
     assert!(
-        stderr.contains("dry-sweep.toml:5: field `scene_sweep.values`: the quick run's 20 renders at 16x16 (20 scene points × 1 variants) need ")
+        stderr.contains("dry-sweep.toml:5: field `scene_sweep.values`: the quick run's 20 renders at 16x16 (scene points 20 × variants 1): ")
             && stderr.contains("over the memory limit of 1.0 MiB (--memory-limit)")
             && stderr.contains("raise the limit with --memory-limit SIZE or VERITY_MEMORY_LIMIT"),
         "{stderr}"

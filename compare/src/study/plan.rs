@@ -138,7 +138,7 @@ pub fn check_count(study: &Study) -> Result<(), SceneError> {
         .collect();
     let mut e = blame(study, false);
     e.message = format!(
-        "the study has {} renders ({} scene points × {} method grid points ({}){}), more than the {MAX_RENDERS} a study may have",
+        "the study has {} renders (scene points {} × method grid points {} ({})){}, more than the {MAX_RENDERS} a study may have",
         c.renders,
         c.scene_points,
         c.per_point,
@@ -235,7 +235,7 @@ pub fn plan(study: &Study, quick: bool) -> Result<Plan, StudyError> {
     let memory = estimate(&c, &sizes);
     let mode = if quick { "quick" } else { "full" };
     let what = format!(
-        "the {mode} run's {} renders at {width}x{height} ({} scene points × {} variants{})",
+        "the {mode} run's {} renders at {width}x{height} (scene points {} × variants {}{})",
         c.renders,
         c.scene_points,
         c.per_point,
