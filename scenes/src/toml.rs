@@ -131,8 +131,10 @@ fn from_tree(ctx: &Ctx, root: &tree::Node) -> Result<Scene, SceneError> {
         environment,
     };
     if let Some(list) = doc.get("include") {
+        // One ledger for every included asset of the scene.
+        let ledger = crate::budget::Ledger::new();
         for t in list.tables()? {
-            include(&t, &mut scene, &mut names)?;
+            include(&t, &mut scene, &mut names, &ledger)?;
         }
     }
     Ok(scene)
@@ -216,8 +218,19 @@ impl Names {
 /// `[[include]] file = "model.glb"`: loads a glTF asset and appends its materials, shapes
 /// and lights; the scene file's camera, film, render settings and environment win. With
 /// `displacement = { … }` every mesh of the asset is displaced (each needs uvs and normals).
-fn include(t: &Table, scene: &mut Scene, names: &mut Names) -> Result<(), SceneError> {
-    t.only(&["file", "displacement", "enabled"], "an include")?;
+/// The asset reads files inside its own folder or the scene file's
+/// ([`crate::access`]), anywhere with `allow_paths_outside = true`; its allocations are
+/// charged to `ledger`.
+fn include(
+    t: &Table,
+    scene: &mut Scene,
+    names: &mut Names,
+    ledger: &crate::budget::Ledger,
+) -> Result<(), SceneError> {
+    t.only(
+        &["file", "displacement", "enabled", "allow_paths_outside"],
+        "an include",
+    )?;
     if !t.bool_or("enabled", true)? {
         return Ok(());
     }
@@ -237,7 +250,12 @@ fn include(t: &Table, scene: &mut Scene, names: &mut Names) -> Result<(), SceneE
             .err(format!("file not found: {}", path.display()))
             .hint("paths are relative to the scene file's directory"));
     }
-    let included = crate::gltf::load(&path).map_err(|e| {
+    let options = crate::gltf::Options {
+        also_inside: file.ctx.file.parent().map(Path::to_path_buf),
+        allow_paths_outside: t.bool_or("allow_paths_outside", false)?,
+        ..crate::gltf::Options::new(ledger)
+    };
+    let loaded = crate::gltf::load_with_options(&path, &options).map_err(|e| {
         if e.hint.is_some() {
             e
         } else {
@@ -246,6 +264,8 @@ fn include(t: &Table, scene: &mut Scene, names: &mut Names) -> Result<(), SceneE
             e.hint(origin)
         }
     })?;
+    loaded.print_notes();
+    let included = loaded.scene;
     let added = included
         .shapes
         .iter()
