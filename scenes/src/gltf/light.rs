@@ -71,7 +71,7 @@ fn check(asset: &Asset, light: &::gltf::khr_lights_punctual::Light) -> Result<()
         return Err(asset.err(
             format!("{at}.intensity"),
             format!(
-                "intensity {intensity} × color {color} exceeds {MAX_EMITTED:e}, more than the renderers can sum in f32"
+                "intensity {intensity:e} × color {color} exceeds {MAX_EMITTED:e}, more than the renderers can sum in f32"
             ),
         ));
     }

@@ -219,7 +219,7 @@ impl<'a> Materials<'a> {
             return Err(self.asset.err(
                 format!("{at}.extensions.KHR_materials_emissive_strength.emissiveStrength"),
                 format!(
-                    "emissiveStrength {strength} × emissiveFactor {factor} exceeds {MAX_EMITTED:e}, more than the renderers can sum in f32"
+                    "emissiveStrength {strength:e} × emissiveFactor {factor} exceeds {MAX_EMITTED:e}, more than the renderers can sum in f32"
                 ),
             ));
         }
