@@ -448,6 +448,7 @@ fn gltf_with_buffer_at(dir: &Path, name: &str, uri: &str) -> String {
 /// Hostile buffer URIs end the render before anything is written: exit 2 and one `error:`
 /// line naming the .gltf file, the field and the reason. A FIFO used to hang the load, a
 /// `..` escape or `/dev/zero` (with `--allow-paths-outside`) used to be read.
+#[cfg(unix)]
 #[test]
 fn cli_render_gltf_refuses_a_fifo_an_escape_and_a_device() {
     let dir = test_dir("gltf-hostile");

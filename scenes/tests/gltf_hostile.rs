@@ -109,6 +109,7 @@ fn uris_that_leave_the_asset_folder_are_refused() {
     );
 }
 
+#[cfg(unix)]
 #[test]
 fn a_symbolic_link_out_of_the_folder_is_refused() {
     let outside = temp_dir("link-target");
@@ -142,6 +143,7 @@ fn a_symbolic_link_out_of_the_folder_is_refused() {
 /// A FIFO must never be opened (opening one blocks until a writer comes: the load hung), a
 /// folder or a device is "not a regular file", and a `/proc` file (size 0) is shorter than
 /// its `byteLength`.
+#[cfg(unix)]
 #[test]
 fn only_regular_files_are_read() {
     let dir = temp_dir("special");

@@ -174,15 +174,6 @@ impl<'l> Asset<'l> {
                     self.read_uri(uri, &format!("{field}.uri"), Some(length as u64))?
                 }
             };
-            if data.len() < length {
-                return Err(self.err(
-                    length_field,
-                    format!(
-                        "byteLength is {length} but the data holds only {} bytes",
-                        data.len()
-                    ),
-                ));
-            }
             out.push(data);
         }
         Ok(out)
