@@ -555,3 +555,80 @@ fn cli_render_gltf_asset_directly() {
 fn cli_render_gltf_scene_file() {
     render_gltf_mesh("suzanne-toml", "scenes/suzanne.toml");
 }
+
+/// A glTF asset (one triangle) whose buffer is at `uri`, written as `<name>.gltf` in `dir`.
+fn gltf_with_buffer_at(dir: &Path, name: &str, uri: &str) -> String {
+    let json = format!(
+        "{{\"asset\":{{\"version\":\"2.0\"}},\"buffers\":[{{\"uri\":\"{uri}\",\"byteLength\":36}}],\
+         \"bufferViews\":[{{\"buffer\":0,\"byteLength\":36}}],\
+         \"accessors\":[{{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,0]}}],\
+         \"meshes\":[{{\"primitives\":[{{\"attributes\":{{\"POSITION\":0}}}}]}}],\"nodes\":[{{\"mesh\":0}}]}}"
+    );
+    let path = dir.join(format!("{name}.gltf"));
+    std::fs::write(&path, json).unwrap();
+    path.display().to_string()
+}
+
+/// Hostile buffer URIs end the render before anything is written: exit 2 and one `error:`
+/// line naming the .gltf file, the field and the reason. A FIFO used to hang the load, a
+/// `..` escape or `/dev/zero` (with `--allow-paths-outside`) used to be read.
+#[cfg(unix)]
+#[test]
+fn cli_render_gltf_refuses_a_fifo_an_escape_and_a_device() {
+    let dir = test_dir("gltf-hostile");
+    let made = Command::new("mkfifo").arg(dir.join("pipe.bin")).status().unwrap();
+    assert!(made.success(), "mkfifo");
+    let cases = [
+        (
+            None,
+            "fifo",
+            "pipe.bin",
+            "pipe.bin is not a regular file (it is a FIFO)",
+        ),
+        (
+            None,
+            "escape",
+            "../../../../etc/passwd",
+            "is refused: it resolves to /etc/passwd, outside",
+        ),
+        (
+            Some("--allow-paths-outside"),
+            "device",
+            "/dev/zero",
+            "/dev/zero is not a regular file (it is a device)",
+        ),
+    ];
+    for (flag, name, uri, reason) in cases {
+        let asset = gltf_with_buffer_at(&dir, name, uri);
+        let out_path = dir.join(format!("{name}.exr"));
+        let out_arg = out_path.display().to_string();
+        let mut args: Vec<&str> = flag.into_iter().collect();
+        args.extend([
+            "render",
+            &asset,
+            "--resolution",
+            "8x8",
+            "--spp",
+            "1",
+            "--out",
+            &out_arg,
+        ]);
+        let out = verity_in(&dir, &args);
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{name}: exit 2 expected\n{stderr}");
+        let errors: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error:")).collect();
+        assert_eq!(errors.len(), 1, "{name}: one error line expected:\n{stderr}");
+        let line = errors[0];
+        assert!(
+            line.contains(&format!("{name}.gltf")),
+            "{name}: names the file: {line}"
+        );
+        assert!(
+            line.contains("field `buffers[0].uri`"),
+            "{name}: names the field: {line}"
+        );
+        assert!(line.contains(reason), "{name}: says why: {line}");
+        assert!(!out_path.exists(), "{name}: nothing is written");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -50,33 +50,6 @@ impl SceneError {
     }
 }
 
-/// Untrusted text (a name, a URI from a file) as it may be echoed in a one-line message:
-/// quoted, with control characters, quotes and backslashes escaped (so a newline or U+202E
-/// cannot break or reorder the line), and cut to 80 characters.
-pub fn quoted(text: &str) -> String {
-    const MAX_CHARS: usize = 80;
-    let mut out = String::from("\"");
-    for (i, c) in text.chars().enumerate() {
-        if i == MAX_CHARS {
-            out.push('…');
-            break;
-        }
-        if c.is_control() || c == '"' || c == '\\' || is_bidi_control(c) {
-            out.extend(c.escape_default());
-        } else {
-            out.push(c);
-        }
-    }
-    out.push('"');
-    out
-}
-
-/// Unicode bidirectional formatting characters (UAX #9, §2): they reorder what a terminal
-/// shows after them.
-fn is_bidi_control(c: char) -> bool {
-    matches!(c, '\u{061c}' | '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
-}
-
 impl fmt::Display for SceneError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}", self.file.display())?;
@@ -97,17 +70,57 @@ impl fmt::Display for SceneError {
 
 impl std::error::Error for SceneError {}
 
+/// Longest text [`echo`] keeps, in characters.
+pub const ECHO_CHARS: usize = 80;
+
+/// `text` as it may appear inside a one-line message: quoted and escaped like Rust's `{:?}`
+/// (so a newline, a control character or U+202E cannot break or reorder the line) and cut
+/// to [`ECHO_CHARS`] characters with `…` (so a 10 MB name from a file stays short).
+pub fn echo(text: &str) -> String {
+    let (head, cut) = cut(text, ECHO_CHARS);
+    format!("{head:?}{cut}")
+}
+
+/// `text` (a message that may quote a file's content, like a JSON parser's) on one line: every
+/// character that `{:?}` would escape except quotes and backslashes (line breaks, control and
+/// bidirectional-format characters) is written escaped, and the text is cut to `max_chars`
+/// characters with `…`.
+pub fn one_line(text: &str, max_chars: usize) -> String {
+    let (head, cut) = cut(text, max_chars);
+    let mut out = String::with_capacity(head.len());
+    for c in head.chars() {
+        if matches!(c, '"' | '\\' | '\'') || c.escape_debug().nth(1).is_none() {
+            out.push(c);
+        } else {
+            out.extend(c.escape_debug());
+        }
+    }
+    out + cut
+}
+
+/// The first `max_chars` characters of `text`, and `…` if that cut anything.
+fn cut(text: &str, max_chars: usize) -> (&str, &'static str) {
+    match text.char_indices().nth(max_chars) {
+        Some((at, _)) => (&text[..at], "…"),
+        None => (text, ""),
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::quoted;
+    use super::*;
 
     #[test]
-    fn quoted_text_stays_on_one_line_in_order_and_short() {
-        assert_eq!(quoted("lamp"), "\"lamp\"");
-        assert_eq!(quoted("a\nb"), "\"a\\nb\"");
-        assert_eq!(quoted("say \"hi\""), "\"say \\\"hi\\\"\"");
-        assert_eq!(quoted("x\u{202e}y"), "\"x\\u{202e}y\"");
-        let long = "n".repeat(10_000_000);
-        assert_eq!(quoted(&long).chars().count(), 80 + 3);
+    fn echoed_text_stays_on_one_short_line() {
+        assert_eq!(echo("Cube.001"), "\"Cube.001\"");
+        assert_eq!(echo("a\nb\u{202e}c"), "\"a\\nb\\u{202e}c\"");
+        let long = "x".repeat(10_000_000);
+        assert_eq!(echo(&long), format!("\"{}\"…", "x".repeat(ECHO_CHARS)));
+        assert_eq!(
+            one_line("expected `,` at line 3\n\u{202e}", 100),
+            "expected `,` at line 3\\n\\u{202e}"
+        );
+        assert_eq!(one_line("unknown variant `é\"`", 100), "unknown variant `é\"`");
+        assert_eq!(one_line("abcdef", 3), "abc…");
     }
 }

@@ -6,7 +6,7 @@
 //! | glTF | model | module |
 //! |---|---|---|
 //! | default scene (else scene 0, else every root node), node TRS/matrix chains | baked into world space | here |
-//! | mesh primitive (TRIANGLES; indexed or not; sparse accessors; KHR_mesh_quantization) | one [`Shape`] with [`Geometry::Mesh`], named `<node or mesh name>/<primitive>` | `mesh`, `accessor` |
+//! | mesh primitive (TRIANGLES; indexed or not; sparse accessors; KHR_mesh_quantization) | one [`Shape`] with [`Geometry::Mesh`], named `<node or mesh name>/<primitive>` (the file's name reduced to `[A-Za-z0-9_-]`) | `mesh`, `accessor`, `names` |
 //! | material | [`crate::Material::MetalRough`], normal map, emission | `material` |
 //! | KHR_lights_punctual | [`crate::Light`] (units taken as is) | `light` |
 //! | first perspective camera in the hierarchy | [`crate::Camera`], [`crate::Film`] | `camera` |
@@ -20,21 +20,32 @@
 //!
 //! Errors name the file and the JSON path of the offending field, e.g.
 //! `meshes[0].primitives[1].indices`; nothing in a malformed file makes the loader panic.
+//!
+//! Hostile input ([`Options`]): the asset reads files only inside its folder (and, included
+//! from a scene file, the scene's folder) unless allowed otherwise, every large allocation is
+//! charged to the load's memory ledger first, and names from the file are reduced to
+//! `[A-Za-z0-9_-]` before they become shape and light names (module `names`).
 
 mod accessor;
 mod camera;
+mod indices;
 mod light;
 mod material;
 mod mesh;
+mod names;
 mod source;
+mod uri;
 
-use std::collections::{BTreeSet, HashSet};
-use std::path::Path;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use glam::{Mat3, Mat4, Quat, Vec3};
+use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 
+use self::names::Names;
 use self::source::Asset;
+use crate::access::Confinement;
+use crate::budget::Ledger;
 use crate::model::{Camera, Film, Geometry, RenderSettings, Scene, Shape};
 use crate::SceneError;
 
@@ -51,9 +62,7 @@ pub struct Loaded {
 /// to standard error. [`load_with_notes`] returns them instead.
 pub fn load(path: &Path) -> Result<Scene, SceneError> {
     let loaded = load_with_notes(path)?;
-    for note in &loaded.notes {
-        eprintln!("{}: note: {note}", path.display());
-    }
+    loaded.print_notes();
     Ok(loaded.scene)
 }
 
@@ -66,15 +75,75 @@ pub fn load_with_notes(path: &Path) -> Result<Loaded, SceneError> {
 /// lights and cameras move together, with winding and tangent handedness handled as for
 /// any node transform). For scene files that include an asset with a transform.
 pub fn load_transformed(path: &Path, to_world: Mat4) -> Result<Loaded, SceneError> {
-    if !to_world.is_finite() {
+    let ledger = Ledger::new();
+    let options = Options {
+        to_world,
+        ..Options::new(&ledger)
+    };
+    load_with_options(path, &options)
+}
+
+/// How an asset is loaded: where it is placed, the memory ledger its allocations are
+/// charged to, and where it may read files.
+#[derive(Clone, Debug)]
+pub struct Options<'a> {
+    /// Placement above the asset's root nodes ([`load_transformed`]).
+    pub to_world: Mat4,
+    /// The job's memory ledger (a scene file passes the one its other inputs are charged to).
+    pub ledger: &'a Ledger,
+    /// A folder the asset may read from besides its own: the including scene file's.
+    pub also_inside: Option<PathBuf>,
+    /// Lifts the confinement for this asset (`[[include]] allow_paths_outside = true`); the
+    /// `--allow-paths-outside` flag ([`crate::access::outside_allowed`]) lifts it for all.
+    pub allow_paths_outside: bool,
+}
+
+impl<'a> Options<'a> {
+    /// Unplaced, confined to the asset's folder, charging `ledger`.
+    pub fn new(ledger: &'a Ledger) -> Self {
+        Options {
+            to_world: Mat4::IDENTITY,
+            ledger,
+            also_inside: None,
+            allow_paths_outside: false,
+        }
+    }
+
+    /// Where the asset at `path` may read.
+    fn confinement(&self, path: &Path) -> Confinement {
+        if self.allow_paths_outside || crate::access::outside_allowed() {
+            return Confinement::anywhere();
+        }
+        let own = Confinement::within(path.parent().unwrap_or(Path::new(".")));
+        match &self.also_inside {
+            Some(dir) => own.and(dir),
+            None => own,
+        }
+    }
+}
+
+impl Loaded {
+    /// Prints the notes to standard error, each prefixed with the asset's file.
+    pub fn print_notes(&self) {
+        for note in &self.notes {
+            eprintln!("{}: note: {note}", self.scene.source.display());
+        }
+    }
+}
+
+/// Loads a glTF 2.0 asset as [`load_transformed`] does, with the given [`Options`].
+pub fn load_with_options(path: &Path, options: &Options) -> Result<Loaded, SceneError> {
+    if !options.to_world.is_finite() {
         return Err(SceneError::new(path, "the placement transform is not finite"));
     }
-    let mut asset = Asset::read(path)?;
+    let mut asset = Asset::read(path, options.ledger, options.confinement(path))?;
     let mut notes = std::mem::take(&mut asset.notes);
     if asset.doc.animations().next().is_some() {
         notes.insert("animations: ignored; the static pose is rendered".to_string());
     }
-    let placed = walk(&asset, to_world)?;
+    light::check_all(&asset)?;
+    camera::check_all(&asset)?;
+    let placed = walk(&asset, options.to_world)?;
     let mut names = Names::default();
     let mut table = material::Materials::new(&asset);
     let mut shapes = Vec::new();
@@ -82,8 +151,10 @@ pub fn load_transformed(path: &Path, to_world: Mat4) -> Result<Loaded, SceneErro
     for p in &placed {
         shapes.extend(node_shapes(&asset, p, &mut table, &mut names, &mut notes)?);
         if let Some(light) = p.node.light() {
-            let base = light.name().or(p.node.name()).map(str::to_string);
-            let name = names.unique(base.unwrap_or_else(|| format!("light{}", light.index())));
+            let name = match light.name().or(p.node.name()) {
+                Some(given) => names.named(given),
+                None => names.unique(&format!("light{}", light.index())),
+            };
             lights.push(light::convert(
                 &asset,
                 &light,
@@ -94,6 +165,7 @@ pub fn load_transformed(path: &Path, to_world: Mat4) -> Result<Loaded, SceneErro
             )?);
         }
     }
+    notes.extend(names.note());
     let mut scene = Scene {
         source: path.to_path_buf(),
         // Replaced by `place_camera` once the shapes (and so the bounds) are known.
@@ -123,7 +195,7 @@ struct Placed<'a> {
 }
 
 /// Depth-first walk of the scene's node trees, composing world = parent · local from `root`.
-fn walk(asset: &Asset, root: Mat4) -> Result<Vec<Placed<'_>>, SceneError> {
+fn walk<'a>(asset: &'a Asset, root: Mat4) -> Result<Vec<Placed<'a>>, SceneError> {
     let doc = &asset.doc;
     let roots: Vec<::gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(scene) => scene.nodes().collect(),
@@ -162,8 +234,33 @@ fn local_matrix(asset: &Asset, node: &::gltf::Node) -> Result<Mat4, SceneError> 
     match node.transform() {
         ::gltf::scene::Transform::Matrix { matrix } => {
             let m = Mat4::from_cols_array_2d(&matrix);
+            let field = format!("{at}.matrix");
             if !m.is_finite() {
-                return Err(asset.err(format!("{at}.matrix"), "has a non-finite entry"));
+                return Err(asset.err(field, "has a non-finite entry"));
+            }
+            // glTF 2.0 §3.5.3 "Transformations": a matrix must be decomposable to TRS, so
+            // affine (last row 0, 0, 0, 1) and, to have a scale, invertible.
+            if m.row(3) != Vec4::W {
+                return Err(asset.err(
+                    field,
+                    format!(
+                        "is projective: its last row is {} (elements 3, 7, 11, 15), not 0, 0, 0, 1; \
+                         glTF 2.0 §3.5.3 requires a TRS-decomposable matrix",
+                        m.row(3)
+                    ),
+                ));
+            }
+            let det = Mat3::from_mat4(m).determinant();
+            if !det.is_finite() {
+                return Err(asset.err(field, format!("its determinant overflows f32 ({det})")));
+            }
+            if det.abs() <= f32::MIN_POSITIVE {
+                return Err(asset
+                    .err(
+                        field,
+                        format!("is singular (determinant {det}); glTF 2.0 §3.5.3 requires a TRS-decomposable matrix"),
+                    )
+                    .hint("to hide a node, remove its mesh"));
             }
             Ok(m)
         }
@@ -213,8 +310,10 @@ fn node_shapes(
         ));
         return Ok(Vec::new());
     }
-    let base = p.node.name().or(gmesh.name()).map(str::to_string);
-    let base = base.unwrap_or_else(|| format!("node{}", p.node.index()));
+    let base = match p.node.name().or(gmesh.name()) {
+        Some(given) => names.sanitized(given),
+        None => format!("node{}", p.node.index()),
+    };
     let mut shapes = Vec::new();
     for prim in gmesh.primitives() {
         let r = table.resolve(&prim.material(), notes)?;
@@ -232,7 +331,7 @@ fn node_shapes(
             continue;
         }
         shapes.push(Shape {
-            name: names.unique(format!("{base}/{}", prim.index())),
+            name: names.unique(&format!("{base}/{}", prim.index())),
             geometry: Geometry::Mesh(Arc::new(built)),
             material: r.material,
             emission: r.emission,
@@ -300,25 +399,5 @@ fn find_camera(
             )
             .hint("add a perspective camera, or remove the camera to get the default framing")),
         None => Ok(None),
-    }
-}
-
-/// Hands out names unique within the scene (shapes and lights share the AOV namespace).
-#[derive(Default)]
-struct Names {
-    used: HashSet<String>,
-}
-
-impl Names {
-    /// `base`, or `base#2`, `base#3`, … if taken.
-    fn unique(&mut self, base: String) -> String {
-        let mut name = base.clone();
-        let mut k = 2;
-        while self.used.contains(&name) {
-            name = format!("{base}#{k}");
-            k += 1;
-        }
-        self.used.insert(name.clone());
-        name
     }
 }

@@ -48,7 +48,9 @@ pub fn load_in(path: &Path, ledger: &budget::Ledger) -> Result<Scene, SceneError
     match ext.as_deref() {
         Some("toml") => toml::load_in(path, ledger),
         Some("gltf") | Some("glb") => {
-            let mut scene = gltf::load(path)?;
+            let loaded = gltf::load_with_options(path, &gltf::Options::new(ledger))?;
+            loaded.print_notes();
+            let mut scene = loaded.scene;
             let unlit = scene.lights.is_empty() && scene.shapes.iter().all(|s| s.emission.is_none());
             if unlit && scene.environment.is_none() {
                 eprintln!(

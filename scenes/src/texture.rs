@@ -205,33 +205,10 @@ fn check_size(width: u64, height: u64, decoder_bytes: u64, ledger: &Ledger) -> R
     Ok((width as u32, height as u32))
 }
 
-/// PNG, JPEG or Radiance HDR through the `image` crate: the dimensions are read from the
-/// header and checked ([`check_size`]) before decoding, and the decoder's own allocation
-/// limit is set to the same budget.
+/// PNG, JPEG or Radiance HDR through the `image` crate ([`decode_image_bytes`]), converted
+/// to RGBA f32 texels.
 fn decode_image(bytes: &[u8], color_space: ColorSpace, ledger: &Ledger) -> Decoded {
-    let reader = || {
-        image::ImageReader::new(std::io::Cursor::new(bytes))
-            .with_guessed_format()
-            .map_err(|e| e.to_string())
-    };
-    if reader()?.format().is_none() {
-        return Err("not a PNG, JPEG, OpenEXR or Radiance HDR image".to_string());
-    }
-    let (w, h) = reader()?
-        .into_dimensions()
-        .map_err(|e| format!("cannot read the image header: {e}"))?;
-    // The decoded image (at most RGBA f32) and one converted copy of it.
-    let decoder = budget::bytes_of(budget::bytes_of(u64::from(w), u64::from(h)), 2 * TEXEL_BYTES);
-    check_size(u64::from(w), u64::from(h), decoder, ledger)?;
-    let mut limited = reader()?;
-    let mut limits = image::Limits::default();
-    limits.max_image_width = Some(w);
-    limits.max_image_height = Some(h);
-    limits.max_alloc = Some(ledger.limit().bytes.saturating_sub(ledger.used()));
-    limited.limits(limits);
-    let img = limited
-        .decode()
-        .map_err(|e| format!("cannot decode the image: {e}"))?;
+    let img = decode_image_bytes(bytes, ledger)?;
     let (width, height) = (img.width(), img.height());
     let color = img.color();
     let bits = 8 * color.bytes_per_pixel() / color.channel_count();
@@ -271,6 +248,36 @@ fn decode_image(bytes: &[u8], color_space: ColorSpace, ledger: &Ledger) -> Decod
         _ => img.to_rgba32f().pixels().map(|p| Vec4::from_array(p.0)).collect(),
     };
     Ok((width, height, texels))
+}
+
+/// Decodes a PNG, JPEG or Radiance HDR image (from a file, or a glTF buffer): the dimensions
+/// are read from the header and checked ([`check_size`]: the RGBA f32 texels a texture will
+/// hold, plus the decoded image and one converted copy, at most RGBA f32 each) before
+/// decoding, and the decoder's own allocation limit is set to what is left of the budget. A
+/// panic in the decoder (third-party code fed with untrusted bytes) becomes an error.
+pub(crate) fn decode_image_bytes(bytes: &[u8], ledger: &Ledger) -> Result<image::DynamicImage, String> {
+    let reader = || {
+        image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| e.to_string())
+    };
+    if reader()?.format().is_none() {
+        return Err("not a PNG, JPEG, OpenEXR or Radiance HDR image".to_string());
+    }
+    let (w, h) = reader()?
+        .into_dimensions()
+        .map_err(|e| format!("cannot read the image header: {e}"))?;
+    let decoder = budget::bytes_of(budget::bytes_of(u64::from(w), u64::from(h)), 2 * TEXEL_BYTES);
+    check_size(u64::from(w), u64::from(h), decoder, ledger)?;
+    let mut limited = reader()?;
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(w);
+    limits.max_image_height = Some(h);
+    limits.max_alloc = Some(ledger.limit().bytes.saturating_sub(ledger.used()));
+    limited.limits(limits);
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| limited.decode()))
+        .map_err(|_| "the image decoder failed on this file".to_string())?
+        .map_err(|e| format!("cannot decode the image: {e}"))
 }
 
 /// An integer-coded colour component in [0, 1] → linear.

@@ -245,7 +245,7 @@ impl Names {
             None => e,
         };
         if !valid_name(name) {
-            let shown = crate::error::quoted(name);
+            let shown = crate::error::echo(name);
             return Err(at(SceneError::new(&ctx.file, format!("invalid {what} name {shown}"))
                 .field(format!("{what} {shown}.name"))
                 .hint(format!(
@@ -271,8 +271,14 @@ impl Names {
 /// `[[include]] file = "model.glb"`: loads a glTF asset and appends its materials, shapes
 /// and lights; the scene file's camera, film, render settings and environment win. With
 /// `displacement = { … }` every mesh of the asset is displaced (each needs uvs and normals).
+/// The asset reads files inside its own folder or the scene file's
+/// ([`crate::access`]), anywhere with `allow_paths_outside = true`; its allocations are
+/// charged to `ledger`.
 fn include(t: &Table, scene: &mut Scene, names: &mut Names, ledger: &Ledger) -> Result<(), SceneError> {
-    t.only(&["file", "displacement", "enabled"], "an include")?;
+    t.only(
+        &["file", "displacement", "enabled", "allow_paths_outside"],
+        "an include",
+    )?;
     if !t.bool_or("enabled", true)? {
         return Ok(());
     }
@@ -296,7 +302,12 @@ fn include(t: &Table, scene: &mut Scene, names: &mut Names, ledger: &Ledger) -> 
         }
         Err(why) => return Err(file.err(format!("{} {why}", path.display()))),
     }
-    let included = crate::gltf::load(&path).map_err(|e| {
+    let options = crate::gltf::Options {
+        also_inside: file.ctx.file.parent().map(Path::to_path_buf),
+        allow_paths_outside: t.bool_or("allow_paths_outside", false)?,
+        ..crate::gltf::Options::new(ledger)
+    };
+    let loaded = crate::gltf::load_with_options(&path, &options).map_err(|e| {
         if e.hint.is_some() {
             e
         } else {
@@ -305,6 +316,8 @@ fn include(t: &Table, scene: &mut Scene, names: &mut Names, ledger: &Ledger) -> 
             e.hint(origin)
         }
     })?;
+    loaded.print_notes();
+    let included = loaded.scene;
     let added = included
         .shapes
         .iter()

@@ -807,7 +807,7 @@ fn names_are_identifiers_and_are_echoed_safely() {
     let long = "x".repeat(100_000);
     let e = expect_error(
         load_text(&dir, &replace_line(11, &format!("name = \"{long}\""))),
-        &["invalid shape name \"xxxx", "…\""],
+        &["invalid shape name \"xxxx", "\"…"],
     );
     assert!(e.to_string().len() < 600, "the message echoes the whole name");
     assert!(load_text(&dir, &replace_line(11, "name = \"Lamp_2-b\"")).is_ok());
@@ -847,7 +847,7 @@ fn scene_paths_that_are_not_regular_files() {
     std::fs::create_dir_all(&folder).unwrap();
     let e = scenes::load(&folder).unwrap_err().to_string();
     assert!(
-        e.contains("cannot read the scene file: it is a directory, not a regular file"),
+        e.contains("cannot read the scene file: it is not a regular file (it is a directory)"),
         "{e}"
     );
     let fifo = dir.join("fifo.toml");
@@ -857,7 +857,7 @@ fn scene_paths_that_are_not_regular_files() {
         .unwrap()
         .success());
     let e = scenes::load(&fifo).unwrap_err().to_string();
-    assert!(e.contains("it is a FIFO, not a regular file"), "{e}");
+    assert!(e.contains("it is not a regular file (it is a FIFO)"), "{e}");
     let e = scenes::load(&dir.join("missing.toml")).unwrap_err().to_string();
     assert!(e.contains("cannot read the scene file: it does not exist"), "{e}");
 }

@@ -245,7 +245,7 @@ fn format_is_sniffed_and_errors_name_the_file() {
     // one for reading blocks until a writer comes).
     expect_scene_error(
         load_texture(&dir, ColorSpace::Srgb, REPEAT),
-        &["cannot read the image: it is a directory, not a regular file"],
+        &["cannot read the image: it is not a regular file (it is a directory)"],
     );
     let fifo = dir.join("fifo.png");
     let made = std::process::Command::new("mkfifo").arg(&fifo).status().unwrap();
@@ -254,7 +254,7 @@ fn format_is_sniffed_and_errors_name_the_file() {
         load_texture(&fifo, ColorSpace::Srgb, REPEAT),
         &[
             "fifo.png",
-            "cannot read the image: it is a FIFO, not a regular file",
+            "cannot read the image: it is not a regular file (it is a FIFO)",
         ],
     );
 }

@@ -5,16 +5,17 @@
 //! Normalized integers decode with the glTF 2.0 spec's int-to-float table (given in
 //! "Animations", reused by `KHR_mesh_quantization`): i8 → max(c/127, −1), u8 → c/255, i16 → max(c/32767, −1),
 //! u16 → c/65535. Non-normalized integers convert to float by value.
+//!
+//! What an accessor's `count` makes the loader allocate is charged to the load's memory
+//! ledger before the allocation (an accessor without a buffer view declares any count, and
+//! becomes that many zeros).
 
 use ::gltf::accessor::{DataType, Dimensions};
 use ::gltf::Accessor;
 
 use super::source::Asset;
+use crate::budget::bytes_of;
 use crate::error::SceneError;
-
-/// Largest element count accepted for an accessor without a buffer view (all zeros, plus
-/// sparse substitutions); protects against absurd allocations.
-const MAX_ZERO_FILLED: usize = 1 << 26;
 
 /// A component storage a use of an accessor accepts: (component type, normalized).
 pub(super) type Storage = (DataType, bool);
@@ -124,17 +125,17 @@ fn read<T: Copy>(
 ) -> Result<Vec<T>, SceneError> {
     let count = accessor.count();
     let what = format!("accessors[{}]", accessor.index());
+    asset.charge(
+        bytes_of(count as u64, std::mem::size_of::<T>() as u64),
+        &format!("the {count} values read for {field}"),
+        &format!("{what}.count"),
+    )?;
     let mut out = match accessor.view() {
         Some(view) => {
             let span = span(asset, &view, accessor.offset(), count, elem, field, &what)?;
             (0..count).map(|i| decode(span.element(i))).collect()
         }
-        None => {
-            if count > MAX_ZERO_FILLED {
-                return Err(asset.err(field, format!("{what}: count {count} is too large")));
-            }
-            vec![zero; count]
-        }
+        None => vec![zero; count],
     };
     if let Some(sparse) = accessor.sparse() {
         let n = sparse.count();

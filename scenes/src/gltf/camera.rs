@@ -5,8 +5,12 @@
 //! | node world transform, looking down its −Z, +Y up | `Camera::to_world` | made rigid: scale, shear and mirroring removed by Gram–Schmidt keeping −Z exact |
 //! | perspective `yfov` (rad) | `fov_y_deg` | to degrees |
 //! | perspective `aspectRatio` | `Film` | height 512, width round(512·aspect); 512×512 when absent |
-//! | `znear`, `zfar` | — | ignored: neither renderer clips |
+//! | `znear`, `zfar` | — | checked, then ignored: neither renderer clips |
 //! | orthographic | — | unsupported (an error when no perspective camera is placed) |
+//!
+//! Every perspective camera of the file is checked at load, used or not ([`check_all`]),
+//! against glTF 2.0 §5.13 "camera.perspective": `yfov` > 0 (and < π here), `aspectRatio` > 0,
+//! `znear` > 0, `zfar` > `znear`, all finite.
 //!
 //! Without a camera the scene is framed from the +Y/+Z diagonal with a 40° field of view,
 //! far enough that the bounding sphere fits the vertical field of view.
@@ -24,7 +28,49 @@ pub(super) const DEFAULT_FOV_DEG: f32 = 40.0;
 /// Largest film side the model allows.
 const MAX_FILM: u32 = 16384;
 
-/// The camera placed at `nodes[node]` with world matrix `world` (a perspective camera).
+/// Checks every perspective camera of the file (module header).
+pub(super) fn check_all(asset: &Asset) -> Result<(), SceneError> {
+    for cam in asset.doc.cameras() {
+        let ::gltf::camera::Projection::Perspective(persp) = cam.projection() else {
+            continue;
+        };
+        let at = format!("cameras[{}].perspective", cam.index());
+        let yfov = persp.yfov();
+        if !(yfov > 0.0 && yfov < std::f32::consts::PI) {
+            return Err(asset.err(
+                format!("{at}.yfov"),
+                format!("must lie in (0, π) radians, got {yfov}"),
+            ));
+        }
+        if let Some(aspect) = persp.aspect_ratio() {
+            if !(aspect.is_finite() && aspect > 0.0) {
+                return Err(asset.err(
+                    format!("{at}.aspectRatio"),
+                    format!("must be finite and > 0, got {aspect}"),
+                ));
+            }
+        }
+        let znear = persp.znear();
+        if !(znear.is_finite() && znear > 0.0) {
+            return Err(asset.err(
+                format!("{at}.znear"),
+                format!("must be finite and > 0, got {znear}"),
+            ));
+        }
+        if let Some(zfar) = persp.zfar() {
+            if !(zfar.is_finite() && zfar > znear) {
+                return Err(asset.err(
+                    format!("{at}.zfar"),
+                    format!("must be finite and greater than znear = {znear}, got {zfar}"),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The camera placed at `nodes[node]` with world matrix `world` (a perspective camera,
+/// checked by [`check_all`]).
 pub(super) fn from_node(
     asset: &Asset,
     persp: &::gltf::camera::Perspective,
@@ -34,12 +80,6 @@ pub(super) fn from_node(
 ) -> Result<(Camera, Film), SceneError> {
     let at = format!("cameras[{camera_index}].perspective");
     let yfov = persp.yfov();
-    if !(yfov > 0.0 && yfov < std::f32::consts::PI) {
-        return Err(asset.err(
-            format!("{at}.yfov"),
-            format!("must lie in (0, π) radians, got {yfov}"),
-        ));
-    }
     let film = match persp.aspect_ratio() {
         None => Film {
             width: FILM_HEIGHT,

@@ -15,6 +15,7 @@
 //! Sampler wrapS/wrapT map to [`WrapMode`]; filters are the renderers' business. sRGB
 //! texels are decoded with the exact IEC 61966-2-1 curve ([`srgb_to_linear`]).
 
+use std::borrow::Cow;
 use std::collections::{BTreeSet, HashMap};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -23,10 +24,12 @@ use ::gltf::material::AlphaMode;
 use ::gltf::texture::WrappingMode;
 use glam::{Vec3, Vec4};
 
+use super::light::MAX_EMITTED;
 use super::source::Asset;
+use crate::budget::bytes_of;
 use crate::error::SceneError;
 use crate::model::{Emission, Material, NormalMap, TexRgb, TexScalar, WrapMode};
-use crate::texture::{srgb_to_linear, ColorSpace, Texture};
+use crate::texture::{decode_image_bytes, srgb_to_linear, ColorSpace, Texture};
 
 /// What a glTF material turns into, per primitive that uses it.
 #[derive(Clone, Debug)]
@@ -41,9 +44,13 @@ pub(super) struct Resolved {
     pub uv_set: Option<u32>,
 }
 
+/// Largest |normalTexture.scale| accepted: beyond it the perturbed normal is tangent to the
+/// surface anyway, and from about 10¹⁹ its square overflows f32 when it is normalised.
+const MAX_NORMAL_SCALE: f32 = 1e6;
+
 /// Converts materials on demand, sharing textures between them.
 pub(super) struct Materials<'a> {
-    asset: &'a Asset,
+    asset: &'a Asset<'a>,
     /// Scene textures built so far.
     pub textures: Vec<Arc<Texture>>,
     /// Scene materials built so far.
@@ -57,7 +64,7 @@ pub(super) struct Materials<'a> {
 
 impl<'a> Materials<'a> {
     /// An empty table for `asset`.
-    pub fn new(asset: &'a Asset) -> Self {
+    pub fn new(asset: &'a Asset<'a>) -> Self {
         Materials {
             asset,
             textures: Vec::new(),
@@ -102,8 +109,14 @@ impl<'a> Materials<'a> {
         let normal_map = match material.normal_texture() {
             Some(nt) => {
                 let field = format!("{at}.normalTexture");
-                if !nt.scale().is_finite() {
-                    return Err(self.asset.err(format!("{field}.scale"), "must be finite"));
+                if nt.scale().is_nan() || nt.scale().abs() > MAX_NORMAL_SCALE {
+                    return Err(self.asset.err(
+                        format!("{field}.scale"),
+                        format!(
+                            "must be finite and at most {MAX_NORMAL_SCALE:e} in magnitude, got {}",
+                            nt.scale()
+                        ),
+                    ));
                 }
                 uv.use_set(self.asset, nt.tex_coord(), &field)?;
                 let texture = self.texture(&nt.texture(), ColorSpace::Linear, &field)?;
@@ -201,6 +214,15 @@ impl<'a> Materials<'a> {
             ));
         }
         let radiance = factor * strength;
+        // factor and strength are finite and ≥ 0, so the product is ≥ 0 or +∞, never NaN.
+        if radiance.max_element() > MAX_EMITTED {
+            return Err(self.asset.err(
+                format!("{at}.extensions.KHR_materials_emissive_strength.emissiveStrength"),
+                format!(
+                    "emissiveStrength {strength:e} × emissiveFactor {factor} exceeds {MAX_EMITTED:e}, more than the renderers can sum in f32"
+                ),
+            ));
+        }
         if radiance == Vec3::ZERO {
             return Ok(None);
         }
@@ -248,6 +270,17 @@ impl<'a> Materials<'a> {
         let image = self.image(&texture.source(), field)?;
         let sampler = texture.sampler();
         let wrap = [wrap_mode(sampler.wrap_s()), wrap_mode(sampler.wrap_t())];
+        // `to_texels` makes two RGBA f32 copies (16 bytes a texel each) at once.
+        let count = u64::from(image.width()) * u64::from(image.height());
+        self.asset.charge(
+            bytes_of(count, 2 * 16),
+            &format!(
+                "the {}×{} RGBA f32 texels of images[{image_index}]",
+                image.width(),
+                image.height()
+            ),
+            field,
+        )?;
         let texels = to_texels(&image, space);
         let mut tex = Texture::from_texels(image.width(), image.height(), texels, wrap);
         tex.source = PathBuf::from(format!("{}#images[{image_index}]", self.asset.file.display()));
@@ -268,17 +301,31 @@ impl<'a> Materials<'a> {
         }
         let field = format!("images[{}]", image.index());
         let bytes = match image.source() {
-            ::gltf::image::Source::View { view, .. } => self.asset.view_bytes(&view).to_vec(),
-            ::gltf::image::Source::Uri { uri, .. } => self.asset.read_uri(uri, &format!("{field}.uri"))?,
+            ::gltf::image::Source::View { view, .. } => Cow::Borrowed(self.asset.view_bytes(&view)),
+            ::gltf::image::Source::Uri { uri, .. } => {
+                Cow::Owned(self.asset.read_uri(uri, &format!("{field}.uri"), None)?)
+            }
         };
-        let decoded = ::image::load_from_memory(&bytes).map_err(|e| {
+        let cannot = |e: String| {
             self.asset
                 .err(
                     &field,
                     format!("cannot decode the image (used by {used_by}): {e}"),
                 )
                 .hint("glTF images must be PNG or JPEG")
-        })?;
+        };
+        // Header first, against the budget (texture.rs); the decoded image stays cached for
+        // every texture that uses it: charged at its own size.
+        let decoded = decode_image_bytes(&bytes, self.asset.ledger).map_err(cannot)?;
+        let (width, height) = (decoded.width(), decoded.height());
+        self.asset.charge(
+            bytes_of(
+                u64::from(width) * u64::from(height),
+                decoded.color().bytes_per_pixel().into(),
+            ),
+            &format!("the {width}×{height} decoded texels of {field}"),
+            &field,
+        )?;
         let decoded = Arc::new(decoded);
         self.images.insert(image.index(), decoded.clone());
         Ok(decoded)

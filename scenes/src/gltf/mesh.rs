@@ -26,6 +26,7 @@ use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 use super::accessor::{self, read_indices, read_vec};
 use super::source::Asset;
+use crate::budget::bytes_of;
 use crate::error::SceneError;
 use crate::model::Mesh;
 use crate::tangent;
@@ -79,12 +80,25 @@ pub(super) fn build(
         ));
     }
     let attrs = read_attributes(asset, &at, prim, needs)?;
+    asset.charge(attrs.bytes(), &format!("the world-space vertices of {at}"), &at)?;
     let mut mesh = to_world(asset, &at, attrs, world)?;
     if needs.normal_map {
         if mesh.normals.is_empty() {
+            // Three corners a triangle, each a position, a normal and maybe a uv.
+            let corners = bytes_of(mesh.indices.len() as u64, 3);
+            asset.charge(
+                bytes_of(corners, 12 + 12 + 8),
+                &format!("the flat-shaded corners of {at}"),
+                &at,
+            )?;
             unweld_flat(&mut mesh);
         }
         if mesh.tangents.is_empty() {
+            asset.charge(
+                bytes_of(mesh.positions.len() as u64, 16),
+                &format!("the generated tangents of {at}"),
+                &at,
+            )?;
             mesh.tangents = tangent::generate(&mesh.positions, &mesh.normals, &mesh.uvs, &mesh.indices);
         }
     }
@@ -171,6 +185,18 @@ fn read_attributes(
     })
 }
 
+impl Attributes {
+    /// Bytes held (what the world-space copy allocates again).
+    fn bytes(&self) -> u64 {
+        let n = |len: usize, each: u64| bytes_of(len as u64, each);
+        n(self.positions.len(), 12)
+            .saturating_add(n(self.normals.len(), 12))
+            .saturating_add(n(self.uvs.len(), 8))
+            .saturating_add(n(self.tangents.len(), 16))
+            .saturating_add(n(self.triangles.len(), 12))
+    }
+}
+
 /// `values` if it has one entry per vertex.
 fn counted<T>(asset: &Asset, field: &str, n: usize, values: Vec<T>) -> Result<Vec<T>, SceneError> {
     if values.len() == n {
@@ -201,6 +227,11 @@ fn read_triangles(asset: &Asset, at: &str, prim: &Primitive, n: usize) -> Result
             let field = format!("{at}.attributes.POSITION");
             let count = u32::try_from(n)
                 .map_err(|_| asset.err(&field, format!("{n} vertices is too many for 32-bit indices")))?;
+            asset.charge(
+                bytes_of(u64::from(count), 4),
+                &format!("the implied indices of {at}"),
+                &field,
+            )?;
             ((0..count).collect(), field)
         }
     };
@@ -214,6 +245,11 @@ fn read_triangles(asset: &Asset, at: &str, prim: &Primitive, n: usize) -> Result
             ),
         ));
     }
+    asset.charge(
+        bytes_of(flat.len() as u64, 4),
+        &format!("the triangles of {at}"),
+        &field,
+    )?;
     Ok(flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
 }
 

@@ -21,9 +21,7 @@ pub(crate) fn read_all(doc: &Table) -> Result<Vec<(Light, Option<usize>)>, Scene
     for t in list.tables()? {
         let name_field = t.req("name")?;
         let name = name_field.str()?.to_string();
-        let t = t
-            .clone()
-            .renamed(format!("light {}", crate::error::quoted(&name)));
+        let t = t.clone().renamed(format!("light {}", crate::error::echo(&name)));
         lights.push((read_one(&t, name)?, name_field.line));
     }
     Ok(lights)

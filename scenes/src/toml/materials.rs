@@ -38,13 +38,13 @@ pub(crate) fn read_all(
             return Err(name_field
                 .err(format!(
                     "duplicate material name {} (first defined{at})",
-                    crate::error::quoted(name)
+                    crate::error::echo(name)
                 ))
                 .hint("give every material its own name"));
         }
         let t = t
             .clone()
-            .renamed(format!("material {}", crate::error::quoted(name)));
+            .renamed(format!("material {}", crate::error::echo(name)));
         materials.push(read_one(&t, textures)?);
         names.insert(name.to_string(), materials.len() - 1);
         lines.push(t.line);

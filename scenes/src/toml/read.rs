@@ -197,7 +197,7 @@ impl<'a> Field<'a> {
             Ok(s)
         } else {
             Err(self
-                .err(format!("unknown value {}", crate::error::quoted(s)))
+                .err(format!("unknown value {}", crate::error::echo(s)))
                 .hint(format!(
                     "use one of {}{}",
                     quoted(allowed),

@@ -52,7 +52,7 @@ pub(crate) fn read_all(
             None => None,
         };
         let t = match &name {
-            Some((n, _)) => t.clone().renamed(format!("shape {}", crate::error::quoted(n))),
+            Some((n, _)) => t.clone().renamed(format!("shape {}", crate::error::echo(n))),
             None => t,
         };
         // A disabled shape is read and checked like any other, then left out (studies switch
@@ -183,7 +183,7 @@ fn material_index(f: &Field, materials: &HashMap<String, usize>) -> Result<usize
         )
     };
     Err(f
-        .err(format!("unknown material {}", crate::error::quoted(name)))
+        .err(format!("unknown material {}", crate::error::echo(name)))
         .hint(hint))
 }
 
