@@ -7,7 +7,11 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let name = if data.starts_with(b"glTF") { "assets/fuzz.glb" } else { "assets/fuzz.gltf" };
+    let name = if data.starts_with(b"glTF") {
+        "assets/fuzz.glb"
+    } else {
+        "assets/fuzz.gltf"
+    };
     let path = verity_fuzz::scratch_file(name, data);
     let _ = scenes::gltf::load(&path);
 });

@@ -26,7 +26,11 @@ pub fn setup() -> &'static Path {
         for sub in ["", "displacement", "studies", "studies/scenes", "assets"] {
             let to = root.join(sub);
             std::fs::create_dir_all(&to).unwrap_or_else(|e| panic!("{}: {e}", to.display()));
-            for entry in std::fs::read_dir(source.join(sub)).into_iter().flatten().flatten() {
+            for entry in std::fs::read_dir(source.join(sub))
+                .into_iter()
+                .flatten()
+                .flatten()
+            {
                 let path = entry.path();
                 let wanted = sub == "assets" || path.extension().is_some_and(|e| e == "toml");
                 if path.is_file() && wanted {

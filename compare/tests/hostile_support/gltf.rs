@@ -66,7 +66,7 @@ pub fn write_rich(dir: &Path, stem: &str, container: Container) -> String {
     let image_at = bin.len(); // 180
     if container == Container::Glb {
         bin.extend(&png);
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
     }
@@ -174,12 +174,12 @@ pub fn split(bytes: &[u8]) -> Option<(Vec<u8>, Option<Vec<u8>>)> {
 /// A GLB of `json` and `bin` (glTF 2.0 §4.4: chunks padded to 4 bytes).
 pub fn join(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
     let mut j = json.to_vec();
-    while j.len() % 4 != 0 {
+    while !j.len().is_multiple_of(4) {
         j.push(b' ');
     }
     let b = bin.map(|b| {
         let mut b = b.to_vec();
-        while b.len() % 4 != 0 {
+        while !b.len().is_multiple_of(4) {
             b.push(0);
         }
         b

@@ -314,9 +314,10 @@ pub fn toml(rng: &mut Rng, text: &mut String, strings: &[String]) -> String {
         format!("{what} {old:?} at byte {s} -> {new:?}")
     };
     match choice {
-        0 | 1 | 2 if !numbers.is_empty() => {
+        0..=2 if !numbers.is_empty() => {
             let n = *rng.pick(&numbers);
-            replace(text, n, *rng.pick(NUMBERS), "number")
+            let with = *rng.pick(NUMBERS);
+            replace(text, n, with, "number")
         }
         3 | 4 if !quoted.is_empty() => {
             let q = *rng.pick(&quoted);
@@ -327,7 +328,8 @@ pub fn toml(rng: &mut Rng, text: &mut String, strings: &[String]) -> String {
             let (s, e) = match *rng.pick(&tokens) {
                 Token::Number(s, e) | Token::Str(s, e) => (s, e),
             };
-            replace(text, (s, e), *rng.pick(CONFUSIONS), "value")
+            let with = *rng.pick(CONFUSIONS);
+            replace(text, (s, e), with, "value")
         }
         6 if !ls.is_empty() => {
             let (s, e) = *rng.pick(&ls);

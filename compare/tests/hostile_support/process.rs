@@ -9,7 +9,8 @@
 //! the realtime renderer's LLVM JIT reserves address space freely and would trip the cap.
 //!
 //! At most [`slots`] children run at once across all tests of this binary (one per core),
-//! whatever the number of test threads.
+//! whatever the number of test threads; each runs with one render thread
+//! (`RAYON_NUM_THREADS=1`).
 
 use std::ffi::OsString;
 use std::fs::File;
@@ -65,9 +66,10 @@ pub fn describe(dir: &Path, args: &[OsString]) -> String {
     format!("cd {} && {}", dir.display(), compare::cli::shell_words(&words))
 }
 
-/// Child slots: one per core (at least 2, the CI machine's count).
+/// Child slots: one per core, at least 2 (the CI machine's count) and at most 8 (each child
+/// may use up to [`MEMORY_LIMIT`]).
 pub fn slots() -> usize {
-    std::thread::available_parallelism().map_or(2, |n| n.get().max(2))
+    std::thread::available_parallelism().map_or(2, |n| n.get().clamp(2, 8))
 }
 
 /// A counting semaphore over [`slots`], shared by every test in the binary.
