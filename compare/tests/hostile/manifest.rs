@@ -51,7 +51,7 @@ macro_rules! buffer_uri {
 }
 
 /// A shape or light name in a TOML scene that is not letters, digits, `_` and `-` (written as
-/// TOML source: `\n` and `\u202E` are escapes).
+/// TOML source: `\n` and `\u202E` are escapes); the message echoes it escaped.
 macro_rules! bad_name {
     ($name:expr, $file:expr, $line:expr, $value:expr) => {
         Case {
@@ -60,6 +60,8 @@ macro_rules! bad_name {
             subst: &[("@NAME@", $value)],
             args: render!($file),
             error: &[$line, ".name`"],
+            // Echoed raw, U+202E turns the rest of the terminal line around.
+            absent: &["\u{202E}"],
             ..BASE
         }
     };
@@ -389,21 +391,30 @@ pub const CASES: &[Case] = &[
         error: &["image-uri.gltf", "images[0].uri", "regular file"],
         ..BASE
     },
-    // --- glTF indices beyond u32 (they used to wrap modulo 2³²).
+    // --- glTF indices beyond u32 (they wrap modulo 2³²: 2³² reads as accessor 0, 2³² + 1 as the
+    // valid index accessor 1). The message names the value as written.
     Case {
         name: "gltf-indices-2-32",
         files: &["index-2-32.gltf"],
         subst: &[("@MESH@", "0"), ("@INDICES@", "4294967296")],
         args: render!("index-2-32.gltf"),
-        error: &["index-2-32.gltf", "meshes[0].primitives[0].indices"],
+        error: &["index-2-32.gltf", "meshes[0].primitives[0].indices", "4294967296"],
+        ..BASE
+    },
+    Case {
+        name: "gltf-indices-2-32-plus-1",
+        files: &["index-2-32.gltf"],
+        subst: &[("@MESH@", "0"), ("@INDICES@", "4294967297")],
+        args: render!("index-2-32.gltf"),
+        error: &["index-2-32.gltf", "meshes[0].primitives[0].indices", "4294967297"],
         ..BASE
     },
     Case {
         name: "gltf-node-mesh-2-32",
         files: &["index-2-32.gltf"],
-        subst: &[("@MESH@", "4294967297"), ("@INDICES@", "1")],
+        subst: &[("@MESH@", "4294967296"), ("@INDICES@", "1")],
         args: render!("index-2-32.gltf"),
-        error: &["index-2-32.gltf", "nodes[0].mesh"],
+        error: &["index-2-32.gltf", "nodes[0].mesh", "4294967296"],
         ..BASE
     },
     // --- 20,000 one-triangle primitives load (the timeout only detects a hang).
