@@ -36,10 +36,34 @@ const MICRO_MESH_BYTES_PER_TRIANGLE: u64 = 48;
 /// min/max quadtree (a third of the texels again, two f32 each).
 const PATCH_BYTES_PER_TEXEL: u64 = 8;
 
-/// Charges what rendering `scene` allocates to `ledger` (module table), largest first, so the
-/// error names the buffer that does not fit. `checkpoints`: whether the film is also
-/// serialised for checkpoints.
-pub fn charge(scene: &Scene, checkpoints: bool, ledger: &Ledger) -> Result<(), Exceeded> {
+/// What did not fit: the film (set by the resolution) or the geometry (set by the shapes).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Over {
+    /// The film's accumulators, the output image or the checkpoint copy.
+    Film(Exceeded),
+    /// The acceleration structure, displaced micro-triangles or height grids.
+    Geometry(Exceeded),
+}
+
+impl Over {
+    /// The charge that did not fit.
+    pub fn exceeded(&self) -> &Exceeded {
+        match self {
+            Over::Film(e) | Over::Geometry(e) => e,
+        }
+    }
+}
+
+/// Charges what rendering `scene` allocates to `ledger` (module table), so the error names
+/// the buffer that does not fit. `checkpoints`: whether the film is also serialised for
+/// checkpoints.
+pub fn charge(scene: &Scene, checkpoints: bool, ledger: &Ledger) -> Result<(), Over> {
+    charge_film(scene, checkpoints, ledger).map_err(Over::Film)?;
+    charge_geometry(scene, ledger).map_err(Over::Geometry)
+}
+
+/// The film's part of [`charge`].
+fn charge_film(scene: &Scene, checkpoints: bool, ledger: &Ledger) -> Result<(), Exceeded> {
     let (w, h) = (u64::from(scene.film.width), u64::from(scene.film.height));
     let lights = scene.light_names().len();
     let pixels = w.saturating_mul(h);
@@ -56,6 +80,11 @@ pub fn charge(scene: &Scene, checkpoints: bool, ledger: &Ledger) -> Result<(), E
     if checkpoints {
         ledger.charge(film, format!("the {w}×{h} film's checkpoint copy"))?;
     }
+    Ok(())
+}
+
+/// The geometry's part of [`charge`].
+fn charge_geometry(scene: &Scene, ledger: &Ledger) -> Result<(), Exceeded> {
     let mut primitives: u64 = 0;
     let mut patch_texels: u64 = 0;
     let mut micro: u64 = 0;

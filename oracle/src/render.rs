@@ -134,7 +134,8 @@ pub fn render(
     }
     // Before anything is allocated (callers that loaded the scene with a ledger have charged
     // the same figures to it already, with the scene's own memory: `memory::charge`).
-    crate::memory::charge(scene, job.checkpoint.is_some(), &scenes::budget::Ledger::new())?;
+    crate::memory::charge(scene, job.checkpoint.is_some(), &scenes::budget::Ledger::new())
+        .map_err(|over| RenderError::Memory(over.exceeded().clone()))?;
     let accel =
         Accel::build(scene).map_err(|e| RenderError::Scene(format!("{}: {e}", scene.source.display())))?;
     let lights =

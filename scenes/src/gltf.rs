@@ -322,17 +322,37 @@ fn node_shapes(
             normal_map: r.normal_map.is_some(),
         };
         let built = mesh::build(asset, gmesh.index(), &prim, &p.world, &needs, notes)?;
+        let field = format!("meshes[{}].primitives[{}]", gmesh.index(), prim.index());
         if built.indices.is_empty() {
-            notes.insert(format!(
-                "meshes[{}].primitives[{}]: no triangles; skipped",
-                gmesh.index(),
-                prim.index()
+            notes.insert(format!("{field}: no triangles; skipped"));
+            continue;
+        }
+        let area: f64 = built
+            .indices
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| built.positions[i as usize].as_dvec3());
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum();
+        let geometry = Geometry::Mesh(Arc::new(built));
+        let (lo, hi) = geometry.bounds();
+        if !crate::within_world(lo, hi) {
+            return Err(asset.err(
+                format!("{field}.attributes.POSITION"),
+                format!(
+                    "placed by {at}, the positions reach beyond ±{:e} m (bounds {lo} .. {hi})",
+                    crate::MAX_COORD
+                ),
             ));
+        }
+        if area == 0.0 {
+            notes.insert(format!("{field}: every triangle has zero area; skipped"));
             continue;
         }
         shapes.push(Shape {
             name: names.unique(&format!("{base}/{}", prim.index())),
-            geometry: Geometry::Mesh(Arc::new(built)),
+            geometry,
             material: r.material,
             emission: r.emission,
             normal_map: r.normal_map,

@@ -187,21 +187,23 @@ const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
 /// Width, height and RGBA texels, or what went wrong.
 type Decoded = Result<(u32, u32, Vec<Vec4>), String>;
 
-/// Checks the size limits of a `width`×`height` image before it is decoded: the texel count
-/// against [`MAX_TEXELS`], then the RGBA f32 texels plus `decoder_bytes` (the decoder's own
-/// buffers, freed after loading) against `ledger`.
+/// Checks the size limits of a `width`×`height` image before it is decoded: the RGBA f32
+/// texels plus `decoder_bytes` (the decoder's own buffers, freed after loading) against
+/// `ledger`, then the texel count against [`MAX_TEXELS`].
 fn check_size(width: u64, height: u64, decoder_bytes: u64, ledger: &Ledger) -> Result<(u32, u32), String> {
     if width == 0 || height == 0 {
         return Err(format!("the image is empty ({width}×{height})"));
     }
     let texels = budget::bytes_of(width, height);
-    if texels > MAX_TEXELS {
-        return Err(format!("{width}×{height} texels is more than the limit of 2^27"));
-    }
     let bytes = budget::bytes_of(texels, TEXEL_BYTES).saturating_add(decoder_bytes);
     ledger
         .check(bytes, format!("{width}×{height} texels and their decoding"))
         .map_err(|e| e.to_string())?;
+    if texels > MAX_TEXELS {
+        return Err(format!(
+            "{width}×{height} texels is more than the 2^27 a texture may hold (16384 × 8192)"
+        ));
+    }
     Ok((width as u32, height as u32))
 }
 

@@ -2,7 +2,8 @@
 
 use std::path::{Path, PathBuf};
 
-use scenes::budget::{Exceeded, Ledger};
+use oracle::memory::Over;
+use scenes::budget::Ledger;
 use scenes::{Film, Scene};
 
 use super::CliError;
@@ -21,16 +22,19 @@ pub fn load_scene_in(path: &Path, ledger: &Ledger) -> Result<Scene, CliError> {
     scenes::load_in(path, ledger).map_err(|e| CliError::input(e.to_string()))
 }
 
-/// The error for a render of `scene` whose memory does not fit the budget (exit 2), naming
-/// the `--resolution` flag when it set the film, else the scene file's `film` (with its line).
-pub fn over_budget(scene_path: &Path, resolution_flag: bool, e: &Exceeded) -> CliError {
-    if resolution_flag {
-        return CliError::input(format!("--resolution: {e}"));
-    }
-    let line = scenes::toml::line_of(scene_path, "film")
+/// The error for a render of `scene` whose memory does not fit the budget (exit 2): a film
+/// too large names the `--resolution` flag when it set the film, else the scene file's `film`
+/// (with its line); geometry too large names the scene's shapes.
+pub fn over_budget(scene_path: &Path, resolution_flag: bool, over: &Over) -> CliError {
+    let (key, e) = match over {
+        Over::Film(e) if resolution_flag => return CliError::input(format!("--resolution: {e}")),
+        Over::Film(e) => ("film", e),
+        Over::Geometry(e) => ("shape", e),
+    };
+    let line = scenes::toml::line_of(scene_path, key)
         .map(|l| format!(":{l}"))
         .unwrap_or_default();
-    CliError::input(format!("{}{line}: field `film`: {e}", scene_path.display()))
+    CliError::input(format!("{}{line}: field `{key}`: {e}", scene_path.display()))
 }
 
 /// `WxH` (also `W×H`), each side in 1..=[`MAX_RESOLUTION`].

@@ -153,12 +153,16 @@ pub fn run_from(args: impl IntoIterator<Item = OsString>) -> ExitCode {
     match outcome {
         Ok(Ok(code)) => ExitCode::from(code),
         Ok(Err(e)) => {
-            eprintln!("error: {}", e.message);
+            // One line whatever the message quotes from a file (names, paths, parser output).
+            eprintln!("error: {}", scenes::error::one_line(&e.message, MAX_ERROR_CHARS));
             ExitCode::from(e.failure.exit_status())
         }
         Err(_) => ExitCode::from(Failure::Run.exit_status()),
     }
 }
+
+/// Longest error line printed, characters (messages quote files' content, cut to 80 each).
+const MAX_ERROR_CHARS: usize = 4000;
 
 /// Runs the subcommand; `Ok` carries the exit status of a command that ran to the end
 /// (0, or `verity diff`'s 1 warn / 2 fail, `verity report`'s 1 when a bound fails).

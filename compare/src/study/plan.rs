@@ -24,14 +24,17 @@ use crate::cli::render::integrator_name;
 /// renders; a larger experiment is several studies (or a coarser sweep).
 pub const MAX_RENDERS: u64 = 10_000;
 
-/// Memory the realtime renderer keeps per 256² frame rendered, charged once per render and
-/// scaled by the supersampled pixel count. BENCHMARKS.md ("Distance impostors", Noticed)
-/// measured lavapipe's process growing by about 15 MB per 256² frame although every wgpu
-/// resource is dropped between renders; a render has the warm-up and timed frames plus the
-/// counting, object-id and visibility passes. Charging every frame would refuse the built-in
-/// studies' full runs on a 16 GB machine (a GPU driver keeps nothing of the kind), so this is
-/// the floor that stops runaway grids (1000 scene points × 15 MB), not lavapipe's peak.
-pub const RETAINED_BYTES_PER_256_RENDER: u64 = 15 << 20;
+/// Memory a study run keeps per render, per output pixel (not supersampled), on lavapipe.
+/// Measured on the 2-core machine (llvmpipe, LLVM 15) from peak RSS against renders: full runs
+/// at 256² grow by about 137 MB a render (`detail-view-angle`, 77 renders: 11.0 GB; the
+/// default study's 6: 1.29 GB), `distance-impostor-reference-point`'s 18 renders at 256² with
+/// 3×3 supersampling peak at 4.75 GB, and quick runs at 64² by about 3 MB a render
+/// (`shadow-light-size --quick`, 25 renders: 1.31 GB against 1.25 GB for 6). 2 KiB a pixel
+/// (128 MiB a 256² render) follows the full runs within 15 %. Why the process keeps it (the
+/// driver, or resources released late) is not known here; the estimate says what a run on
+/// this kind of machine needs, so that a sweep of 1000 scene points is refused before the
+/// driver runs out of memory.
+pub const RETAINED_BYTES_PER_PIXEL: u64 = 2048;
 
 /// f32 channels of a ground truth without lights: RGB, variance RGB, albedo RGB, normal XYZ,
 /// depth, position XYZ, uv, coverage, object id (oracle/src/film.rs, `Film::to_layered`); one
@@ -205,7 +208,7 @@ pub fn estimate(c: &Counts, s: &Sizes) -> u64 {
     let per_pixel = bytes_of(s.pixels, ground_truth + variant).saturating_add(bytes_of(s.pixels, flicker));
     let targets = if s.visibility { 2 } else { 1 };
     let record = RECORD_BYTES + s.masks * s.metrics.0 * targets * ENTRY_BYTES;
-    let retained = bytes_of(s.pixels, s.ssaa * s.ssaa) * RETAINED_BYTES_PER_256_RENDER / (256 * 256);
+    let retained = bytes_of(s.pixels, RETAINED_BYTES_PER_PIXEL);
     per_pixel
         .saturating_add(bytes_of(c.variants, record))
         .saturating_add(bytes_of(c.renders, retained.max(1)))
@@ -326,19 +329,19 @@ mod tests {
             renders: 1,
         };
         // 256²: ground truth 21 channels × 12 + 24 + 1 mask byte; variant 22 × 4 + 12 + 160;
-        // one record of 2048 + 96; 15 MiB retained.
+        // one record of 2048 + 96; 128 MiB retained.
         let px = 256 * 256;
         let want =
-            px * (21 * 12 + 25) + px * (22 * 4 + 12 + WORKING_BYTES_PER_PIXEL) + 2048 + 96 + (15 << 20);
+            px * (21 * 12 + 25) + px * (22 * 4 + 12 + WORKING_BYTES_PER_PIXEL) + 2048 + 96 + (128 << 20);
         assert_eq!(estimate(&one, &sizes(px)), want);
-        // A thousand scene points of one variant: the retained renders dominate (15 GiB).
+        // A thousand scene points of one variant: the retained renders dominate (125 GiB).
         let sweep = Counts {
             scene_points: 1000,
             variants: 1000,
             renders: 1000,
             ..one
         };
-        assert!(estimate(&sweep, &sizes(px)) > 1000 * (15 << 20));
+        assert!(estimate(&sweep, &sizes(px)) > 1000 * (128 << 20));
         // Saturating: an absurd grid is u64::MAX bytes, never a wrapped small number.
         let absurd = Counts {
             variants: u64::MAX,

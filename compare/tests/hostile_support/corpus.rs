@@ -227,8 +227,11 @@ fn make(what: Make, dir: &Path) {
             std::fs::write(dir.join("grid.toml"), text).unwrap_or_else(|e| panic!("{e}"));
         }
         Make::SceneSweep1000 => {
+            // At the resolution of the built-in studies' full runs (at 16² a thousand scene
+            // points fit in half a gigabyte, and the run is merely long).
+            let head = STUDY_HEAD.replace("resolution = [16, 16]", "resolution = [256, 256]");
             let text = format!(
-                "{STUDY_HEAD}\n[scene_sweep]\nname = \"light_size\"\nset = \"shape.light.size[0]\"\nvalues = {}\n\n[[method]]\nname = \"area_quadrature\"\nparams = {{ n = 4 }}\n\n[[threshold]]\nmethod = \"area_quadrature\"\nmetric = \"relmse\"\nmax = 1.0\nreason = \"r\"\n",
+                "{head}\n[scene_sweep]\nname = \"light_size\"\nset = \"shape.light.size[0]\"\nvalues = {}\n\n[[method]]\nname = \"area_quadrature\"\nparams = {{ n = 4 }}\n\n[[threshold]]\nmethod = \"area_quadrature\"\nmetric = \"relmse\"\nmax = 1.0\nreason = \"r\"\n",
                 values(1000, 0.1, 0.001)
             );
             std::fs::write(dir.join("sweep.toml"), text).unwrap_or_else(|e| panic!("{e}"));
