@@ -119,3 +119,49 @@ fn raster_checks_its_outputs_before_rendering() {
     assert!(!out.exists(), "the EXR must not be written");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// On a machine without a desktop session (no `XDG_RUNTIME_DIR`, as on CI), Mesa's
+/// device-select Vulkan layer used to print `error: XDG_RUNTIME_DIR is invalid or not set`
+/// twice, which read as Verity's own error: a successful run prints no `error:` line.
+#[test]
+fn a_headless_run_prints_no_error_lines() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli-raster-headless");
+    let out = dir.join("headless.exr");
+    let o = Command::new(env!("CARGO_BIN_EXE_verity"))
+        .arg("raster")
+        .arg(scene())
+        .args(["--resolution", "8x8", "--frames", "1", "--warmup", "0", "--out"])
+        .arg(&out)
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("NODEVICE_SELECT")
+        .env_remove("MESA_VK_DEVICE_SELECT")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!stderr.lines().any(|l| l.starts_with("error")), "{stderr}");
+}
+
+/// Render targets are checked against the memory budget before they are allocated: 4096²
+/// needs about 0.8 GiB of targets, over a 64 MiB limit (exit 2, one line naming the size).
+#[test]
+fn render_targets_beyond_the_memory_limit_are_refused() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli-raster-budget");
+    let out = dir.join("big.exr");
+    let o = Command::new(env!("CARGO_BIN_EXE_verity"))
+        .args(["--memory-limit", "64M", "raster"])
+        .arg(scene())
+        .args(["--resolution", "4096x4096", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("resolution 4096x4096 with ssaa 1: the render targets and read-back")
+            && stderr.contains("over the memory limit of 64.0 MiB (--memory-limit)"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+}

@@ -83,6 +83,9 @@ pub struct RenderResult {
     pub paths: u64,
     /// Rays traced.
     pub rays: u64,
+    /// Samples dropped because their radiance was NaN or infinite (each is a bug or an
+    /// extreme scene; the image is biased where they fell).
+    pub nonfinite_samples: u64,
 }
 
 /// Why a render failed.
@@ -234,6 +237,7 @@ pub fn render(
         seconds,
         paths: film.paths,
         rays: film.rays,
+        nonfinite_samples: film.nonfinite,
     })
 }
 

@@ -18,6 +18,25 @@ use crate::error::{RasterError, INSTALL_HINT};
 /// Colour-attachment bytes per sample the passes write (three Rgba32Float targets).
 pub const COLOR_BYTES_PER_SAMPLE: u32 = 48;
 
+/// Keeps Mesa's `VK_LAYER_MESA_device_select` implicit Vulkan layer from printing
+/// "error: XDG_RUNTIME_DIR is invalid or not set in the environment." (twice) on headless
+/// machines: to order GPUs by the one driving the display it connects to Wayland, whose
+/// client library prints that line when no session exists — which reads as Verity's own
+/// error. A headless renderer has no display to prefer, so where `XDG_RUNTIME_DIR` is not
+/// a folder and the user has not chosen (`MESA_VK_DEVICE_SELECT`, `NODEVICE_SELECT`), the layer
+/// is switched off with its documented `NODEVICE_SELECT=1` (Mesa, `src/vulkan/device-select-layer`);
+/// wgpu's own `WGPU_ADAPTER_NAME` still selects the adapter. Changes the environment: call it
+/// at the start of `main`, before any thread exists.
+pub fn quiet_headless_vulkan() {
+    let chosen = ["MESA_VK_DEVICE_SELECT", "NODEVICE_SELECT"]
+        .iter()
+        .any(|k| std::env::var_os(k).is_some());
+    let session = std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_dir());
+    if !chosen && !session {
+        std::env::set_var("NODEVICE_SELECT", "1");
+    }
+}
+
 /// A device on one adapter.
 pub struct Gpu {
     pub(crate) device: wgpu::Device,

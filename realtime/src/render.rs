@@ -17,7 +17,7 @@ use crate::detail::ConeCache;
 use crate::envmap_build::EnvMaps;
 use crate::error::RasterError;
 use crate::frame::{encode_passes, Frame, ShadingGroups, Timestamps};
-use crate::gpu::Gpu;
+use crate::gpu::{Gpu, COLOR_BYTES_PER_SAMPLE};
 use crate::image::{assemble, box_filter, Readback};
 use crate::method::{Method, PipelineKind, MAX_QUADRATURE_N};
 use crate::pipelines::{Pipelines, Stage};
@@ -137,7 +137,22 @@ impl RasterSettings {
                 self.width, self.height, self.ssaa
             ));
         }
-        Ok(())
+        // The render targets (three Rgba32Float colour targets and a depth target per sample)
+        // and, per output pixel, the read-back targets and the EXR's channels (about 26 f32)
+        // and the shadow maps (one Depth32Float layer per light), before any is allocated.
+        let targets = w
+            .saturating_mul(h)
+            .saturating_mul(u64::from(COLOR_BYTES_PER_SAMPLE) + 4);
+        let output = u64::from(self.width) * u64::from(self.height) * (48 + 26 * 4);
+        let maps = m.shadow.as_ref().map_or(0, |sh| u64::from(sh.map).pow(2) * 4);
+        scenes::budget::check(
+            targets.saturating_add(output).saturating_add(maps),
+            format!(
+                "resolution {}x{} with ssaa {}: the render targets and read-back",
+                self.width, self.height, self.ssaa
+            ),
+        )
+        .map_err(|e| RasterError::Settings(e.to_string()))
     }
 }
 

@@ -113,6 +113,15 @@ pub fn physical_memory() -> Option<u64> {
     kib.checked_mul(1024)
 }
 
+/// The process's peak resident memory so far, bytes (`VmHWM` of `/proc/self/status`), if
+/// known.
+pub fn peak_resident_bytes() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = text.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
 /// Parses a memory size: a whole number of bytes, a number with a binary suffix (`K`, `M`,
 /// `G`, `T`, optionally followed by `iB` or `B`: `512M`, `1.5GiB`), or a percentage of
 /// physical memory (`40%`). The result is at least 1 MiB and finite.

@@ -26,6 +26,40 @@ pub const MAX_COORD: f32 = 1e15;
 /// multiplies it by.
 pub const MAX_RADIANCE: f32 = 1e20;
 
+/// Longest shape or light name, characters.
+pub const MAX_NAME_CHARS: usize = 64;
+
+/// Whether `name` can label an AOV channel (`visibility.<name>.Y`) and a file: 1 to
+/// [`MAX_NAME_CHARS`] ASCII letters, digits, `_` and `-` (no `.`, the EXR layer separator;
+/// no `/`, `:`, `*`, spaces, control or bidirectional characters).
+pub fn is_identifier(name: &str) -> bool {
+    (1..=MAX_NAME_CHARS).contains(&name.len())
+        && name
+            .bytes()
+            .all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-')
+}
+
+/// `name` made an identifier ([`is_identifier`]): every other character becomes `_`, the
+/// result is cut to [`MAX_NAME_CHARS`], and an empty name is `unnamed`.
+pub fn to_identifier(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .take(MAX_NAME_CHARS)
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() {
+        "unnamed".into()
+    } else {
+        s
+    }
+}
+
 /// Whether the box (`lo`, `hi`) is finite and within ±[`MAX_COORD`].
 pub fn within_world(lo: Vec3, hi: Vec3) -> bool {
     lo.is_finite() && hi.is_finite() && lo.abs().max(hi.abs()).max_element() <= MAX_COORD

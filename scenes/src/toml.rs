@@ -183,19 +183,6 @@ fn from_tree(ctx: &Ctx, root: &tree::Node, ledger: &Ledger) -> Result<Scene, Sce
     Ok(scene)
 }
 
-/// Longest shape or light name, characters.
-const MAX_NAME_CHARS: usize = 64;
-
-/// Whether `name` can label an AOV channel and a file: 1 to [`MAX_NAME_CHARS`] ASCII
-/// letters, digits, `_` and `-` (no `.`, the EXR layer separator; no `/`, `:`, `*`, spaces,
-/// control or bidirectional characters).
-fn valid_name(name: &str) -> bool {
-    (1..=MAX_NAME_CHARS).contains(&name.len())
-        && name
-            .bytes()
-            .all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-')
-}
-
 /// Shape and light names: one namespace, because both name `visibility.<name>` AOVs.
 #[derive(Default)]
 struct Names {
@@ -244,12 +231,13 @@ impl Names {
             Some(l) => e.line(l),
             None => e,
         };
-        if !valid_name(name) {
+        if !crate::is_identifier(name) {
             let shown = crate::error::echo(name);
             return Err(at(SceneError::new(&ctx.file, format!("invalid {what} name {shown}"))
                 .field(format!("{what} {shown}.name"))
                 .hint(format!(
-                    "names label AOV channels (visibility.<name>) and files: use 1 to {MAX_NAME_CHARS} ASCII letters, digits, '_' and '-'"
+                    "names label AOV channels (visibility.<name>) and files: use 1 to {} ASCII letters, digits, '_' and '-'",
+                    crate::MAX_NAME_CHARS
                 ))));
         }
         let here = match line {
@@ -293,15 +281,7 @@ fn include(t: &Table, scene: &mut Scene, names: &mut Names, ledger: &Ledger) -> 
             .err(format!("cannot include {}", path.display()))
             .hint("includes are glTF 2.0 assets (.gltf or .glb)"));
     }
-    match crate::access::regular_file(&path) {
-        Ok(_) => {}
-        Err(crate::access::FileProblem::NotFound) => {
-            return Err(file
-                .err(format!("file not found: {}", path.display()))
-                .hint("paths are relative to the scene file's directory"))
-        }
-        Err(why) => return Err(file.err(format!("{} {why}", path.display()))),
-    }
+    file.input_file(&path)?;
     let options = crate::gltf::Options {
         also_inside: file.ctx.file.parent().map(Path::to_path_buf),
         allow_paths_outside: t.bool_or("allow_paths_outside", false)?,

@@ -149,3 +149,14 @@ fn a_pcss_ignoring_the_blocker_depth_fails_the_shadow_bounds() {
         "{msg}"
     );
 }
+
+/// Every study's full run fits the default memory budget of a 24 GB machine (half of it)
+/// by its own estimate (`compare::study::plan`), so `verity report STUDY` runs where CI does.
+#[test]
+fn every_study_full_run_fits_a_24_gb_machine() {
+    scenes::budget::set_limit(12 << 30);
+    for path in studies() {
+        let s = study::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        compare::study::plan::plan(&s, false).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    }
+}

@@ -21,6 +21,7 @@ pub mod export_mitsuba;
 pub mod raster;
 pub mod render;
 pub mod report;
+pub mod report_all;
 
 /// Verity tells a real-time renderer how wrong it is.
 #[derive(Debug, Parser)]
@@ -129,6 +130,7 @@ impl CliError {
 
 /// The `verity` program: parses `std::env::args_os()` and runs the subcommand.
 pub fn main() -> ExitCode {
+    realtime::gpu::quiet_headless_vulkan();
     run_from(std::env::args_os())
 }
 

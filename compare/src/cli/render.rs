@@ -181,6 +181,14 @@ pub fn run(args: &RenderArgs, command_line: &str) -> Result<(), CliError> {
     reporter.finish();
     let mut result = result.map_err(|e| CliError::run(format!("rendering {}: {e}", args.scene.display())))?;
 
+    if result.nonfinite_samples > 0 {
+        eprintln!(
+            "warning: {} of {} samples were NaN or infinite and were dropped (EXR header `nonfinite_samples`): \
+             the image is biased where they fell; please report the scene",
+            result.nonfinite_samples,
+            u64::from(result.spp) * u64::from(scene.film.width) * u64::from(scene.film.height)
+        );
+    }
     let mut image = std::mem::take(&mut result.image);
     add_header(
         &mut image,

@@ -46,6 +46,17 @@ pub struct ReportArgs {
     /// memory) without rendering.
     #[arg(long)]
     pub dry_run: bool,
+
+    /// Run every study of scenes/studies, one process each, into DIR/<study> and write
+    /// DIR/summary.md and summary.json (study, mode, bounds held, wall time, peak memory)
+    /// [default DIR: out/all-studies, or out/all-studies-quick with --quick].
+    #[arg(long, conflicts_with_all = ["study", "dry_run"])]
+    pub all: bool,
+
+    /// With --all in full mode: write each study's full-mode record (date, fingerprint,
+    /// bounds, figures) into its study file.
+    #[arg(long, requires = "all", conflicts_with = "quick")]
+    pub record: bool,
 }
 
 /// The default study: relative to the current directory, else to the workspace the binary
@@ -60,8 +71,18 @@ fn default_study() -> PathBuf {
         .join(DEFAULT_STUDY)
 }
 
+/// The folder of the built-in studies (that of [`DEFAULT_STUDY`]).
+fn studies_dir() -> PathBuf {
+    default_study()
+        .parent()
+        .map_or_else(|| PathBuf::from("scenes/studies"), Path::to_path_buf)
+}
+
 /// Runs `verity report`; returns 0, or 1 when a declared bound fails.
 pub fn run(args: &ReportArgs) -> Result<u8, CliError> {
+    if args.all {
+        return super::report_all::run(args, &studies_dir());
+    }
     let path = args.study.clone().unwrap_or_else(default_study);
     let study = study::load(&path).map_err(|e| CliError::input(e.to_string()))?;
     let cli_error = |e: StudyError| match e {

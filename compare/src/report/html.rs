@@ -106,6 +106,29 @@ fn header(h: &mut String, r: &StudyResult) {
         gt.mean_relative_std_error,
         &gt.hash[..16.min(gt.hash.len())]
     );
+    let run = &r.run;
+    let other = if run.mode == "quick" { "full" } else { "quick" };
+    let _ = writeln!(
+        h,
+        "<p class=\"mode\"><b>{} mode</b>: {}×{} pixels, ground truth {} spp, {}×{} supersampling, {} warm-up + {} timed frames per variant; the {} bounds checked are those declared for {} mode or both ({} declared; run <code>verity report{}</code> for the {} ones). Run time {:.1} s{}.</p>",
+        run.mode,
+        run.resolution[0],
+        run.resolution[1],
+        run.ground_truth_spp,
+        run.ssaa,
+        run.ssaa,
+        run.frames[0],
+        run.frames[1],
+        run.bounds_of_mode,
+        run.mode,
+        run.bounds_declared,
+        if run.mode == "quick" { "" } else { " --quick" },
+        other,
+        run.wall_seconds,
+        run.peak_memory_bytes
+            .map(|b| format!(", peak memory {}", scenes::budget::human(b)))
+            .unwrap_or_default()
+    );
     if let Some(s) = &r.scene_sweep {
         let values: Vec<String> = s
             .values

@@ -12,6 +12,7 @@
 
 pub mod cache;
 pub mod plan;
+pub mod record;
 pub mod result;
 pub mod run;
 mod scene_check;
@@ -410,11 +411,49 @@ pub struct Threshold {
     pub min: Option<f64>,
     /// Why the bound is what it is (shown on failure and in the report).
     pub reason: String,
+    /// The run mode it is checked in (`mode = "quick"` or `"full"`); both when `None`. A bound
+    /// whose measured quantity depends on the resolution or the ground truth's noise may
+    /// differ between the modes; the study file says why.
+    pub mode: Option<RunMode>,
     /// Where it is declared: `file:line`.
     pub location: String,
 }
 
+/// A study run's mode: the `[quick]` resolution and sample count (what the tests run), or
+/// the full ones (what users run).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RunMode {
+    /// `--quick`.
+    Quick,
+    /// The default.
+    Full,
+}
+
+impl RunMode {
+    /// The mode of a run with or without `--quick`.
+    pub fn of(quick: bool) -> RunMode {
+        if quick {
+            RunMode::Quick
+        } else {
+            RunMode::Full
+        }
+    }
+
+    /// `quick` or `full` (study files, metrics.json).
+    pub fn name(self) -> &'static str {
+        match self {
+            RunMode::Quick => "quick",
+            RunMode::Full => "full",
+        }
+    }
+}
+
 impl Threshold {
+    /// Is the bound checked in a run of `mode`?
+    pub fn checked_in(&self, mode: RunMode) -> bool {
+        self.mode.is_none_or(|m| m == mode)
+    }
+
     /// Does the bound apply to `variant`?
     pub fn applies_to(&self, variant: &Variant) -> bool {
         // A labelled entry is selected by its label only.
@@ -1043,10 +1082,17 @@ fn require_toml(scene: &Path, field: &Field) -> Result<(), SceneError> {
 fn threshold(t: &Table) -> Result<Threshold, SceneError> {
     t.only(
         &[
-            "method", "params", "scene", "metric", "on", "mask", "max", "min", "reason",
+            "method", "params", "scene", "metric", "on", "mask", "max", "min", "reason", "mode",
         ],
         "a [[threshold]]",
     )?;
+    let mode = match t.get("mode") {
+        Some(f) => Some(match f.keyword(&["quick", "full"])? {
+            "quick" => RunMode::Quick,
+            _ => RunMode::Full,
+        }),
+        None => None,
+    };
     let on = match t.get("on") {
         Some(f) => match f.keyword(&["image", "visibility", "flicker"])? {
             "image" => Target::Image,
@@ -1105,6 +1151,7 @@ fn threshold(t: &Table) -> Result<Threshold, SceneError> {
         max,
         min,
         reason: t.req("reason")?.str()?.to_string(),
+        mode,
         location: format!("{}:{}", t.ctx.file.display(), t.line.unwrap_or(0)),
     })
 }

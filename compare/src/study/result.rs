@@ -27,6 +27,9 @@ pub struct StudyResult {
     pub scene: String,
     /// `full` or `quick`.
     pub mode: String,
+    /// How the run was made: the mode's resolution, samples and frames, the bounds of the
+    /// mode, wall time and peak memory.
+    pub run: RunInfo,
     /// Image size.
     pub width: u32,
     /// Image size.
@@ -60,6 +63,30 @@ pub struct ChartInfo {
     pub metric: String,
     /// Mask name.
     pub mask: String,
+}
+
+/// How a study run was made (metrics.json `run`): what a figure was measured at and which
+/// bounds it was checked against.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunInfo {
+    /// `full` or `quick` (the same as the top-level `mode`).
+    pub mode: String,
+    /// Image size of the run.
+    pub resolution: [u32; 2],
+    /// Ground-truth samples per pixel.
+    pub ground_truth_spp: u32,
+    /// Raster supersampling per side.
+    pub ssaa: u32,
+    /// Untimed and timed raster frames per variant.
+    pub frames: [u32; 2],
+    /// Bounds of this mode (declared for both modes or for this one).
+    pub bounds_of_mode: usize,
+    /// Bounds declared in the study file.
+    pub bounds_declared: usize,
+    /// Wall time of the whole run, seconds.
+    pub wall_seconds: f64,
+    /// Peak resident memory of the process, bytes (Linux `VmHWM`; null where unknown).
+    pub peak_memory_bytes: Option<u64>,
 }
 
 /// How the ground truth was made.

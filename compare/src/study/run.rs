@@ -95,6 +95,7 @@ pub fn prepare(
 /// scene as written, or each scene-sweep value) its ground truth, masks and every variant.
 /// The run's size and memory are checked first ([`plan::plan`]), before anything is written.
 pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Result<StudyResult, StudyError> {
+    let started = std::time::Instant::now();
     plan::plan(study, opts.quick)?;
     for sub in ["", "methods"] {
         let d = opts.out_dir.join(sub);
@@ -162,7 +163,8 @@ pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Resul
         description: study.description.clone(),
         study_file: study.path.display().to_string(),
         scene: study.scene.display().to_string(),
-        mode: if opts.quick { "quick" } else { "full" }.into(),
+        mode: super::RunMode::of(opts.quick).name().into(),
+        run: run_info(study, opts.quick, (w, h), settings.spp),
         width: w,
         height: h,
         ground_truth: ground_truths[0].clone(),
@@ -197,8 +199,32 @@ pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Resul
         out.flicker = stability::flicker(study, renderer, base, &at_first, f, opts)?;
     }
     out.thresholds = check_thresholds(study, &study.variants(), &at_first, &out);
+    out.run.wall_seconds = started.elapsed().as_secs_f64();
+    out.run.peak_memory_bytes = scenes::budget::peak_resident_bytes();
     out.write_files(&opts.out_dir).map_err(io_err(&opts.out_dir))?;
     Ok(out)
+}
+
+/// The run's settings for metrics.json (`run`); time and memory are filled in at the end.
+fn run_info(study: &Study, quick: bool, (w, h): (u32, u32), spp: u32) -> RunInfo {
+    let mode = super::RunMode::of(quick);
+    let r = study.raster;
+    let (warmup, timed) = study
+        .quick
+        .frames
+        .filter(|_| quick)
+        .unwrap_or((r.warmup_frames, r.timed_frames));
+    RunInfo {
+        mode: mode.name().into(),
+        resolution: [w, h],
+        ground_truth_spp: spp,
+        ssaa: r.ssaa,
+        frames: [warmup, timed],
+        bounds_of_mode: study.thresholds.iter().filter(|t| t.checked_in(mode)).count(),
+        bounds_declared: study.thresholds.len(),
+        wall_seconds: 0.0,
+        peak_memory_bytes: None,
+    }
 }
 
 /// Software rasterisers, whose timings are CPU time (never to be shown as GPU speed).
@@ -277,6 +303,13 @@ pub fn ground_truth(
             })
             .map_err(|e| StudyError::Input(e.to_string()))?;
             reporter.finish();
+            if r.nonfinite_samples > 0 {
+                eprintln!(
+                    "warning: ground truth {name}: {} samples were NaN or infinite and were dropped \
+                     (EXR header `nonfinite_samples`); the reference is biased where they fell",
+                    r.nonfinite_samples
+                );
+            }
             fs::create_dir_all(&opts.cache_dir).map_err(io_err(&opts.cache_dir))?;
             entry
                 .write(&r.image)
@@ -565,7 +598,8 @@ fn check_thresholds(
     result: &StudyResult,
 ) -> Vec<ThresholdCheck> {
     let mut checks = Vec::new();
-    for th in &study.thresholds {
+    let mode = super::RunMode::of(result.mode == "quick");
+    for th in study.thresholds.iter().filter(|th| th.checked_in(mode)) {
         let candidates = if th.on == Target::Flicker {
             at_first
         } else {

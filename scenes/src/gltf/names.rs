@@ -16,7 +16,7 @@ use std::collections::{HashMap, HashSet};
 use crate::error::echo;
 
 /// Longest name kept from the file, in characters.
-pub(super) const MAX_NAME_CHARS: usize = 64;
+use crate::MAX_NAME_CHARS;
 
 /// Hands out names unique within the scene (shapes and lights share the AOV namespace).
 #[derive(Default)]
@@ -35,20 +35,7 @@ impl Names {
     /// A name from the file reduced to `[A-Za-z0-9_-]`, at most [`MAX_NAME_CHARS`] long
     /// (`unnamed` if empty); remembered for the note when it changed.
     pub fn sanitized(&mut self, given: &str) -> String {
-        let mut name: String = given
-            .chars()
-            .take(MAX_NAME_CHARS)
-            .map(|c| {
-                if c.is_ascii_alphanumeric() || c == '_' || c == '-' {
-                    c
-                } else {
-                    '_'
-                }
-            })
-            .collect();
-        if name.is_empty() {
-            name.push_str("unnamed");
-        }
+        let name = crate::to_identifier(given);
         if name != given && self.changed.is_none() {
             self.changed = Some((echo(given), name.clone()));
         }

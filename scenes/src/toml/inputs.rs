@@ -85,15 +85,7 @@ impl<'a> Textures<'a> {
         if let Some(i) = self.keys.iter().position(|k| *k == key) {
             return Ok(i);
         }
-        match crate::access::regular_file(&path) {
-            Ok(_) => {}
-            Err(crate::access::FileProblem::NotFound) => {
-                return Err(file
-                    .err(format!("file not found: {}", path.display()))
-                    .hint("paths are relative to the scene file's directory"))
-            }
-            Err(why) => return Err(file.err(format!("{} {why}", path.display()))),
-        }
+        file.input_file(&path)?;
         let texture = load_texture_in(&path, space, wrap, self.ledger)
             .map_err(|e| file.err(format!("cannot load the texture: {e}")))?;
         self.list.push(Arc::new(texture));

@@ -238,6 +238,18 @@ impl<'a> Field<'a> {
         self.floats::<3>().map(Vec3::from)
     }
 
+    /// Checks that `path`, the file this field names, is a regular file that exists (a FIFO
+    /// is never opened; what exists but is not a file is said so).
+    pub fn input_file(&self, path: &Path) -> Result<(), SceneError> {
+        match crate::access::regular_file(path) {
+            Ok(_) => Ok(()),
+            Err(crate::access::FileProblem::NotFound) => Err(self
+                .err(format!("file not found: {}", path.display()))
+                .hint("paths are relative to the scene file's directory")),
+            Err(why) => Err(self.err(format!("{} {why}", path.display()))),
+        }
+    }
+
     /// A position or extent in metres, every component within ±[`crate::MAX_COORD`].
     pub fn position(&self) -> Result<Vec3, SceneError> {
         let v = self.vec3()?;

@@ -274,22 +274,3 @@ fn lookat(origin: Vec3, target: Vec3, up: Vec3) -> Element {
         .attr("target", triple(target))
         .attr("up", triple(up))
 }
-
-/// A name reduced to `[A-Za-z0-9_-]` for ids and file names.
-fn sanitize(name: &str) -> String {
-    let s: String = name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
-    if s.is_empty() {
-        "unnamed".into()
-    } else {
-        s
-    }
-}

@@ -14,7 +14,7 @@ use glam::Vec3;
 use scenes::{Geometry, Shape};
 
 use super::materials::bsdf_id;
-use super::{sanitize, Asset, Exporter};
+use super::{Asset, Exporter};
 use crate::mitsuba::ply;
 use crate::mitsuba::xml::{num, Element};
 
@@ -65,7 +65,7 @@ impl Exporter<'_> {
                 Element::plugin("shape", "disk").child(m)
             }
             Geometry::Mesh(mesh) => {
-                let file = format!("meshes/{index}-{}.ply", sanitize(&shape.name));
+                let file = format!("meshes/{index}-{}.ply", scenes::to_identifier(&shape.name));
                 self.assets.push((file.clone(), Asset::Ply(ply::encode(mesh))));
                 Element::plugin("shape", "ply")
                     .child(Element::string("filename", &file))
@@ -74,7 +74,10 @@ impl Exporter<'_> {
             }
         };
         el = el
-            .attr("id", format!("shape-{index}-{}", sanitize(&shape.name)))
+            .attr(
+                "id",
+                format!("shape-{index}-{}", scenes::to_identifier(&shape.name)),
+            )
             .with_comment(format!("shape `{}`", shape.name))
             .child(Element::reference(&bsdf_id(shape.material)));
         if let Some(emission) = &shape.emission {

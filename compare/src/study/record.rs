@@ -1,0 +1,324 @@
+//! Full-mode records: every study file carries, in a comment block at its end, the date and
+//! figures of its last full-mode run and a fingerprint of what decides its bounds. Bounds set
+//! in quick mode (64²–96², few spp) and never run at the size users run them mislead; the
+//! record says they were, and a test (`tests/tests/studies.rs`) fails when a study has no
+//! record, when the record says a bound failed, or when the study or its scene changed since
+//! (the fingerprint no longer matches). `verity report --all --record` (what
+//! `scripts/full-studies.sh` runs) writes the records.
+//!
+//! The block, written and read by this module:
+//!
+//! ```text
+//! # --- full-mode record (verity report --all --record; checked by tests/tests/studies.rs) ---
+//! # date: 2026-12-03
+//! # fingerprint: 0123456789abcdef
+//! # bounds: 7 of 7 hold
+//! # run: 256x256, ground truth 64 spp, 205.9 s, peak memory 2.3 GiB, llvmpipe (LLVM 15.0.6, 256 bits)
+//! #   envmap_cube(size=128) relmse over ball = 2.31e-4 (max 1e-3) [line 60]
+//! ```
+//!
+//! The fingerprint is the first 16 hex digits of SHA-256 over the study file's and its scene
+//! file's lines, comments (`#` lines, this block among them), blank lines and trailing white
+//! space left out: editing a bound, a sweep, a setting or the scene invalidates the record;
+//! rewording a comment does not. Files the scene references (textures, glTF assets) and the
+//! renderers' code are not covered: a change there is verified by running the full studies
+//! again before the change lands.
+
+use std::path::Path;
+
+use sha2::{Digest, Sha256};
+
+use serde_json::Value;
+
+/// The first line of a record block.
+pub const BEGIN: &str =
+    "# --- full-mode record (verity report --all --record; checked by tests/tests/studies.rs) ---";
+
+/// A study file's record of its last full-mode run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Record {
+    /// `YYYY-MM-DD` (UTC).
+    pub date: String,
+    /// [`fingerprint`] of the study and scene when the run was made.
+    pub fingerprint: String,
+    /// Bounds that held.
+    pub held: usize,
+    /// Bounds checked.
+    pub checked: usize,
+    /// One line about the run: resolution, samples, time, memory, adapter.
+    pub run: String,
+    /// One line per bound checked: variant, metric, mask, value, bound, line.
+    pub checks: Vec<String>,
+}
+
+/// The study and scene text that decides the bounds: lines without comments, blank lines
+/// and trailing white space.
+fn significant(text: &str) -> impl Iterator<Item = &str> {
+    text.lines()
+        .map(str::trim_end)
+        .filter(|l| !l.is_empty() && !l.trim_start().starts_with('#'))
+}
+
+/// The fingerprint of a study file and its scene file (module header).
+pub fn fingerprint(study_text: &str, scene_text: &str) -> String {
+    let mut h = Sha256::new();
+    for (tag, text) in [("study", study_text), ("scene", scene_text)] {
+        h.update(tag.as_bytes());
+        for line in significant(text) {
+            h.update(line.as_bytes());
+            h.update(b"\n");
+        }
+    }
+    h.finalize().iter().take(8).map(|b| format!("{b:02x}")).collect()
+}
+
+/// The fingerprint of the study file at `study` and its scene `scene`, read from disk.
+pub fn fingerprint_files(study: &Path, scene: &Path) -> std::io::Result<String> {
+    let read = |p: &Path| {
+        std::fs::read_to_string(p).map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", p.display())))
+    };
+    Ok(fingerprint(&read(study)?, &read(scene)?))
+}
+
+/// The record block of a study file's text, if it has one.
+pub fn read(text: &str) -> Option<Record> {
+    let mut lines = text.lines().skip_while(|l| l.trim_end() != BEGIN).skip(1);
+    let mut field = |key: &str| {
+        lines
+            .next()
+            .and_then(|l| l.strip_prefix(&format!("# {key}: ")))
+            .map(str::to_string)
+    };
+    let date = field("date")?;
+    let fingerprint = field("fingerprint")?;
+    let bounds = field("bounds")?;
+    let run = field("run")?;
+    let (held, checked) = bounds.strip_suffix(" hold")?.split_once(" of ")?;
+    let checks = lines
+        .take_while(|l| l.starts_with("#   "))
+        .map(|l| l["#   ".len()..].to_string())
+        .collect();
+    Some(Record {
+        date,
+        fingerprint,
+        held: held.parse().ok()?,
+        checked: checked.parse().ok()?,
+        run,
+        checks,
+    })
+}
+
+/// The record block's lines for `record`.
+pub fn block(record: &Record) -> String {
+    let mut s = format!(
+        "{BEGIN}\n# date: {}\n# fingerprint: {}\n# bounds: {} of {} hold\n# run: {}\n",
+        record.date, record.fingerprint, record.held, record.checked, record.run
+    );
+    for c in &record.checks {
+        s += &format!("#   {c}\n");
+    }
+    s
+}
+
+/// `text` with its record block (if any) replaced by `record`'s, at the end of the file.
+pub fn with_record(text: &str, record: &Record) -> String {
+    let kept: Vec<&str> = match text.lines().position(|l| l.trim_end() == BEGIN) {
+        Some(start) => {
+            let after = text
+                .lines()
+                .skip(start + 1)
+                .take_while(|l| l.starts_with("# "))
+                .count();
+            let lines: Vec<&str> = text.lines().collect();
+            lines[..start]
+                .iter()
+                .chain(&lines[start + 1 + after..])
+                .copied()
+                .collect()
+        }
+        None => text.lines().collect(),
+    };
+    let mut body = kept.join("\n");
+    while body.ends_with('\n') {
+        body.pop();
+    }
+    format!("{body}\n\n{}", block(record))
+}
+
+/// The record of a finished full-mode run, from its `metrics.json` (compare/README.md), of a
+/// study whose files have `fingerprint`, dated `date`; `None` for a quick run or a file that
+/// lacks the fields.
+pub fn from_metrics(json: &Value, fingerprint: String, date: String) -> Option<Record> {
+    let run = &json["run"];
+    if run["mode"] != "full" {
+        return None;
+    }
+    let res = run["resolution"].as_array()?;
+    let peak = run["peak_memory_bytes"]
+        .as_u64()
+        .map(|b| format!(", peak memory {}", scenes::budget::human(b)))
+        .unwrap_or_default();
+    let thresholds = json["thresholds"].as_array()?;
+    let checks = thresholds.iter().map(check_line).collect();
+    Some(Record {
+        date,
+        fingerprint,
+        held: thresholds.iter().filter(|t| t["passed"] == true).count(),
+        checked: thresholds.len(),
+        run: format!(
+            "{}x{}, ground truth {} spp, {:.1} s{peak}, {}",
+            res.first()?.as_u64()?,
+            res.get(1)?.as_u64()?,
+            run["ground_truth_spp"].as_u64()?,
+            run["wall_seconds"].as_f64()?,
+            json["adapter"]["name"].as_str()?
+        ),
+        checks,
+    })
+}
+
+/// One bound checked, as a record line: `variant [visibility ]metric over mask = value
+/// (min …, max …)[ FAILED] [line N]`.
+fn check_line(t: &Value) -> String {
+    let text = |k: &str| t[k].as_str().unwrap_or("?").to_string();
+    let mut bound = Vec::new();
+    if let Some(lo) = t["min"].as_f64() {
+        bound.push(format!("min {lo:e}"));
+    }
+    if let Some(hi) = t["max"].as_f64() {
+        bound.push(format!("max {hi:e}"));
+    }
+    let value = t["value"]
+        .as_f64()
+        .map_or("NaN".to_string(), |v| format!("{v:.3e}"));
+    let location = text("location");
+    format!(
+        "{} {}{} over {} = {value} ({}){} [line {}]",
+        text("variant"),
+        if t["on"] == "visibility" {
+            "visibility "
+        } else {
+            ""
+        },
+        text("metric"),
+        text("mask"),
+        bound.join(", "),
+        if t["passed"] == true { "" } else { " FAILED" },
+        location.rsplit(':').next().unwrap_or("?"),
+    )
+}
+
+/// Today's date in UTC, `YYYY-MM-DD`: days since 1970-01-01 to the proleptic Gregorian
+/// calendar by Hinnant's `civil_from_days` ("chrono-Compatible Low-Level Date Algorithms",
+/// 2013).
+pub fn today() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    civil_date((secs / 86_400) as i64)
+}
+
+/// `YYYY-MM-DD` of day `z` after 1970-01-01 (Hinnant's `civil_from_days`).
+fn civil_date(z: i64) -> String {
+    let z = z + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!("{year:04}-{month:02}-{day:02}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dates_follow_the_gregorian_calendar() {
+        assert_eq!(civil_date(0), "1970-01-01");
+        assert_eq!(civil_date(11_016), "2000-02-29");
+        assert_eq!(civil_date(20_790), "2026-12-03");
+        assert_eq!(civil_date(-1), "1969-12-31");
+    }
+
+    #[test]
+    fn the_fingerprint_follows_bounds_not_comments() {
+        let study = "scene = \"s.toml\"\n[[threshold]]\nmax = 1e-3\n";
+        let scene = "[camera]\nfov = 40\n";
+        let f = fingerprint(study, scene);
+        assert_eq!(f.len(), 16);
+        assert_eq!(
+            f,
+            fingerprint(&format!("# a comment\n{study}\n\n# another  \n"), scene)
+        );
+        assert_ne!(f, fingerprint(&study.replace("1e-3", "2e-3"), scene));
+        assert_ne!(f, fingerprint(study, &scene.replace("40", "41")));
+    }
+
+    #[test]
+    fn a_record_comes_from_a_full_runs_metrics() {
+        let json: Value = serde_json::from_str(
+            r#"{"run": {"mode": "full", "resolution": [256, 256], "ground_truth_spp": 64,
+                        "wall_seconds": 205.85, "peak_memory_bytes": 2469884000},
+                "adapter": {"name": "llvmpipe (LLVM 15.0.6, 256 bits)"},
+                "thresholds": [
+                  {"variant": "envmap_cube(size=128)", "metric": "relmse", "on": "image", "mask": "ball",
+                   "value": 0.000231, "max": 0.001, "min": null, "passed": true, "location": "s.toml:60"},
+                  {"variant": "envmap_sphere(size=314)", "metric": "relmse", "on": "visibility", "mask": "ball",
+                   "value": null, "max": 0.001, "min": 0.0001, "passed": false, "location": "s.toml:68"}]}"#,
+        )
+        .unwrap();
+        let r = from_metrics(&json, "f".repeat(16), "2026-12-03".into()).unwrap();
+        assert_eq!((r.held, r.checked), (1, 2));
+        assert_eq!(
+            r.run,
+            "256x256, ground truth 64 spp, 205.8 s, peak memory 2.3 GiB, llvmpipe (LLVM 15.0.6, 256 bits)"
+        );
+        assert_eq!(
+            r.checks[0],
+            "envmap_cube(size=128) relmse over ball = 2.310e-4 (max 1e-3) [line 60]"
+        );
+        assert_eq!(
+            r.checks[1],
+            "envmap_sphere(size=314) visibility relmse over ball = NaN (min 1e-4, max 1e-3) FAILED [line 68]"
+        );
+        let mut quick = json.clone();
+        quick["run"]["mode"] = "quick".into();
+        assert!(
+            from_metrics(&quick, String::new(), String::new()).is_none(),
+            "only full runs are recorded"
+        );
+    }
+
+    #[test]
+    fn a_record_block_reads_back_and_replaces_the_old_one() {
+        let r = Record {
+            date: "2026-12-03".into(),
+            fingerprint: "0123456789abcdef".into(),
+            held: 2,
+            checked: 3,
+            run: "256x256, ground truth 64 spp, 12.0 s, llvmpipe".into(),
+            checks: vec!["a relmse over all = 1.000e-3 (max 1e-2) [line 9]".into()],
+        };
+        let text = "title = \"t\"\n# a comment\n";
+        let once = with_record(text, &r);
+        assert!(
+            once.starts_with("title = \"t\"\n# a comment\n\n# --- full-mode record"),
+            "{once}"
+        );
+        assert_eq!(read(&once), Some(r.clone()));
+        let newer = Record { held: 3, ..r.clone() };
+        let twice = with_record(&once, &newer);
+        assert_eq!(twice.matches(BEGIN).count(), 1, "{twice}");
+        assert_eq!(read(&twice), Some(newer));
+        assert!(read(text).is_none());
+        assert_eq!(
+            fingerprint(&twice, ""),
+            fingerprint(text, ""),
+            "the block is a comment"
+        );
+    }
+}
