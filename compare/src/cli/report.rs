@@ -57,6 +57,12 @@ pub struct ReportArgs {
     /// bounds, figures) into its study file.
     #[arg(long, requires = "all", conflicts_with = "quick")]
     pub record: bool,
+
+    /// With --all in full mode: run only the studies whose full-mode record is missing, out
+    /// of date (the study or its scene changed) or has a failed bound; the others keep their
+    /// record and are listed in the summary as current. Resumes a full run that was cut off.
+    #[arg(long, requires = "all", conflicts_with = "quick")]
+    pub stale: bool,
 }
 
 /// The default study: relative to the current directory, else to the workspace the binary

@@ -1,9 +1,10 @@
-//! `verity report --all [--quick] [--record]`: every study of `scenes/studies`, each in its own
+//! `verity report --all [--quick] [--record] [--stale]`: every study of `scenes/studies`, each in its own
 //! `verity report` process (so that each one's peak memory is its own), into
 //! `DIR/<study>/`, then one summary of them all: `DIR/summary.md` and `DIR/summary.json`
 //! (study, mode, exit status, bounds held, wall time, peak memory). `scripts/full-studies.sh`
 //! runs it in full mode with `--record`, which writes each study's full-mode record into its
-//! study file ([`crate::study::record`]).
+//! study file ([`crate::study::record`]); `--stale` runs only the studies whose record is
+//! missing, out of date or failed, so a full run that was cut off resumes where it stopped.
 //!
 //! Exit status: 0 when every study ran and every bound held; otherwise the worst of the
 //! studies' statuses (1 a bound failed or a run failed, 2 bad input, 3 no GPU adapter).
@@ -25,7 +26,9 @@ struct Row {
     checked: usize,
     wall_seconds: Option<f64>,
     peak_memory_bytes: Option<u64>,
-    recorded: bool,
+    /// What became of the study's full-mode record: `written`, `current (DATE), not re-run`
+    /// with --stale, or `—`.
+    record: String,
 }
 
 /// The study files of `dir`, sorted.
@@ -59,6 +62,28 @@ pub fn run(args: &ReportArgs, dir: &Path) -> Result<u8, CliError> {
         std::env::current_exe().map_err(|e| CliError::run(format!("cannot find the verity binary: {e}")))?;
     let mut rows = Vec::new();
     for (i, s) in studies.iter().enumerate() {
+        if args.stale {
+            let standing = record::standing(&s.path, &s.scene).map_err(|e| CliError::input(e.to_string()))?;
+            if let record::Standing::Current(r) = standing {
+                eprintln!(
+                    "report --all: [{}/{}] {}: {}, not re-run",
+                    i + 1,
+                    studies.len(),
+                    s.path.display(),
+                    record::Standing::Current(r.clone()).describe()
+                );
+                rows.push(Row {
+                    study: s.name.clone(),
+                    status: 0,
+                    held: r.held,
+                    checked: r.checked,
+                    wall_seconds: None,
+                    peak_memory_bytes: None,
+                    record: format!("current ({}), not re-run", r.date),
+                });
+                continue;
+            }
+        }
         let folder = out.join(&s.name);
         let metrics = folder.join("metrics.json");
         // A stale metrics.json must not stand for this run.
@@ -70,7 +95,9 @@ pub fn run(args: &ReportArgs, dir: &Path) -> Result<u8, CliError> {
             .and_then(|t| serde_json::from_str::<Value>(&t).ok());
         let mut row = summarize(&s.name, status, json.as_ref());
         if let (true, Some(json)) = (args.record, &json) {
-            row.recorded = write_record(s, json)?;
+            if write_record(s, json)? {
+                row.record = "written".into();
+            }
         }
         rows.push(row);
     }
@@ -117,7 +144,7 @@ fn summarize(name: &str, status: u8, json: Option<&Value>) -> Row {
         checked: thresholds.len(),
         wall_seconds: run.and_then(|r| r["wall_seconds"].as_f64()),
         peak_memory_bytes: run.and_then(|r| r["peak_memory_bytes"].as_u64()),
-        recorded: false,
+        record: "—".into(),
     }
 }
 
@@ -150,12 +177,13 @@ fn write_summary(out: &Path, quick: bool, rows: &[Row]) -> Result<(), CliError> 
             r.checked,
             r.wall_seconds.map_or("—".into(), |t| format!("{t:.1} s")),
             r.peak_memory_bytes.map_or("—".into(), scenes::budget::human),
-            if r.recorded { "written" } else { "—" }
+            r.record
         );
         json.push(serde_json::json!({
             "study": r.study, "mode": mode, "exit": r.status, "bounds_held": r.held,
             "bounds_checked": r.checked, "wall_seconds": r.wall_seconds,
-            "peak_memory_bytes": r.peak_memory_bytes, "recorded": r.recorded,
+            "peak_memory_bytes": r.peak_memory_bytes, "recorded": r.record == "written",
+            "record": r.record,
         }));
     }
     let total: f64 = rows.iter().filter_map(|r| r.wall_seconds).sum();

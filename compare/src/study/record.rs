@@ -108,6 +108,65 @@ pub fn read(text: &str) -> Option<Record> {
     })
 }
 
+/// Where a study stands against its full-mode record.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Standing {
+    /// The file has no record block.
+    Missing,
+    /// The study or its scene changed since the record was made: the fingerprint it carries
+    /// (`recorded`) is no longer the files' (`now`).
+    Stale {
+        /// The fingerprint in the record.
+        recorded: String,
+        /// The fingerprint of the files as they are.
+        now: String,
+    },
+    /// The record is of the study as it is, but a bound failed in that run.
+    Failed(Record),
+    /// The record is of the study as it is, and every bound held.
+    Current(Record),
+}
+
+impl Standing {
+    /// One line for messages and summaries.
+    pub fn describe(&self) -> String {
+        match self {
+            Standing::Missing => "no full-mode record".into(),
+            Standing::Stale { recorded, now } => format!(
+                "full-mode record out of date (fingerprint {recorded}, the files now {now}): the study or its scene changed since"
+            ),
+            Standing::Failed(r) => format!(
+                "full-mode record of {}: {} of {} bounds held",
+                r.date, r.held, r.checked
+            ),
+            Standing::Current(r) => format!(
+                "full-mode record of {}: {} of {} bounds held",
+                r.date, r.held, r.checked
+            ),
+        }
+    }
+}
+
+/// The standing of the study file at `study` (scene file `scene`) against its record.
+pub fn standing(study: &Path, scene: &Path) -> std::io::Result<Standing> {
+    let text = std::fs::read_to_string(study)
+        .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", study.display())))?;
+    let Some(r) = read(&text) else {
+        return Ok(Standing::Missing);
+    };
+    let now = fingerprint_files(study, scene)?;
+    Ok(if r.fingerprint != now {
+        Standing::Stale {
+            recorded: r.fingerprint,
+            now,
+        }
+    } else if r.held < r.checked || r.checked == 0 {
+        Standing::Failed(r)
+    } else {
+        Standing::Current(r)
+    })
+}
+
 /// The record block's lines for `record`.
 pub fn block(record: &Record) -> String {
     let mut s = format!(
@@ -291,6 +350,42 @@ mod tests {
             from_metrics(&quick, String::new(), String::new()).is_none(),
             "only full runs are recorded"
         );
+    }
+
+    #[test]
+    fn a_study_stands_by_its_record_until_its_bounds_change() {
+        let dir = std::env::temp_dir().join(format!("verity-record-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (study, scene) = (dir.join("s.toml"), dir.join("scene.toml"));
+        let text = "scene = \"scene.toml\"\n[[threshold]]\nmax = 1e-3\n";
+        std::fs::write(&study, text).unwrap();
+        std::fs::write(&scene, "[camera]\nfov = 40\n").unwrap();
+        assert_eq!(standing(&study, &scene).unwrap(), Standing::Missing);
+        let r = Record {
+            date: "2026-12-04".into(),
+            fingerprint: fingerprint_files(&study, &scene).unwrap(),
+            held: 1,
+            checked: 1,
+            run: "256x256".into(),
+            checks: vec![],
+        };
+        std::fs::write(&study, with_record(text, &r)).unwrap();
+        assert_eq!(standing(&study, &scene).unwrap(), Standing::Current(r.clone()));
+        let failed = Record { held: 0, ..r.clone() };
+        std::fs::write(&study, with_record(text, &failed)).unwrap();
+        assert_eq!(standing(&study, &scene).unwrap(), Standing::Failed(failed));
+        std::fs::write(&study, with_record(&text.replace("1e-3", "2e-3"), &r)).unwrap();
+        assert!(matches!(
+            standing(&study, &scene).unwrap(),
+            Standing::Stale { .. }
+        ));
+        std::fs::write(&study, with_record(text, &r)).unwrap();
+        std::fs::write(&scene, "[camera]\nfov = 41\n").unwrap();
+        assert!(matches!(
+            standing(&study, &scene).unwrap(),
+            Standing::Stale { .. }
+        ));
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
