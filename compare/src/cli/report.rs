@@ -63,6 +63,11 @@ pub struct ReportArgs {
     /// record and are listed in the summary as current. Resumes a full run that was cut off.
     #[arg(long, requires = "all", conflicts_with = "quick")]
     pub stale: bool,
+
+    /// With --all: the folder whose study files (*.toml) are run [default: the built-in
+    /// studies, scenes/studies].
+    #[arg(long, value_name = "DIR", requires = "all")]
+    pub studies: Option<PathBuf>,
 }
 
 /// The default study: relative to the current directory, else to the workspace the binary
@@ -87,7 +92,8 @@ fn studies_dir() -> PathBuf {
 /// Runs `verity report`; returns 0, or 1 when a declared bound fails.
 pub fn run(args: &ReportArgs) -> Result<u8, CliError> {
     if args.all {
-        return super::report_all::run(args, &studies_dir());
+        let dir = args.studies.clone().unwrap_or_else(studies_dir);
+        return super::report_all::run(args, &dir);
     }
     let path = args.study.clone().unwrap_or_else(default_study);
     let study = study::load(&path).map_err(|e| CliError::input(e.to_string()))?;

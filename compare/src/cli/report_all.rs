@@ -1,10 +1,11 @@
-//! `verity report --all [--quick] [--record] [--stale]`: every study of `scenes/studies`, each in its own
-//! `verity report` process (so that each one's peak memory is its own), into
-//! `DIR/<study>/`, then one summary of them all: `DIR/summary.md` and `DIR/summary.json`
-//! (study, mode, exit status, bounds held, wall time, peak memory). `scripts/full-studies.sh`
-//! runs it in full mode with `--record`, which writes each study's full-mode record into its
-//! study file ([`crate::study::record`]); `--stale` runs only the studies whose record is
-//! missing, out of date or failed, so a full run that was cut off resumes where it stopped.
+//! `verity report --all [--quick] [--record] [--stale] [--studies FOLDER]`: every study of
+//! `scenes/studies` (or FOLDER), each in its own `verity report` process (so that each one's
+//! peak memory is its own), into `DIR/<study>/`, then one summary of them all:
+//! `DIR/summary.md` and `DIR/summary.json` (study, mode, exit status, bounds held, wall
+//! time, peak memory). `scripts/full-studies.sh` runs it in full mode with `--record`, which
+//! writes each study's full-mode record into its study file ([`crate::study::record`]);
+//! `--stale` runs only the studies whose record is missing, out of date or failed, so a full
+//! run that was cut off resumes where it stopped.
 //!
 //! Exit status: 0 when every study ran and every bound held; otherwise the worst of the
 //! studies' statuses (1 a bound failed or a run failed, 2 bad input, 3 no GPU adapter).
