@@ -65,13 +65,13 @@ pub fn run(args: &ReportArgs, dir: &Path) -> Result<u8, CliError> {
     for (i, s) in studies.iter().enumerate() {
         if args.stale {
             let standing = record::standing(&s.path, &s.scene).map_err(|e| CliError::input(e.to_string()))?;
-            if let record::Standing::Current(r) = standing {
+            if let record::Standing::Current(r) = &standing {
                 eprintln!(
                     "report --all: [{}/{}] {}: {}, not re-run",
                     i + 1,
                     studies.len(),
                     s.path.display(),
-                    record::Standing::Current(r.clone()).describe()
+                    standing.describe()
                 );
                 rows.push(Row {
                     study: s.name.clone(),

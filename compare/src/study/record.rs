@@ -135,11 +135,7 @@ impl Standing {
             Standing::Stale { recorded, now } => format!(
                 "full-mode record out of date (fingerprint {recorded}, the files now {now}): the study or its scene changed since"
             ),
-            Standing::Failed(r) => format!(
-                "full-mode record of {}: {} of {} bounds held",
-                r.date, r.held, r.checked
-            ),
-            Standing::Current(r) => format!(
+            Standing::Failed(r) | Standing::Current(r) => format!(
                 "full-mode record of {}: {} of {} bounds held",
                 r.date, r.held, r.checked
             ),
