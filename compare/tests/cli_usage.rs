@@ -166,3 +166,33 @@ fn cli_missing_or_bad_scene_exits_2_naming_the_file() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--integrator` reads both spellings of the unshadowed integrator (the scene format's
+/// `direct_unshadowed` too) and the EXR header prints one.
+#[test]
+fn cli_integrator_reads_either_spelling_and_prints_one() {
+    let dir = test_dir("integrator");
+    for spelling in ["direct-unshadowed", "direct_unshadowed"] {
+        let exr = dir.join(format!("{spelling}.exr"));
+        let out = verity(&[
+            "render",
+            &cornell_box(),
+            "--integrator",
+            spelling,
+            "--resolution",
+            "4x4",
+            "--spp",
+            "1",
+            "-q",
+            "--out",
+            exr.to_str().unwrap(),
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{spelling}: {}", text(&out.stderr));
+        let img = scenes::layered::LayeredImage::read_exr(&exr).unwrap();
+        assert_eq!(
+            img.attribute("integrator"),
+            Some("direct-unshadowed"),
+            "{spelling}"
+        );
+    }
+}

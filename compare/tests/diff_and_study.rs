@@ -203,6 +203,10 @@ fn study_files_are_checked_whole_with_located_errors() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/studies/test-bad.toml");
     let s = compare::study::load_str(GOOD, &path).unwrap();
     assert_eq!(s.methods[0].variants().len(), 2);
+    // The scene format's spelling of the integrator is read too.
+    let other =
+        compare::study::load_str(&GOOD.replace("direct-unshadowed", "direct_unshadowed"), &path).unwrap();
+    assert_eq!(other.ground_truth.integrator, scenes::IntegratorKind::DirectUnshadowed);
     // A label names the entry's variants (and their files) in place of the method.
     let twice = GOOD.replace(
         "[[threshold]]",

@@ -482,7 +482,7 @@ fn refusals_of_shapes_lights_textures_and_integrators() {
 
     let mut s = base();
     s.render.integrator = IntegratorKind::DirectUnshadowed;
-    assert!(refusal(&s).contains("integrator `direct_unshadowed`"));
+    assert!(refusal(&s).contains("integrator `direct-unshadowed`"));
 
     let mut s = base();
     s.render.integrator = IntegratorKind::Direct;

@@ -159,6 +159,30 @@ pub enum IntegratorKind {
     Ao,
 }
 
+impl IntegratorKind {
+    /// Every spelling read wherever an integrator is named (scene TOML `integrator`, study
+    /// `[ground_truth] integrator`, `verity render --integrator`): the one Verity prints
+    /// ([`IntegratorKind::name`]) and the scene format's older `direct_unshadowed`.
+    pub const SPELLINGS: [(&'static str, IntegratorKind); 5] = [
+        ("path", IntegratorKind::Path),
+        ("direct", IntegratorKind::Direct),
+        ("direct-unshadowed", IntegratorKind::DirectUnshadowed),
+        ("direct_unshadowed", IntegratorKind::DirectUnshadowed),
+        ("ao", IntegratorKind::Ao),
+    ];
+
+    /// The one spelling Verity prints (metrics.json, EXR headers, reports, help):
+    /// `path`, `direct`, `direct-unshadowed`, `ao`.
+    pub fn name(self) -> &'static str {
+        match self {
+            IntegratorKind::Path => "path",
+            IntegratorKind::Direct => "direct",
+            IntegratorKind::DirectUnshadowed => "direct-unshadowed",
+            IntegratorKind::Ao => "ao",
+        }
+    }
+}
+
 /// How the oracle draws its random numbers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum SamplerKind {

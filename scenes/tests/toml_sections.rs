@@ -83,6 +83,25 @@ fn render_settings_are_read() {
     assert_eq!(s.render, want);
 }
 
+/// One integrator, one printed name; both spellings of `direct-unshadowed` are read.
+#[test]
+fn integrators_are_read_by_either_spelling_and_printed_by_one() {
+    let dir = scratch("render-integrators");
+    for (spelling, kind) in IntegratorKind::SPELLINGS {
+        let text = append(&format!("[render]\nintegrator = \"{spelling}\"\n"));
+        let s = load_text(&dir, &text).unwrap();
+        assert_eq!(s.render.integrator, kind, "{spelling}");
+        assert_eq!(kind.name().replace('-', "_"), spelling.replace('-', "_"));
+    }
+    let e = load_text(&dir, &append("[render]\nintegrator = \"direct unshadowed\"\n"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("render.integrator") && e.contains("`direct-unshadowed`, `direct_unshadowed`"),
+        "{e}"
+    );
+}
+
 #[test]
 fn lights_are_read_with_defaults() {
     let dir = scratch("lights-ok");

@@ -102,6 +102,7 @@ pub enum IntegratorArg {
     /// Emission + one bounce of direct light + perfect-specular chains.
     Direct,
     /// As direct, with every light unoccluded (no shadow rays): unshadowed ground truth.
+    #[value(alias = "direct_unshadowed")]
     DirectUnshadowed,
     /// Ambient occlusion within --ao-radius.
     Ao,
@@ -133,16 +134,6 @@ impl From<SamplerArg> for SamplerKind {
             SamplerArg::Sobol => SamplerKind::Sobol,
             SamplerArg::Independent => SamplerKind::Independent,
         }
-    }
-}
-
-/// The name `--integrator` uses for `kind`.
-pub fn integrator_name(kind: IntegratorKind) -> &'static str {
-    match kind {
-        IntegratorKind::Path => "path",
-        IntegratorKind::Direct => "direct",
-        IntegratorKind::DirectUnshadowed => "direct-unshadowed",
-        IntegratorKind::Ao => "ao",
     }
 }
 
@@ -289,7 +280,7 @@ fn start_line(args: &RenderArgs, scene: &Scene, stop: &StopRule, spp_is_cap: boo
         args.scene.display(),
         scene.film.width,
         scene.film.height,
-        integrator_name(s.integrator)
+        s.integrator.name()
     );
     line += &match s.integrator {
         IntegratorKind::Ao => format!(" (radius {} m, seed {})", s.ao_radius, s.seed),
@@ -321,7 +312,7 @@ fn add_header(
         ("software", format!("verity {version}")),
         ("verity_version", version.to_string()),
         ("scene", args.scene.display().to_string()),
-        ("integrator", integrator_name(settings.integrator).to_string()),
+        ("integrator", settings.integrator.name().to_string()),
         ("spp", result.spp.to_string()),
         ("seconds", format!("{:.3}", result.seconds)),
         ("seed", settings.seed.to_string()),

@@ -752,15 +752,7 @@ fn ground_truth(t: &Table) -> Result<(GroundTruth, Quality), SceneError> {
         ],
         "[ground_truth]",
     )?;
-    let integrator = match t
-        .req("integrator")?
-        .keyword(&["path", "direct", "direct-unshadowed", "ao"])?
-    {
-        "path" => IntegratorKind::Path,
-        "direct" => IntegratorKind::Direct,
-        "direct-unshadowed" => IntegratorKind::DirectUnshadowed,
-        _ => IntegratorKind::Ao,
-    };
+    let integrator = t.req("integrator")?.one_of(&IntegratorKind::SPELLINGS)?;
     let max_depth = t
         .get("max_depth")
         .map(|f| f.int_in(-1, 1024))

@@ -15,7 +15,6 @@ use scenes::SceneError;
 
 use super::run::{prepare, StudyError};
 use super::Study;
-use crate::cli::render::integrator_name;
 
 /// Most renders (variants at every scene point, plus flicker frames) one study may have.
 /// Each variant writes an EXR of about 25 channels and two or more PNGs into the report
@@ -261,7 +260,7 @@ pub fn plan(study: &Study, quick: bool) -> Result<Plan, StudyError> {
         width,
         height,
         ssaa: study.raster.ssaa,
-        ground_truth: (settings.spp, integrator_name(settings.integrator)),
+        ground_truth: (settings.spp, settings.integrator.name()),
         counts: c,
         memory,
         limit: budget::limit(),

@@ -13,7 +13,6 @@ use sha2::{Digest, Sha256};
 
 use super::result::*;
 use super::{cache, plan, stability, MaskSpec, ScenePoint, Study, Target, Variant};
-use crate::cli::render::integrator_name;
 use crate::metrics::{self, Mask, Metric, MetricValue, RgbImage};
 use crate::progress::{ProgressMode, ProgressReporter, StepProgress};
 use crate::report::colormap;
@@ -289,7 +288,7 @@ pub fn ground_truth(
                 scene.film.width,
                 scene.film.height,
                 settings.spp,
-                integrator_name(settings.integrator)
+                settings.integrator.name()
             ));
             let job = RenderJob {
                 scene,
@@ -322,7 +321,7 @@ pub fn ground_truth(
         .write_exr(opts.out_dir.join(&exr))
         .map_err(io_err(&opts.out_dir))?;
     let info = GroundTruthInfo {
-        integrator: integrator_name(settings.integrator).into(),
+        integrator: settings.integrator.name().into(),
         spp: settings.spp,
         seconds: image
             .attribute("seconds")

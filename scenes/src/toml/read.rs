@@ -196,14 +196,29 @@ impl<'a> Field<'a> {
         if allowed.contains(&s) {
             Ok(s)
         } else {
-            Err(self
-                .err(format!("unknown value {}", crate::error::echo(s)))
-                .hint(format!(
-                    "use one of {}{}",
-                    quoted(allowed),
-                    did_you_mean(s, allowed)
-                )))
+            Err(self.unknown(s, allowed))
         }
+    }
+
+    /// A string from a table of spellings and their values; otherwise the error lists the
+    /// spellings, as [`Field::keyword`]'s does.
+    pub fn one_of<T: Copy>(&self, table: &[(&str, T)]) -> Result<T, SceneError> {
+        let s = self.str()?;
+        table
+            .iter()
+            .find(|(name, _)| *name == s)
+            .map(|(_, value)| *value)
+            .ok_or_else(|| self.unknown(s, &table.iter().map(|(name, _)| *name).collect::<Vec<_>>()))
+    }
+
+    /// `s` is none of `allowed`.
+    fn unknown(&self, s: &str, allowed: &[&str]) -> SceneError {
+        self.err(format!("unknown value {}", crate::error::echo(s)))
+            .hint(format!(
+                "use one of {}{}",
+                quoted(allowed),
+                did_you_mean(s, allowed)
+            ))
     }
 
     /// The elements of an array, as fields `path[i]`.

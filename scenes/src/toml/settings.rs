@@ -152,12 +152,7 @@ pub(crate) fn render(t: Option<Table>) -> Result<RenderSettings, SceneError> {
         r.spp = f.int_in(1, i64::from(u32::MAX))? as u32;
     }
     if let Some(f) = t.get("integrator") {
-        r.integrator = match f.keyword(&["path", "direct", "direct_unshadowed", "ao"])? {
-            "direct" => IntegratorKind::Direct,
-            "direct_unshadowed" => IntegratorKind::DirectUnshadowed,
-            "ao" => IntegratorKind::Ao,
-            _ => IntegratorKind::Path,
-        };
+        r.integrator = f.one_of(&IntegratorKind::SPELLINGS)?;
     }
     if let Some(f) = t.get("max_depth") {
         let d = f.int_in(-1, i64::from(i32::MAX))?;

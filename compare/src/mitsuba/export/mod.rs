@@ -197,7 +197,10 @@ impl<'a> Exporter<'a> {
                 }
             }
             IntegratorKind::DirectUnshadowed => {
-                self.refuse("integrator `direct_unshadowed`: Mitsuba 3 cannot ignore visibility".into());
+                self.refuse(format!(
+                    "integrator `{}`: Mitsuba 3 cannot ignore visibility",
+                    IntegratorKind::DirectUnshadowed.name()
+                ));
                 2
             }
             IntegratorKind::Ao => {
