@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 
 pub mod cli;
+pub mod markup;
 pub mod metrics;
 pub mod mitsuba;
 pub mod progress;

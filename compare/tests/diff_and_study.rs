@@ -206,7 +206,10 @@ fn study_files_are_checked_whole_with_located_errors() {
     // The scene format's spelling of the integrator is read too.
     let other =
         compare::study::load_str(&GOOD.replace("direct-unshadowed", "direct_unshadowed"), &path).unwrap();
-    assert_eq!(other.ground_truth.integrator, scenes::IntegratorKind::DirectUnshadowed);
+    assert_eq!(
+        other.ground_truth.integrator,
+        scenes::IntegratorKind::DirectUnshadowed
+    );
     // A label names the entry's variants (and their files) in place of the method.
     let twice = GOOD.replace(
         "[[threshold]]",

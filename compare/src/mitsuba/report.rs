@@ -14,6 +14,7 @@ use scenes::layered::LayeredImage;
 use scenes::texture::srgb_to_linear;
 
 use super::crosscheck::CrossCheck;
+use crate::markup::escape;
 
 /// Colour of failing pixels in the p-value map (sRGB).
 const FAIL_COLOUR: [u8; 3] = [230, 20, 20];
@@ -134,11 +135,6 @@ fn ramp(t: f32) -> [u8; 3] {
     let (i, f) = if x >= 1.0 { (1, x - 1.0) } else { (0, x) };
     let mix = |k: usize| stops[i][k] * (1.0 - f) + stops[i + 1][k] * f;
     [mix(0) as u8, mix(1) as u8, mix(2) as u8]
-}
-
-/// HTML text escaping (the five special characters).
-fn escape(s: &str) -> String {
-    super::xml::escape(s)
 }
 
 /// Standard base64 with padding (RFC 4648 §4).

@@ -5,6 +5,8 @@ use std::fmt::Write as _;
 
 use glam::Vec3;
 
+use crate::markup::escape;
+
 /// One XML element.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Element {
@@ -130,22 +132,6 @@ impl Element {
         }
         let _ = writeln!(out, "{pad}</{}>", self.tag);
     }
-}
-
-/// Escapes the five XML special characters of an attribute value (XML 1.0 §2.4).
-pub fn escape(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
 }
 
 /// A float written so that it parses back to the same f32 (Rust's shortest round-trip

@@ -4,6 +4,8 @@
 
 use std::fmt::Write as _;
 
+use crate::markup::escape as esc;
+
 /// One point of an error-vs-cost chart.
 #[derive(Clone, Debug)]
 pub struct CostPoint {
@@ -111,13 +113,6 @@ impl Axis {
         let last = (self.hi / step).floor() as i64;
         (first..=last).map(|k| k as f64 * step).collect()
     }
-}
-
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }
 
 /// Frame, ticks and axis titles.

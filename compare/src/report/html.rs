@@ -11,14 +11,8 @@
 use std::fmt::Write as _;
 
 use super::chart::{self, CostPoint};
+use crate::markup::escape as esc;
 use crate::study::result::{StudyResult, VariantResult};
-
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
 
 fn num(v: f64) -> String {
     if v.is_nan() {
