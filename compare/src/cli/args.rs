@@ -96,9 +96,44 @@ pub fn writable_output(path: &Path, role: &str) -> Result<(), CliError> {
         .map_err(|e| CliError::input(format!("{e} ({role}); nothing was written")))
 }
 
+/// `--spp`: a whole number ≥ 1.
+pub fn parse_spp(s: &str) -> Result<u32, String> {
+    let n: u32 = s.parse().map_err(|_| "expected a whole number ≥ 1".to_string())?;
+    if n == 0 {
+        return Err("samples per pixel must be ≥ 1".into());
+    }
+    Ok(n)
+}
+
+/// `--max-depth`: −1 (unbounded) or a depth ≥ 0, Mitsuba's meaning.
+pub fn parse_max_depth(s: &str) -> Result<i32, String> {
+    match s.parse::<i32>() {
+        Ok(d) if d >= -1 => Ok(d),
+        _ => Err("expected −1 (unbounded) or a depth ≥ 0".into()),
+    }
+}
+
+/// `--exposure`: stops in −64..=64.
+pub fn parse_exposure(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(x) if x.is_finite() && x.abs() <= 64.0 => Ok(x),
+        _ => Err("expected a number of stops in −64..=64".into()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn number_flags_reject_nonsense() {
+        assert_eq!(parse_spp("1"), Ok(1));
+        assert!(parse_spp("0").is_err() && parse_spp("-3").is_err() && parse_spp("2.5").is_err());
+        assert_eq!(parse_max_depth("-1"), Ok(-1));
+        assert!(parse_max_depth("-2").is_err());
+        assert!(parse_exposure("nan").is_err() && parse_exposure("-2.5") == Ok(-2.5));
+        assert!(parse_exposure("65").is_err());
+    }
 
     #[test]
     fn resolutions_parse_and_bad_ones_are_refused() {

@@ -6,8 +6,9 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use super::args::parse_spp;
 use super::crosscheck::cli_error;
-use super::export_mitsuba::{default_dir, parse_spp, SceneArgs};
+use super::export_mitsuba::{default_dir, SceneArgs};
 use super::CliError;
 use crate::mitsuba::bench::{bench, Bench, BenchOptions};
 

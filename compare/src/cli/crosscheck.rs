@@ -10,7 +10,8 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 
-use super::export_mitsuba::{default_dir, parse_spp, SceneArgs};
+use super::args::parse_spp;
+use super::export_mitsuba::{default_dir, SceneArgs};
 use super::CliError;
 use crate::mitsuba::crosscheck::{crosscheck, CrossCheck, CrossCheckError, CrossCheckOptions};
 use crate::mitsuba::report;

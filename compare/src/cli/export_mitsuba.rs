@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use scenes::{Film, Scene};
 
-use super::args::{load_scene, parse_resolution};
+use super::args::{load_scene, parse_max_depth, parse_resolution, parse_spp};
 use super::CliError;
 use crate::mitsuba::export::{self, Export};
 
@@ -102,32 +102,4 @@ pub fn default_dir(scene: &Path, suffix: &str) -> PathBuf {
         .unwrap_or_else(|| "scene".as_ref())
         .to_string_lossy();
     Path::new("out").join(format!("{stem}-{suffix}"))
-}
-
-/// A whole number ≥ 1.
-pub fn parse_spp(s: &str) -> Result<u32, String> {
-    match s.parse::<u32>() {
-        Ok(n) if n >= 1 => Ok(n),
-        _ => Err("expected a whole number ≥ 1".into()),
-    }
-}
-
-fn parse_max_depth(s: &str) -> Result<i32, String> {
-    match s.parse::<i32>() {
-        Ok(d) if d >= -1 => Ok(d),
-        _ => Err("expected −1 (unbounded) or a depth ≥ 0".into()),
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn flag_values_are_checked() {
-        assert_eq!(parse_spp("3"), Ok(3));
-        assert!(parse_spp("0").is_err() && parse_spp("-1").is_err());
-        assert_eq!(parse_max_depth("-1"), Ok(-1));
-        assert!(parse_max_depth("-2").is_err());
-    }
 }

@@ -14,7 +14,10 @@ use oracle::{CheckpointConfig, Progress, RenderJob, RenderResult, StopRule};
 use scenes::budget::Ledger;
 use scenes::{Film, IntegratorKind, RenderSettings, SamplerKind, Scene};
 
-use super::args::{exr_output, load_scene_in, over_budget, parse_resolution, writable_output};
+use super::args::{
+    exr_output, load_scene_in, over_budget, parse_exposure, parse_max_depth, parse_resolution, parse_spp,
+    writable_output,
+};
 use super::CliError;
 use crate::progress::{format_duration, format_sig3, rate, ProgressMode, ProgressReporter};
 
@@ -346,14 +349,6 @@ fn final_line(scene: &Path, image: &scenes::layered::LayeredImage, r: &RenderRes
     )
 }
 
-fn parse_spp(s: &str) -> Result<u32, String> {
-    let n: u32 = s.parse().map_err(|_| "expected a whole number ≥ 1".to_string())?;
-    if n == 0 {
-        return Err("samples per pixel must be ≥ 1".into());
-    }
-    Ok(n)
-}
-
 fn parse_positive(s: &str, what: &str) -> Result<f64, String> {
     let x: f64 = s.parse().map_err(|_| format!("expected {what}"))?;
     if !(x.is_finite() && x > 0.0) {
@@ -382,36 +377,17 @@ fn parse_ao_radius(s: &str) -> Result<f32, String> {
     parse_positive(s, "a positive radius in metres").map(|x| x as f32)
 }
 
-fn parse_exposure(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(x) if x.is_finite() && x.abs() <= 64.0 => Ok(x),
-        _ => Err("expected a number of stops in −64..=64".into()),
-    }
-}
-
-fn parse_max_depth(s: &str) -> Result<i32, String> {
-    match s.parse::<i32>() {
-        Ok(d) if d >= -1 => Ok(d),
-        _ => Err("expected −1 (unbounded) or a depth ≥ 0".into()),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn number_flags_reject_nonsense() {
-        assert_eq!(parse_spp("1"), Ok(1));
-        assert!(parse_spp("0").is_err() && parse_spp("-3").is_err() && parse_spp("2.5").is_err());
         assert_eq!(parse_duration("1.5"), Ok(Duration::from_millis(1500)));
         for bad in ["0", "-1", "nan", "inf", "1e300"] {
             assert!(parse_duration(bad).is_err(), "--time {bad} was accepted");
         }
         assert_eq!(parse_checkpoint_interval("0"), Ok(Duration::ZERO));
-        assert_eq!(parse_max_depth("-1"), Ok(-1));
-        assert!(parse_max_depth("-2").is_err());
-        assert!(parse_exposure("nan").is_err() && parse_exposure("-2.5") == Ok(-2.5));
         assert!(parse_target_error("0").is_err() && parse_ao_radius("-1").is_err());
     }
 }
