@@ -17,6 +17,8 @@
 //! indices and dimensions beyond those move to further seeds (independent sequences), so
 //! sample counts are unbounded (the stratification then holds within each block of 2¹⁶).
 
+use scenes::random::{splitmix64, GAMMA};
+
 /// Samples per Sobol block (the crate's maximum sequence length).
 const BLOCK: u32 = 1 << 16;
 /// Dimensions per seed (the crate's maximum).
@@ -39,7 +41,7 @@ impl PixelSampler {
     pub fn new(x: u32, y: u32, index: u32, seed: u64) -> Self {
         let pixel = (u64::from(y) << 32) | u64::from(x);
         let block = u64::from(index / BLOCK);
-        let h = mix64(mix64(pixel ^ mix64(seed)) ^ block.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        let h = splitmix64(splitmix64(pixel ^ splitmix64(seed)) ^ block.wrapping_mul(GAMMA));
         PixelSampler {
             seed: h as u32 ^ (h >> 32) as u32,
             index: index % BLOCK,
@@ -53,7 +55,9 @@ impl PixelSampler {
     /// hash of (pixel, index, seed).
     pub fn independent(x: u32, y: u32, index: u32, seed: u64) -> Self {
         let pixel = (u64::from(y) << 32) | u64::from(x);
-        let state = mix64(mix64(mix64(pixel) ^ u64::from(index)) ^ mix64(seed ^ 0x1d8e_4e27_c47d_124f));
+        let state = splitmix64(
+            splitmix64(splitmix64(pixel) ^ u64::from(index)) ^ splitmix64(seed ^ 0x1d8e_4e27_c47d_124f),
+        );
         PixelSampler {
             seed: 0,
             index,
@@ -76,15 +80,15 @@ impl PixelSampler {
         let d = self.dimension;
         self.dimension += 1;
         if let Some(state) = &mut self.random {
-            *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            *state = state.wrapping_add(GAMMA);
             // 24 random bits → a float in [0, 1) with every value exactly representable.
-            return (mix64(*state) >> 40) as f32 * (1.0 / (1u32 << 24) as f32);
+            return (splitmix64(*state) >> 40) as f32 * (1.0 / (1u32 << 24) as f32);
         }
         if d.is_multiple_of(4) {
             let seed = if d < DIMS {
                 self.seed
             } else {
-                mix64(u64::from(self.seed) ^ u64::from(d / DIMS)) as u32
+                splitmix64(u64::from(self.seed) ^ u64::from(d / DIMS)) as u32
             };
             self.cached = sobol_burley::sample_4d(self.index, (d % DIMS) / 4, seed);
         }
@@ -95,15 +99,6 @@ impl PixelSampler {
     pub fn next_2d(&mut self) -> glam::Vec2 {
         glam::Vec2::new(self.next_1d(), self.next_1d())
     }
-}
-
-/// SplitMix64 finaliser (Steele, Lea, Flood 2014, "Fast Splittable Pseudorandom Number
-/// Generators"): a bijective 64-bit mix.
-pub fn mix64(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
 }
 
 #[cfg(test)]

@@ -1,33 +1,20 @@
 //! The Poisson-disk tap pattern of `pcf_poisson` and `pcss` (shaders/pcf.wgsl, pcss.wgsl):
 //! [`POISSON_TAPS`] points in the unit disk, generated once, deterministically, on the CPU.
 
+use scenes::random::SplitMix64;
+
 use crate::shadow::POISSON_TAPS;
 
 /// Mitchell's best-candidate factor: tap k is the best of `BEST_CANDIDATE_FACTOR`·k candidates
 /// (Mitchell 1991 uses a similar multiple; 10 chosen here).
 const BEST_CANDIDATE_FACTOR: usize = 10;
 
-/// SplitMix64 (Steele, Lea & Flood 2014, "Fast Splittable Pseudorandom Number Generators",
-/// OOPSLA, https://doi.org/10.1145/2660193.2660195): the tap pattern's deterministic source.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_f32(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 40) as f32 / (1u64 << 24) as f32
-    }
-
-    /// A uniform point of the unit disk (rejection from the square).
-    fn in_disk(&mut self) -> [f32; 2] {
-        loop {
-            let (x, y) = (2.0 * self.next_f32() - 1.0, 2.0 * self.next_f32() - 1.0);
-            if x * x + y * y <= 1.0 {
-                return [x, y];
-            }
+/// A uniform point of the unit disk (rejection from the square).
+fn in_disk(rng: &mut SplitMix64) -> [f32; 2] {
+    loop {
+        let (x, y) = (2.0 * rng.next_f32() - 1.0, 2.0 * rng.next_f32() - 1.0);
+        if x * x + y * y <= 1.0 {
+            return [x, y];
         }
     }
 }
@@ -43,7 +30,7 @@ pub fn poisson_disk() -> [[f32; 2]; POISSON_TAPS] {
     while taps.len() < POISSON_TAPS {
         let mut best = ([0.0, 0.0], -1.0f32);
         for _ in 0..BEST_CANDIDATE_FACTOR * taps.len() {
-            let c = rng.in_disk();
+            let c = in_disk(&mut rng);
             let d = taps
                 .iter()
                 .map(|t| (t[0] - c[0]).powi(2) + (t[1] - c[1]).powi(2))

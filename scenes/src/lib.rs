@@ -15,6 +15,7 @@ pub mod error;
 pub mod gltf;
 pub mod layered;
 pub mod model;
+pub mod random;
 pub mod tangent;
 pub mod texture;
 pub mod toml;

@@ -16,6 +16,7 @@
 //! score: 0, or +∞ dB for PSNR, 1 for SSIM.
 
 use glam::Vec3;
+use scenes::random::splitmix64;
 
 use super::{psnr, value_and_map, Mask, Metric, RgbImage, RELATIVE_EPSILON};
 
@@ -109,14 +110,6 @@ fn normal(pixel: usize, channel: u64) -> f32 {
 /// A uniform in (0, 1] from the top 53 bits.
 fn unit(x: u64) -> f64 {
     ((x >> 11) as f64 + 1.0) / (1u64 << 53) as f64
-}
-
-/// SplitMix64's output function of `x`.
-fn splitmix64(x: u64) -> u64 {
-    let mut z = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
 }
 
 #[cfg(test)]

@@ -425,25 +425,15 @@ fn build_levels(grid: &HeightGrid) -> Vec<Level> {
 mod tests {
     use glam::Vec4;
     use scenes::displacement::Procedural;
+    use scenes::random::SplitMix64;
     use scenes::texture::Texture;
     use scenes::WrapMode;
 
     use super::*;
 
-    /// SplitMix64 (Steele, Lea & Flood 2014) as uniform floats in [0, 1).
-    struct Rng(u64);
-
-    impl Rng {
-        fn f32(&mut self) -> f32 {
-            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
-        }
-        fn range(&mut self, lo: f32, hi: f32) -> f32 {
-            lo + (hi - lo) * self.f32()
-        }
+    /// A uniform float in [lo, hi).
+    fn range(rng: &mut SplitMix64, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * rng.next_f32()
     }
 
     /// Brute force: every cell's patch, nearest hit.
@@ -495,7 +485,7 @@ mod tests {
             Procedural::Bumps { tiles: 2 }.texture(16, [WrapMode::Repeat; 2]),
             Texture::from_texels(1, 1, vec![Vec4::splat(0.5)], [WrapMode::Clamp; 2]),
         ];
-        let mut rng = Rng(7);
+        let mut rng = SplitMix64(7);
         for (k, tex) in textures.iter().enumerate() {
             let h = patch(tex, 0.4);
             let (lo, hi) = h.bounds();
@@ -503,30 +493,37 @@ mod tests {
             let (mut hits, mut rays) = (0, 0);
             for n in 0..3000 {
                 let target = Vec3::new(
-                    rng.range(lo.x, hi.x),
-                    rng.range(lo.y, hi.y),
-                    rng.range(lo.z, hi.z),
+                    range(&mut rng, lo.x, hi.x),
+                    range(&mut rng, lo.y, hi.y),
+                    range(&mut rng, lo.z, hi.z),
                 );
                 let origin = match n % 3 {
                     // Far and near origins all around, and grazing ones at the patch's level.
                     0 => {
-                        c + Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0))
-                            * 2.0
+                        c + Vec3::new(
+                            range(&mut rng, -1.0, 1.0),
+                            range(&mut rng, -1.0, 1.0),
+                            range(&mut rng, -1.0, 1.0),
+                        ) * 2.0
                             * r
                     }
                     1 => Vec3::new(
-                        rng.range(lo.x, hi.x),
-                        rng.range(lo.y, hi.y),
-                        rng.range(lo.z, hi.z),
+                        range(&mut rng, lo.x, hi.x),
+                        range(&mut rng, lo.y, hi.y),
+                        range(&mut rng, lo.z, hi.z),
                     ),
-                    _ => target + h.frame.e_u * rng.range(-2.0, 2.0) + h.frame.n * rng.range(-0.01, 0.05),
+                    _ => {
+                        target
+                            + h.frame.e_u * range(&mut rng, -2.0, 2.0)
+                            + h.frame.n * range(&mut rng, -0.01, 0.05)
+                    }
                 };
                 let Some(dir) = (target - origin).try_normalize() else {
                     continue;
                 };
                 let ray = Ray::new(origin, dir);
                 let tmax = if n % 5 == 0 {
-                    rng.range(0.0, 2.0 * r)
+                    range(&mut rng, 0.0, 2.0 * r)
                 } else {
                     f32::INFINITY
                 };
