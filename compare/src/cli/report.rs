@@ -66,7 +66,7 @@ pub struct ReportArgs {
 
     /// With --all: the folder whose study files (*.toml) are run [default: the built-in
     /// studies, scenes/studies].
-    #[arg(long, value_name = "DIR", requires = "all")]
+    #[arg(long, value_name = "FOLDER", requires = "all")]
     pub studies: Option<PathBuf>,
 }
 
