@@ -93,7 +93,14 @@ fn studies_dir() -> PathBuf {
 pub fn run(args: &ReportArgs) -> Result<u8, CliError> {
     if args.all {
         let dir = args.studies.clone().unwrap_or_else(studies_dir);
-        return super::report_all::run(args, &dir);
+        let all = super::report_all::AllOptions {
+            quick: args.quick,
+            record: args.record,
+            stale: args.stale,
+            out: args.out.clone(),
+            cache: args.cache.clone(),
+        };
+        return super::report_all::run(&all, &dir);
     }
     let path = args.study.clone().unwrap_or_else(default_study);
     let study = study::load(&path).map_err(|e| CliError::input(e.to_string()))?;

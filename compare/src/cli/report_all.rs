@@ -15,9 +15,22 @@ use std::process::{Command, Stdio};
 
 use serde_json::Value;
 
-use super::report::ReportArgs;
 use super::CliError;
 use crate::study::{self, record};
+
+/// The flags of `verity report` that `--all` runs with.
+pub struct AllOptions {
+    /// `--quick`.
+    pub quick: bool,
+    /// `--record`.
+    pub record: bool,
+    /// `--stale`.
+    pub stale: bool,
+    /// `--out DIR`.
+    pub out: Option<PathBuf>,
+    /// `--cache DIR`.
+    pub cache: Option<PathBuf>,
+}
 
 /// One study's line of the summary.
 struct Row {
@@ -45,7 +58,7 @@ fn study_files(dir: &Path) -> Result<Vec<PathBuf>, CliError> {
 }
 
 /// Runs every study of `dir` (module header).
-pub fn run(args: &ReportArgs, dir: &Path) -> Result<u8, CliError> {
+pub fn run(args: &AllOptions, dir: &Path) -> Result<u8, CliError> {
     let out = args.out.clone().unwrap_or_else(|| {
         PathBuf::from(if args.quick {
             "out/all-studies-quick"
@@ -108,7 +121,7 @@ pub fn run(args: &ReportArgs, dir: &Path) -> Result<u8, CliError> {
 }
 
 /// Runs `verity report STUDY` as a child with this process's global flags; its exit status.
-fn child(exe: &Path, args: &ReportArgs, study: &Path, folder: &Path) -> Result<u8, CliError> {
+fn child(exe: &Path, args: &AllOptions, study: &Path, folder: &Path) -> Result<u8, CliError> {
     let mut c = Command::new(exe);
     let limit = scenes::budget::limit();
     if limit.source == scenes::budget::Source::Flag {
