@@ -16,6 +16,7 @@ pub mod record;
 pub mod result;
 pub mod run;
 mod scene_check;
+pub mod setup;
 pub mod stability;
 
 use std::path::{Path, PathBuf};

@@ -13,7 +13,7 @@ use std::fmt;
 use scenes::budget::{self, bytes_of, human, Limit};
 use scenes::SceneError;
 
-use super::run::{prepare, StudyError};
+use super::setup::{prepare, StudyError};
 use super::Study;
 
 /// Most renders (variants at every scene point, plus flicker frames) one study may have.

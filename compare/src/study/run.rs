@@ -3,92 +3,18 @@
 //! analysed. The report ([`crate::report`]) is drawn from the [`StudyResult`] alone.
 
 use std::fs;
-use std::path::{Path, PathBuf};
 
-use oracle::{RenderJob, StopRule};
-use realtime::{RasterError, RasterSettings, Renderer};
+use realtime::Renderer;
 use scenes::layered::LayeredImage;
 use scenes::{RenderSettings, Scene};
-use sha2::{Digest, Sha256};
 
 use super::result::*;
-use super::{cache, plan, stability, MaskSpec, ScenePoint, Study, Target, Variant};
+pub use super::setup::{ground_truth, ground_truth_hash, prepare, raster_settings, RunOptions, StudyError};
+use super::setup::{io_err, raster_err};
+use super::{plan, stability, MaskSpec, ScenePoint, Study, Target, Variant};
 use crate::metrics::{self, Mask, Metric, MetricValue, RgbImage};
-use crate::progress::{ProgressMode, ProgressReporter, StepProgress};
+use crate::progress::StepProgress;
 use crate::report::colormap;
-
-/// How a study runs.
-#[derive(Clone, Debug)]
-pub struct RunOptions {
-    /// Quick mode: the study's `[quick]` resolution and sample count.
-    pub quick: bool,
-    /// The report folder.
-    pub out_dir: PathBuf,
-    /// Where ground truths are cached (`<hash>.exr` and its checksum, study/cache.rs).
-    pub cache_dir: PathBuf,
-    /// Progress display.
-    pub progress: ProgressMode,
-}
-
-/// Why a study could not run; decides the CLI's exit status.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum StudyError {
-    /// Bad input: the scene, a mask, an object name (exit 2).
-    Input(String),
-    /// Rendering or writing failed (exit 1).
-    Run(String),
-    /// No GPU adapter (exit 3).
-    Unavailable(String),
-}
-
-impl std::fmt::Display for StudyError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            StudyError::Input(s) | StudyError::Run(s) | StudyError::Unavailable(s) => f.write_str(s),
-        }
-    }
-}
-
-fn io_err(what: &Path) -> impl Fn(std::io::Error) -> StudyError + '_ {
-    move |e| StudyError::Run(format!("{}: {e}", what.display()))
-}
-
-fn raster_err(e: RasterError) -> StudyError {
-    match e {
-        RasterError::NoAdapter(_) => StudyError::Unavailable(e.to_string()),
-        RasterError::Scene(_) | RasterError::Settings(_) => StudyError::Input(e.to_string()),
-        _ => StudyError::Run(e.to_string()),
-    }
-}
-
-/// The study's scene with `overrides` applied (a scene-sweep point, a frame of a light
-/// motion) at the run mode's resolution, and the oracle settings of its ground truth.
-pub fn prepare(
-    study: &Study,
-    quick: bool,
-    overrides: &[scenes::toml::overrides::Override],
-) -> Result<(Scene, RenderSettings), StudyError> {
-    let loaded = if overrides.is_empty() {
-        scenes::load(&study.scene)
-    } else {
-        scenes::toml::load_with(&study.scene, overrides)
-    };
-    let mut scene = loaded.map_err(|e| StudyError::Input(e.to_string()))?;
-    let q = if quick { study.quick } else { study.full };
-    if let Some((w, h)) = q.resolution {
-        scene.film.width = w;
-        scene.film.height = h;
-    }
-    let gt = study.ground_truth;
-    let settings = RenderSettings {
-        spp: q.spp,
-        integrator: gt.integrator,
-        max_depth: gt.max_depth.unwrap_or(scene.render.max_depth),
-        seed: gt.seed,
-        ..scene.render
-    };
-    Ok((scene, settings))
-}
 
 /// Runs `study` on `renderer`, writing images under `opts.out_dir`: at each scene point (the
 /// scene as written, or each scene-sweep value) its ground truth, masks and every variant.
@@ -241,118 +167,6 @@ pub fn is_cpu_adapter(name: &str) -> bool {
     .any(|k| n.contains(k))
 }
 
-/// The cache key of a ground truth: SHA-256 of the scene as loaded (geometry, materials,
-/// textures, camera, film), the oracle settings, the oracle's version and a fingerprint of
-/// the oracle's and scene model's sources (compare/build.rs), so a code change never reuses a
-/// stale ground truth.
-pub fn ground_truth_hash(scene: &Scene, settings: &RenderSettings) -> String {
-    let mut h = Sha256::new();
-    let code = env!("VERITY_ORACLE_SOURCE_HASH");
-    h.update(format!("{scene:?}\n{settings:?}\noracle {} {code}", oracle::VERSION).as_bytes());
-    super::cache::hex(&h.finalize())
-}
-
-/// The ground truth from the cache, or rendered (with progress) and cached; a copy goes into
-/// the report folder as `<name>.exr` (its preview is to be `<name>.png`). A cache entry is
-/// used only when its checksum matches and it decodes ([`cache::Entry::read`]); otherwise a
-/// one-line note on stderr says so (even with `--quiet`: a damaged cache is news), and the
-/// entry is rendered again and replaced.
-pub fn ground_truth(
-    scene: &Scene,
-    settings: RenderSettings,
-    opts: &RunOptions,
-    name: &str,
-) -> Result<(LayeredImage, GroundTruthInfo), StudyError> {
-    let hash = ground_truth_hash(scene, &settings);
-    let entry = cache::Entry::new(&opts.cache_dir, &hash);
-    let cached = match entry.read() {
-        cache::Lookup::Hit(img) => Some(img),
-        cache::Lookup::Missing => None,
-        cache::Lookup::Corrupt(why) => {
-            eprintln!("{}", cache::corrupt_note(&entry, &why));
-            None
-        }
-    };
-    let was_cached = cached.is_some();
-    let image = match cached {
-        Some(img) => img,
-        None => {
-            let stop = StopRule {
-                spp: settings.spp,
-                time: None,
-                target_rel_err: None,
-            };
-            let mut reporter = ProgressReporter::new(opts.progress, stop, false);
-            reporter.note(&format!(
-                "report: ground truth {}x{}, {} spp, {}",
-                scene.film.width,
-                scene.film.height,
-                settings.spp,
-                settings.integrator.name()
-            ));
-            let job = RenderJob {
-                scene,
-                settings,
-                stop,
-                checkpoint: None,
-            };
-            let r = oracle::render(&job, &mut |p| {
-                reporter.update(p);
-                true
-            })
-            .map_err(|e| StudyError::Input(e.to_string()))?;
-            reporter.finish();
-            if r.nonfinite_samples > 0 {
-                eprintln!(
-                    "warning: ground truth {name}: {} samples were NaN or infinite and were dropped \
-                     (EXR header `nonfinite_samples`); the reference is biased where they fell",
-                    r.nonfinite_samples
-                );
-            }
-            fs::create_dir_all(&opts.cache_dir).map_err(io_err(&opts.cache_dir))?;
-            entry
-                .write(&r.image)
-                .map_err(|e| StudyError::Run(e.to_string()))?;
-            r.image
-        }
-    };
-    let exr = format!("{name}.exr");
-    image
-        .write_exr(opts.out_dir.join(&exr))
-        .map_err(io_err(&opts.out_dir))?;
-    let info = GroundTruthInfo {
-        integrator: settings.integrator.name().into(),
-        spp: settings.spp,
-        seconds: image
-            .attribute("seconds")
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(f64::NAN),
-        hash,
-        cached: was_cached,
-        exr,
-        png: format!("{name}.png"),
-        mean_relative_std_error: mean_relative_std_error(&image),
-    };
-    Ok((image, info))
-}
-
-/// Mean over pixels and channels of σ/(|r| + 0.01): the reference's own relative noise.
-fn mean_relative_std_error(img: &LayeredImage) -> f64 {
-    let (Some(rgb), Some(var)) = (img.rgb(""), img.rgb("variance")) else {
-        return f64::NAN;
-    };
-    let sum: f64 = rgb
-        .iter()
-        .zip(&var)
-        .map(|(r, v)| {
-            let e =
-                v.max(glam::Vec3::ZERO).powf(0.5) / (r.abs() + glam::Vec3::splat(metrics::RELATIVE_EPSILON));
-            e.element_sum() as f64 / 3.0
-        })
-        .sum();
-    sum / rgb.len() as f64
-}
-
 /// `all` and the study's masks, built on the ground truth.
 fn build_masks(
     study: &Study,
@@ -432,17 +246,6 @@ fn rectangle_mask(name: &str, rect: &[f32; 4], w: usize, h: usize) -> Mask {
         h,
         [px(rect[0], w), px(rect[1], h), px(rect[2], w), px(rect[3], h)],
     )
-}
-
-/// The raster settings of `variant` in this study at the scene's resolution.
-pub fn raster_settings(study: &Study, scene: &Scene, variant: &Variant) -> RasterSettings {
-    let r = study.raster;
-    RasterSettings::new(scene.film.width, scene.film.height)
-        .method(variant.raster.clone())
-        .pipeline(r.pipeline)
-        .ssaa(r.ssaa)
-        .frames(r.warmup_frames, r.timed_frames)
-        .counters(true)
 }
 
 /// Renders and measures one variant; writes its EXR (with error layers) and PNGs.

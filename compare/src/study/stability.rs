@@ -26,7 +26,7 @@ use scenes::{RenderSettings, Scene};
 use super::result::{
     FlickerResult, GroundTruthInfo, SceneSeries, SceneSweepResult, SeriesErrors, StudyResult, SweepResult,
 };
-use super::run::{ground_truth, prepare, raster_settings, RunOptions, StudyError};
+use super::setup::{ground_truth, prepare, raster_settings, RunOptions, StudyError};
 use super::{shifted, Flicker, Motion, ScenePoint, Study, Variant};
 use crate::metrics::{Mask, RELATIVE_EPSILON};
 
