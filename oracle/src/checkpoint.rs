@@ -20,7 +20,7 @@ use std::path::Path;
 use sha2::{Digest, Sha256};
 
 use crate::film::Film;
-use crate::render::{RenderError, RenderJob};
+use crate::job::{RenderError, RenderJob};
 
 const MAGIC: &[u8; 8] = b"VRTYCKP2";
 /// What every format's magic starts with; the last byte is the format version.

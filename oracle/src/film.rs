@@ -180,7 +180,7 @@ impl Film {
     }
 
     /// Mean over pixels of the relative standard error of the pixel mean,
-    /// σ̄/(μ̄ + 0.01) with σ̄², μ̄ averaged over R, G, B (0.01 as in relMSE, DESIGN.md
+    /// σ̄/(μ̄ + 0.01) with σ̄², μ̄ averaged over R, G, B (0.01 as in relMSE, docs/ARCHITECTURE.md
     /// "Comparison"); infinite before two samples.
     pub fn mean_relative_error(&self) -> f32 {
         if self.spp < 2 {

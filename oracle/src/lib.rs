@@ -1,5 +1,5 @@
 //! The oracle: Verity's CPU path tracer, the ground truth every approximation is measured
-//! against (DESIGN.md "Ground truth is defined per effect").
+//! against (docs/ARCHITECTURE.md "Ground truth is defined per effect").
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -10,13 +10,15 @@ pub mod film;
 pub mod frame;
 pub mod geometry;
 pub mod integrator;
+pub mod job;
 pub mod light;
 pub mod memory;
 pub mod render;
 pub mod sampler;
 pub mod sampling;
 
-pub use render::{render, CheckpointConfig, Progress, RenderError, RenderJob, RenderResult, StopRule};
+pub use job::{CheckpointConfig, Progress, RenderError, RenderJob, RenderResult, StopRule};
+pub use render::render;
 
 /// The oracle's version (part of every ground truth's cache key and EXR header).
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

@@ -1,4 +1,4 @@
-//! Cone-map precomputation time: `realtime::cone_map` (conservative, exact; relaxed, 64
+//! Cone-map precomputation time: `realtime::technique::detail::cone_map` (conservative, exact; relaxed, 64
 //! directions on top of the conservative pass) on the heightfields the surface-detail studies
 //! use, heights scaled by 0.03 m.
 //!
@@ -7,7 +7,7 @@
 //! pick a subset. Each case is built `REPEATS` times; the figure is the best wall time, on
 //! rayon's default pool (the thread count is printed).
 
-use realtime::cone_map::{cone_map, ConeKind};
+use realtime::technique::detail::cone_map::{cone_map, ConeKind};
 use scenes::displacement::Procedural;
 use scenes::WrapMode;
 

@@ -1,4 +1,4 @@
-// bsdf.wgsl — the BSDFs of DESIGN.md "BSDFs", the same closed forms as oracle/src/bsdf/*.rs.
+// bsdf.wgsl — the BSDFs of docs/ARCHITECTURE.md "BSDFs", the same closed forms as oracle/src/bsdf/*.rs.
 //
 // Technique: direct evaluation of f(ωo, ωi)·|cos θi| in world space (every reflector here is
 // isotropic, so only angles to the normal and between directions matter):

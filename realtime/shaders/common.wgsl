@@ -3,7 +3,7 @@
 // Technique: none (shared declarations). Every struct mirrors a `#[repr(C)]` Pod struct in
 // realtime/src/gpu_types.rs field for field; the Rust side asserts the sizes.
 // Inputs: group 0 = the scene (frame uniform, shapes, materials, lights, emitters, textures,
-// texels) and the counter buffer (written only by the counting variant of the module). Conventions: DESIGN.md "Conventions" (right-handed, +Y up,
+// texels) and the counter buffer (written only by the counting variant of the module). Conventions: docs/ARCHITECTURE.md "Conventions" (right-handed, +Y up,
 // camera looks down −Z, pixel (i, j) covers [i, i+1]×[j, j+1], row 0 at the top).
 // Failure mode: none of its own; the projection must stay identical to
 // `scenes::Camera::ray_direction` (the parity tests check it).
@@ -38,9 +38,8 @@ const ENV_NONE: u32 = 0u;
 const ENV_CONSTANT: u32 = 1u;
 const ENV_MAP: u32 = 2u;
 
-// Area-light methods, picked per pipeline (gpu_types.rs `AreaMethod`).
-const AREA_QUADRATURE: u32 = 0u;
-const AREA_REPRESENTATIVE_POINT: u32 = 1u;
+// Area-light methods AREA_QUADRATURE, AREA_REPRESENTATIVE_POINT: generated from the method
+// tables (technique/mod.rs `wgsl_codes`), ahead of this file.
 
 // Pipeline-overridable constant: the area-light method (shade.wgsl dispatches on it).
 override AREA_METHOD: u32 = 0u;
@@ -166,7 +165,7 @@ fn count_iteration() {
     cost.y += 1u;
 }
 
-// Camera::ray_direction for the raster position (x, y) of the final film (DESIGN.md "Camera"):
+// Camera::ray_direction for the raster position (x, y) of the final film (docs/ARCHITECTURE.md "Camera"):
 // x_cam = (2x/W − 1)·tan(fov/2)·W/H, y_cam = (1 − 2y/H)·tan(fov/2), z_cam = −1.
 fn camera_ray_direction(f: FrameUniforms, x: f32, y: f32) -> vec3<f32> {
     let xc = (2.0 * x / f.film.x - 1.0) * f.film.z * f.film.w;

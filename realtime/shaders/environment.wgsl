@@ -2,7 +2,7 @@
 // the Dirac-delta materials (mirror, dielectric) get in place of their specular chains.
 //
 // Technique: L(ω) = constant, or scale × the equirectangular lookup of `texture.wgsl`
-// (Mitsuba 3 `envmap` orientation and texel placement, DESIGN.md "Environment map"); sun
+// (Mitsuba 3 `envmap` orientation and texel placement, docs/ARCHITECTURE.md "Environment map"); sun
 // disks add their radiance inside their cones (DirectionalLight::radiance_from_direction).
 // Camera rays that hit nothing see exactly this (the background matches the oracle's).
 // Mirror and dielectric: classic environment mapping — Blinn & Newell 1976, "Texture and

@@ -12,7 +12,7 @@
 // cost counters.
 // Failure mode: none of its own. The G-buffer costs 48 bytes per sample (three Rgba32Float
 // targets); adapters below that colour-attachment budget are refused up front.
-// The shadow pass (Williams 1978, shadow_map_common.wgsl) renders depth only, one render pass
+// The shadow pass (Williams 1978, shadow/map_common.wgsl) renders depth only, one render pass
 // per light: meshes rasterised, analytic shapes ray traced per texel on the same proxies with
 // the same `intersect_analytic` as the camera passes, writing frag_depth. The visibility AOV
 // pass is a full-screen pass over a G-buffer, untimed, that stores every light's V.

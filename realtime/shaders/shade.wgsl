@@ -9,9 +9,9 @@
 // The area-light method is the pipeline-overridable constant AREA_METHOD, picked here and
 // nowhere else (one dispatcher, as bevy_pbr's `sample_shadow_map_*`). Under a shadow method
 // (SHADOW_METHOD ≠ 0) each light's term is multiplied by its visibility V from the light's
-// shadow map (shadow_visibility.wgsl) — what the oracle's `direct` integrator then measures
+// shadow map (shadow/visibility.wgsl) — what the oracle's `direct` integrator then measures
 // exactly; the environment stays unshadowed. Under an environment-mapping method
-// (ENVMAP_METHOD ≠ 0) the reflector is shaded by envmap.wgsl instead.
+// (ENVMAP_METHOD ≠ 0) the reflector is shaded by envmap/envmap.wgsl instead.
 // Failure mode: mirror and dielectric surfaces see only the environment (environment.wgsl);
 // emissive meshes are visible but light nothing (only spheres, rectangles and disks are area
 // lights here); `max_depth` < 2 is not modelled.
@@ -29,7 +29,7 @@ fn shadowed(f: FrameUniforms, term: vec3<f32>, slot: u32, sp: SurfacePoint, frag
 }
 
 // `term` of a light in unit direction `wi` with angular radius tan⁻¹(tan_alpha), times the
-// heightfield's own visibility under POM's self-shadowing (detail_ray_march.wgsl; 1 otherwise).
+// heightfield's own visibility under POM's self-shadowing (detail/ray_march.wgsl; 1 otherwise).
 fn self_shadowed(f: FrameUniforms, term: vec3<f32>, sp: SurfacePoint, wi: vec3<f32>, tan_alpha: f32) -> vec3<f32> {
     if DETAIL_METHOD != DETAIL_POM || all(term == vec3<f32>(0.0)) {
         return term;

@@ -207,7 +207,7 @@ fn surface_point(d: Differential, s: Shape, shape: u32) -> SurfacePoint {
 
 // A fragment's surface point: of an analytic proxy, the camera ray through `frag` (target pixel
 // coordinates) traced against shape `s` (index `shape`); of either kind, after surface detail
-// (detail_common.wgsl). `hit` is false where the ray misses (the fragment is discarded).
+// (detail/common.wgsl). `hit` is false where the ray misses (the fragment is discarded).
 // Analytic hits are taken beyond ray parameter t_min (unit camera rays: a distance).
 struct AnalyticHit {
     hit: bool,

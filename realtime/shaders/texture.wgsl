@@ -4,7 +4,7 @@
 // oracle's `scenes::texture::Texture::sample` and `scenes::environment_lookup` give: texel
 // (i, j) centred at ((i + ½)/W, (j + ½)/H), v = 0 the top row, wrap per axis (repeat = Euclidean
 // remainder, clamp, mirror); the environment uses Mitsuba 3's `envmap` placement (columns at
-// texel centres, rows at v = j/(H − 1), u wraps) measured against Mitsuba 3.9.1 (DESIGN.md
+// texel centres, rows at v = j/(H − 1), u wraps) measured against Mitsuba 3.9.1 (docs/ARCHITECTURE.md
 // "Environment map"). No mip-mapping: both renderers point-sample the filter at one uv.
 // Reference: none beyond the texture model; bilinear interpolation as in pbrt-v4 §10.4.3.
 // Failure mode: magnification only — minified textures alias (as in the oracle, whose pixel

@@ -15,8 +15,8 @@ use crate::gpu::Gpu;
 use crate::gpu_types::{vec4, FrameUniforms};
 use crate::pipelines::Stage;
 use crate::render::RasterSettings;
-use crate::shadow::ShadowMaps;
 use crate::targets::Targets;
+use crate::technique::shadow::maps::ShadowMaps;
 use crate::upload::SceneGpu;
 
 /// Near-plane distance as a fraction of the scene's bounding radius (reversed-Z keeps the
@@ -85,7 +85,7 @@ impl Frame {
     }
 }
 
-/// The camera and counts for a k·W × k·H target (DESIGN.md "Camera": the projection of
+/// The camera and counts for a k·W × k·H target (docs/ARCHITECTURE.md "Camera": the projection of
 /// `scenes::Camera::ray_direction`; reversed-Z, infinite far plane).
 fn frame_uniforms(scene: &Scene, sg: &SceneGpu, settings: &RasterSettings, k: u32) -> FrameUniforms {
     let cam = &scene.camera;

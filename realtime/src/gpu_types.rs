@@ -1,7 +1,7 @@
 //! The data the shaders read: `#[repr(C)]` Pod structs in the field order of their WGSL
 //! counterparts in `shaders/common.wgsl` (and `passes.wgsl` for the vertex layouts), each with a
 //! size assertion, and the kind codes the shaders switch on. The shadow maps' structs live with
-//! their technique in shadow.rs (`shaders/shadow_map_common.wgsl`), the visibility AOV's in
+//! their technique in shadow/maps.rs (`shaders/shadow/map_common.wgsl`), the visibility AOV's in
 //! visibility.rs.
 //!
 //! Layout rules: storage and uniform structs follow WGSL's host-shareable layout (vec4 and
@@ -96,7 +96,7 @@ pub struct FrameUniforms {
     /// Lights, area emitters, area quadrature n, unused.
     pub counts: [u32; 4],
     /// Surface detail: height multiplier k, parallax bias, bump step (texels), unused
-    /// ([`crate::detail::Detail::uniforms`]).
+    /// ([`crate::technique::detail::Detail::uniforms`]).
     pub detail: [f32; 4],
     /// Surface detail: linear steps (POM: at normal incidence), POM's steps at grazing
     /// incidence, binary steps, self-shadow steps (0: none).

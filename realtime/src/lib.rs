@@ -1,7 +1,7 @@
 //! Verity's headless wgpu renderer: the real-time side of every comparison.
 //!
 //! It renders a [`scenes::Scene`] with the same camera, projection, pixel centres, colour
-//! space, BSDFs and light units as the oracle (DESIGN.md "Conventions"), so that when nothing
+//! space, BSDFs and light units as the oracle (docs/ARCHITECTURE.md "Conventions"), so that when nothing
 //! is approximated the two agree, and every approximation's measured error is its own. No
 //! window or surface: an adapter is picked the way wgpu's tools pick one (`WGPU_BACKEND`,
 //! `WGPU_ADAPTER_NAME`), which runs on Mesa's lavapipe in CI and unchanged on real GPUs.
@@ -19,51 +19,44 @@
 //!
 //! | module | what |
 //! |---|---|
-//! | [`gpu`] | adapter and device selection |
-//! | [`method`] | methods (`area_quadrature`, `area_representative_point`, `shadow_hard`, `pcf_*`, `pcss`, the detail methods) and parameters |
-//! | [`detail`] | surface-detail methods (normal, bump, parallax, relief, POM, cone stepping) and their baked maps |
-//! | [`envmap`] | environment mapping (cube, sphere, dual-paraboloid maps; prefiltered specular, irradiance) |
-//! | [`distance_impostor`] | distance impostors: cube-map lookups localized by stored distances (iteration; linear + secant search; double refraction) |
-//! | `envmap_build` | the capture and the filtering passes of the environment maps |
-//! | [`cone_map`] | cone maps for cone step mapping (Dummer 2006; relaxed, Policarpo & Oliveira 2007) |
+//! | [`technique`] | the techniques, one module per family ([`technique::area`], [`technique::shadow`], [`technique::detail`], [`technique::envmap`], [`technique::distance_impostor`]): parameters and their tables, GPU resources; [`Method`] |
 //! | [`render`] | settings, the frame loop, timing, read-back |
 //! | `frame` | one frame: uniforms, render passes, timestamp queries |
+//! | [`pipelines`] | the shader module and pipelines (forward, G-buffer, lighting, shadow, visibility AOV), forward or deferred |
+//! | `targets` | colour, depth and G-buffer targets |
 //! | `upload` | the scene as GPU buffers (meshes de-indexed, analytic shapes as proxies) |
-//! | [`pipelines`] | shader module and pipelines (forward, G-buffer, lighting, shadow, visibility AOV) |
-//! | [`shadow`] | shadow maps: light frusta, the shadow uniform, the map array (Williams 1978) |
-//! | [`poisson`] | the Poisson-disk tap pattern (Mitchell 1991 best candidate) |
 //! | [`visibility`] | the per-light visibility AOV `visibility.<light>.Y` |
+//! | [`gpu`], [`gpu_types`] | adapter and device selection; the uniform and vertex layouts |
 //! | [`image`] | box filter over supersamples, the oracle's EXR channel layout |
 //! | [`timing`] | GPU timestamps / wall time, hardware-independent counters |
-//! | `shaders/*.wgsl` | the techniques, each file headed by its paper and failure mode |
+//! | `shaders/*.wgsl`, `shaders/<family>/*.wgsl` | shared shading code; each technique's, headed by its paper and failure mode |
+//!
+//! Every method, its parameters, defaults and papers: docs/methods.md (generated from the
+//! tables in [`technique`]).
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-pub mod cone_map;
-pub mod detail;
-pub mod distance_impostor;
-pub mod envmap;
-mod envmap_build;
 pub mod error;
 mod frame;
 pub mod gpu;
 pub mod gpu_types;
 pub mod image;
-pub mod method;
 pub mod pipelines;
-pub mod poisson;
 pub mod render;
-pub mod shadow;
 mod targets;
+pub mod technique;
 pub mod timing;
 mod upload;
 pub mod visibility;
 
-pub use detail::{Detail, DetailTechnique};
-pub use envmap::{EnvMapping, Parameterization};
 pub use error::{RasterError, INSTALL_HINT};
 pub use gpu::Gpu;
-pub use method::{AreaMethod, BlockerDepth, Method, PipelineKind, Shadow, ShadowTechnique};
+pub use pipelines::PipelineKind;
 pub use render::{RasterOutput, RasterSettings, Renderer};
+pub use technique::area::AreaMethod;
+pub use technique::detail::{Detail, DetailTechnique};
+pub use technique::envmap::{EnvMapping, Parameterization};
+pub use technique::shadow::{BlockerDepth, Shadow, ShadowTechnique};
+pub use technique::Method;
 pub use timing::{Counters, Timing, TimingSource};

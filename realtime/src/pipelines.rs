@@ -23,7 +23,7 @@
 //! environment maps (the geometry and lighting pipelines; a placeholder without an
 //! environment-mapping method). The shadow pass binds group 0 only: its maps cannot be bound
 //! while it renders them. The environment-map filters are compute pipelines of their own
-//! module (envmap_build.rs).
+//! module (envmap/build.rs).
 //!
 //! The counting variant (the module with `counters_on.wgsl`) is used for the lighting pipeline
 //! of the counting frame only: after a G-buffer pass it shades each visible sample once.
@@ -31,9 +31,30 @@
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use crate::envmap_build::FilterPipelines;
 use crate::gpu_types::{AnalyticVertex, MeshVertex};
-use crate::method::{AreaMethod, Method};
+use crate::technique::area::AreaMethod;
+use crate::technique::envmap::build::FilterPipelines;
+use crate::technique::{self, Method};
+
+/// Forward shading or deferred shading (G-buffer + lighting pass).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum PipelineKind {
+    /// Shade in the geometry pass.
+    #[default]
+    Forward,
+    /// Write a G-buffer, then shade in a full-screen lighting pass.
+    Deferred,
+}
+
+impl PipelineKind {
+    /// `forward` or `deferred`.
+    pub fn name(self) -> &'static str {
+        match self {
+            PipelineKind::Forward => "forward",
+            PipelineKind::Deferred => "deferred",
+        }
+    }
+}
 
 /// Format of every colour target and G-buffer layer.
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
@@ -47,24 +68,24 @@ const SHADER_SOURCES: [(&str, &str); 22] = [
     ("texture.wgsl", include_str!("../shaders/texture.wgsl")),
     ("surface.wgsl", include_str!("../shaders/surface.wgsl")),
     (
-        "detail_common.wgsl",
-        include_str!("../shaders/detail_common.wgsl"),
+        "detail/common.wgsl",
+        include_str!("../shaders/detail/common.wgsl"),
     ),
     (
-        "detail_normal.wgsl",
-        include_str!("../shaders/detail_normal.wgsl"),
+        "detail/normal.wgsl",
+        include_str!("../shaders/detail/normal.wgsl"),
     ),
     (
-        "detail_parallax.wgsl",
-        include_str!("../shaders/detail_parallax.wgsl"),
+        "detail/parallax.wgsl",
+        include_str!("../shaders/detail/parallax.wgsl"),
     ),
     (
-        "detail_ray_march.wgsl",
-        include_str!("../shaders/detail_ray_march.wgsl"),
+        "detail/ray_march.wgsl",
+        include_str!("../shaders/detail/ray_march.wgsl"),
     ),
     (
-        "detail_cone_step.wgsl",
-        include_str!("../shaders/detail_cone_step.wgsl"),
+        "detail/cone_step.wgsl",
+        include_str!("../shaders/detail/cone_step.wgsl"),
     ),
     ("bsdf.wgsl", include_str!("../shaders/bsdf.wgsl")),
     (
@@ -73,45 +94,50 @@ const SHADER_SOURCES: [(&str, &str); 22] = [
     ),
     ("environment.wgsl", include_str!("../shaders/environment.wgsl")),
     (
-        "area_quadrature.wgsl",
-        include_str!("../shaders/area_quadrature.wgsl"),
+        "area/quadrature.wgsl",
+        include_str!("../shaders/area/quadrature.wgsl"),
     ),
     (
-        "area_representative_point.wgsl",
-        include_str!("../shaders/area_representative_point.wgsl"),
+        "area/representative_point.wgsl",
+        include_str!("../shaders/area/representative_point.wgsl"),
     ),
     (
-        "shadow_map_common.wgsl",
-        include_str!("../shaders/shadow_map_common.wgsl"),
+        "shadow/map_common.wgsl",
+        include_str!("../shaders/shadow/map_common.wgsl"),
     ),
-    ("shadow_hard.wgsl", include_str!("../shaders/shadow_hard.wgsl")),
-    ("pcf.wgsl", include_str!("../shaders/pcf.wgsl")),
-    ("pcss.wgsl", include_str!("../shaders/pcss.wgsl")),
+    ("shadow/hard.wgsl", include_str!("../shaders/shadow/hard.wgsl")),
+    ("shadow/pcf.wgsl", include_str!("../shaders/shadow/pcf.wgsl")),
+    ("shadow/pcss.wgsl", include_str!("../shaders/shadow/pcss.wgsl")),
     (
-        "shadow_visibility.wgsl",
-        include_str!("../shaders/shadow_visibility.wgsl"),
+        "shadow/visibility.wgsl",
+        include_str!("../shaders/shadow/visibility.wgsl"),
     ),
-    ("envmap.wgsl", include_str!("../shaders/envmap.wgsl")),
     (
-        "distance_impostor.wgsl",
-        include_str!("../shaders/distance_impostor.wgsl"),
+        "envmap/envmap.wgsl",
+        include_str!("../shaders/envmap/envmap.wgsl"),
+    ),
+    (
+        "distance_impostor/lookup.wgsl",
+        include_str!("../shaders/distance_impostor/lookup.wgsl"),
     ),
     ("shade.wgsl", include_str!("../shaders/shade.wgsl")),
     ("passes.wgsl", include_str!("../shaders/passes.wgsl")),
 ];
 
-/// The whole shader module's source, with or without the cost counters.
+/// The whole shader module's source, with or without the cost counters: the method codes
+/// ([`technique::wgsl_codes`]), then the files.
 pub fn shader_source(counters: bool) -> String {
     let tail = if counters {
         ("counters_on.wgsl", include_str!("../shaders/counters_on.wgsl"))
     } else {
         ("counters_off.wgsl", include_str!("../shaders/counters_off.wgsl"))
     };
-    SHADER_SOURCES
+    let sources: String = SHADER_SOURCES
         .iter()
         .chain([&tail])
         .map(|(name, src)| format!("// ---- {name} ----\n{src}\n"))
-        .collect()
+        .collect();
+    technique::wgsl_codes() + &sources
 }
 
 /// Which pipeline.
@@ -178,7 +204,7 @@ pub struct Pipelines {
     pub(crate) aov_layout: wgpu::BindGroupLayout,
     /// Group 2: the shadow-map array and its comparison samplers.
     pub(crate) shadow_layout: wgpu::BindGroupLayout,
-    /// Group 3: the environment maps (envmap.wgsl).
+    /// Group 3: the environment maps (envmap/envmap.wgsl).
     pub(crate) envmap_layout: wgpu::BindGroupLayout,
     /// The empty group 1 of the geometry pipelines.
     pub(crate) empty_bind_group: wgpu::BindGroup,
@@ -189,7 +215,7 @@ pub struct Pipelines {
     module: wgpu::ShaderModule,
     counting_module: wgpu::ShaderModule,
     cache: Mutex<HashMap<Key, Arc<wgpu::RenderPipeline>>>,
-    /// The environment-map filters (envmap_filter.wgsl), compiled on first use.
+    /// The environment-map filters (envmap/filter.wgsl), compiled on first use.
     filters: OnceLock<Arc<FilterPipelines>>,
 }
 
@@ -258,7 +284,7 @@ impl Pipelines {
         let mut scene_entries = vec![layout_entry(0, vf, uniform_type())];
         scene_entries.extend((1..=6).map(|b| storage_entry(b, true)));
         scene_entries.push(storage_entry(7, false));
-        // The shadow uniform: settings, taps and every light's frustum (shadow.rs).
+        // The shadow uniform: settings, taps and every light's frustum (shadow/maps.rs).
         scene_entries.push(layout_entry(8, vf, uniform_type()));
         let scene_layout = bind_group_layout(device, "scene bind group layout", &scene_entries);
         let gbuffer_entries: Vec<_> = (0..3)
@@ -378,13 +404,13 @@ impl Pipelines {
     }
 
     /// The environment-map filter pipelines: a module of the shading sources (whose BSDF and
-    /// frame helpers the filters call) and envmap_filter.wgsl, compiled once.
+    /// frame helpers the filters call) and envmap/filter.wgsl, compiled once.
     pub(crate) fn filters(&self, device: &wgpu::Device) -> Arc<FilterPipelines> {
         self.filters
             .get_or_init(|| {
                 let source = shader_source(false)
-                    + "// ---- envmap_filter.wgsl ----\n"
-                    + include_str!("../shaders/envmap_filter.wgsl");
+                    + "// ---- envmap/filter.wgsl ----\n"
+                    + include_str!("../shaders/envmap/filter.wgsl");
                 let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                     label: Some("verity environment map filters"),
                     source: wgpu::ShaderSource::Wgsl(source.into()),
@@ -534,5 +560,124 @@ impl Pipelines {
             multiview: None,
             cache: None,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::mem::size_of;
+
+    use super::*;
+    use crate::gpu_types::*;
+    use crate::technique::envmap::build::{EnvMapUniforms, FilterParams, LOCAL_PEEL};
+    use crate::technique::envmap::localization::Localization;
+    use crate::technique::envmap::Irradiance;
+    use crate::technique::shadow::maps::{GpuShadowLight, GpuShadowSettings, GpuShadowUniforms};
+    use crate::visibility::GpuAovInfo;
+
+    /// Both shader modules' sources in one naga module (the filters' module is the shading
+    /// sources plus envmap/filter.wgsl).
+    fn module() -> naga::Module {
+        let source = shader_source(false) + include_str!("../shaders/envmap/filter.wgsl");
+        naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)))
+    }
+
+    /// Every struct Rust uploads has the size WGSL's layout rules give its WGSL twin, so no
+    /// field can be added on one side only.
+    #[test]
+    fn uploaded_structs_have_their_wgsl_size() {
+        let module = module();
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).unwrap();
+        let wgsl_size = |name: &str| {
+            let (handle, _) = module
+                .types
+                .iter()
+                .find(|(_, t)| t.name.as_deref() == Some(name))
+                .unwrap_or_else(|| panic!("no WGSL struct {name}"));
+            layouter[handle].size as usize
+        };
+        for (name, rust) in [
+            ("FrameUniforms", size_of::<FrameUniforms>()),
+            ("Shape", size_of::<GpuShape>()),
+            ("Material", size_of::<GpuMaterial>()),
+            ("Light", size_of::<GpuLight>()),
+            ("TextureInfo", size_of::<GpuTextureInfo>()),
+            ("ShadowLight", size_of::<GpuShadowLight>()),
+            ("ShadowSettings", size_of::<GpuShadowSettings>()),
+            ("ShadowUniforms", size_of::<GpuShadowUniforms>()),
+            ("EnvMapUniforms", size_of::<EnvMapUniforms>()),
+            ("FilterParams", size_of::<FilterParams>()),
+            ("AovInfo", size_of::<GpuAovInfo>()),
+        ] {
+            assert_eq!(
+                wgsl_size(name),
+                rust,
+                "WGSL {name} and its Rust twin differ in size"
+            );
+        }
+    }
+
+    /// Every integer code Rust writes into a buffer and WGSL compares against is the same on
+    /// both sides (the method codes are generated; these are written in WGSL and checked).
+    #[test]
+    fn codes_rust_and_wgsl_share_are_equal() {
+        let module = module();
+        let wgsl = |name: &str| -> u32 {
+            let (_, c) = module
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name))
+                .unwrap_or_else(|| panic!("no WGSL constant {name}"));
+            match module.global_expressions[c.init] {
+                naga::Expression::Literal(naga::Literal::U32(v)) => v,
+                ref e => panic!("WGSL {name} = {e:?} is not a u32 literal"),
+            }
+        };
+        let search = Localization::Search {
+            linear_steps: 1,
+            secant_steps: 0,
+            layers: 1,
+        };
+        for (name, rust) in [
+            ("NONE", NONE),
+            ("SHAPE_MESH", ShapeKind::Mesh as u32),
+            ("SHAPE_SPHERE", ShapeKind::Sphere as u32),
+            ("SHAPE_RECTANGLE", ShapeKind::Rectangle as u32),
+            ("SHAPE_DISK", ShapeKind::Disk as u32),
+            ("MAT_DIFFUSE", MaterialKind::Diffuse as u32),
+            ("MAT_PHONG", MaterialKind::Phong as u32),
+            ("MAT_GGX", MaterialKind::Ggx as u32),
+            ("MAT_METAL_ROUGH", MaterialKind::MetalRough as u32),
+            ("MAT_MIRROR", MaterialKind::Mirror as u32),
+            ("MAT_DIELECTRIC", MaterialKind::Dielectric as u32),
+            ("LIGHT_POINT", LightKind::Point as u32),
+            ("LIGHT_SPOT", LightKind::Spot as u32),
+            ("LIGHT_DIRECTIONAL", LightKind::Directional as u32),
+            ("ENV_NONE", EnvKind::None as u32),
+            ("ENV_CONSTANT", EnvKind::Constant as u32),
+            ("ENV_MAP", EnvKind::Map as u32),
+            ("IRRADIANCE_MAP", Irradiance::Map.shader_code()),
+            ("IRRADIANCE_SH9", Irradiance::Sh9.shader_code()),
+            ("LOCAL_DISTANT", Localization::Distant.shader_info(false)[0]),
+            (
+                "LOCAL_ITERATIONS",
+                Localization::Iterations(1).shader_info(false)[0],
+            ),
+            ("LOCAL_SEARCH", search.shader_info(false)[0]),
+            ("LOCAL_PEEL", LOCAL_PEEL),
+            (
+                "SHADOW_PCSS",
+                crate::ShadowTechnique::Pcss {
+                    blocker_samples: 1,
+                    filter_samples: 1,
+                    light_size: None,
+                    blocker_depth: crate::BlockerDepth::Search,
+                }
+                .shader_code(),
+            ),
+        ] {
+            assert_eq!(wgsl(name), rust, "WGSL {name}");
+        }
     }
 }

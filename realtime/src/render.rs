@@ -13,16 +13,17 @@ use std::time::Instant;
 use scenes::layered::LayeredImage;
 use scenes::Scene;
 
-use crate::detail::ConeCache;
-use crate::envmap_build::EnvMaps;
 use crate::error::RasterError;
 use crate::frame::{encode_passes, Frame, ShadingGroups, Timestamps};
 use crate::gpu::{Gpu, COLOR_BYTES_PER_SAMPLE};
 use crate::image::{assemble, box_filter, Readback};
-use crate::method::{Method, PipelineKind, MAX_QUADRATURE_N};
+use crate::pipelines::PipelineKind;
 use crate::pipelines::{Pipelines, Stage};
-use crate::shadow::ShadowMaps;
 use crate::targets::Targets;
+use crate::technique::detail::ConeCache;
+use crate::technique::envmap::build::EnvMaps;
+use crate::technique::shadow::maps::ShadowMaps;
+use crate::technique::{Method, MAX_QUADRATURE_N};
 use crate::timing::{median, Counters, PassTime, Timing, TimingSource};
 use crate::upload::SceneGpu;
 use crate::visibility::{encode_visibility_pass, named_sources, slots_per_chunk, Chunk, Source};
@@ -36,7 +37,7 @@ const COUNTED_SHAPES: u32 = 4095;
 /// How to render.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RasterSettings {
-    /// Area-light method and its parameters.
+    /// The method (area lights, shadows, detail, environment maps) and its parameters.
     pub method: Method,
     /// Forward or deferred.
     pub pipeline: PipelineKind,

@@ -4,7 +4,7 @@
 //! image comes back as the shader wrote it, bit for bit. The deferred pipeline adds a G-buffer
 //! of three more Rgba32Float layers; both share one Depth32Float buffer.
 
-use crate::method::PipelineKind;
+use crate::pipelines::PipelineKind;
 use crate::pipelines::{COLOR_FORMAT, DEPTH_FORMAT};
 
 /// Bytes of one Rgba32Float texel.

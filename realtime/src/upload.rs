@@ -23,8 +23,8 @@ use scenes::{
 };
 use wgpu::util::DeviceExt;
 
-use crate::detail::{derivative_map, ConeCache, Detail};
 use crate::gpu_types::*;
+use crate::technique::detail::{derivative_map, ConeCache, Detail};
 
 /// Relative enlargement of a sphere's bounding box proxy, so rasterisation never clips its
 /// silhouette (the box touches the sphere at its face centres).

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use glam::{Vec2, Vec3, Vec4};
-use realtime::{Detail, DetailTechnique, Method, PipelineKind, RasterSettings};
+use realtime::{Detail, Method, PipelineKind, RasterSettings};
 use scenes::displacement::Procedural;
 use scenes::texture::Texture;
 use scenes::*;
@@ -171,7 +171,8 @@ fn a_flat_heightfield_gives_the_flat_base_under_every_technique() {
         &method("area_quadrature", &[("n", "8")]),
         PipelineKind::Forward,
     ));
-    for name in realtime::detail::DETAIL_NAMES {
+    for spec in realtime::technique::detail::METHODS {
+        let name = spec.name;
         let params: &[(&str, &str)] = if name == "pom" {
             &[("self_shadow", "on")]
         } else {
@@ -253,9 +254,9 @@ fn rays_leaving_the_patch_are_discarded() {
 /// Cone maps are built once per height texture, kind and scale.
 #[test]
 fn cone_maps_are_cached_by_content() {
-    let cache = realtime::detail::ConeCache::default();
+    let cache = realtime::technique::detail::ConeCache::default();
     let t = bumps();
-    let kind = realtime::cone_map::ConeKind::Conservative;
+    let kind = realtime::technique::detail::cone_map::ConeKind::Conservative;
     let a = cache.get(&t, 0, 0.05, kind);
     let b = cache.get(&t.clone(), 0, 0.05, kind);
     assert!(Arc::ptr_eq(&a, &b), "same heights: the same map");
@@ -264,6 +265,6 @@ fn cone_maps_are_cached_by_content() {
     // Twice the heights, half the ratio (uv per metre).
     let (ra, rc) = (a.sample(Vec2::splat(0.3)).x, c.sample(Vec2::splat(0.3)).x);
     assert!((ra - 2.0 * rc).abs() <= 1e-3 * ra, "{ra} vs {rc}");
-    let d = Detail::new(DetailTechnique::by_name("cone_step").unwrap());
+    let d = Detail::by_name("cone_step").unwrap();
     assert_eq!(d.technique.cone_kind(), Some(kind));
 }

@@ -24,7 +24,7 @@ use exr::prelude::{AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer,
 use glam::Vec3;
 
 pub use crate::atomic::{write_atomic, write_atomic_with};
-use crate::texture::linear_to_srgb;
+use crate::srgb::linear_to_srgb;
 
 /// Largest width or height [`LayeredImage::read_exr`] accepts (guards against headers that
 /// claim absurd sizes before any pixel memory is allocated).

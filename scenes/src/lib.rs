@@ -16,6 +16,7 @@ pub mod gltf;
 pub mod layered;
 pub mod model;
 pub mod random;
+pub mod srgb;
 pub mod tangent;
 pub mod texture;
 pub mod toml;

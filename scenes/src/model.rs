@@ -1,6 +1,6 @@
 //! The scene model both renderers load: camera, film, shapes, materials, lights, environment.
 //!
-//! Conventions (DESIGN.md, "Conventions"): right-handed, +Y up, metres; linear Rec.709 RGB;
+//! Conventions (docs/ARCHITECTURE.md, "Conventions"): right-handed, +Y up, metres; linear Rec.709 RGB;
 //! the camera looks down −Z in its own frame; pixel (i, j) covers the raster square
 //! [i, i+1]×[j, j+1] with row 0 at the top. Every quantity here is in world space: loaders
 //! bake node and `transform` chains into the geometry, so renderers never see a scene graph.
@@ -11,6 +11,7 @@ use std::sync::Arc;
 use glam::{Affine3A, Vec2, Vec3};
 
 use crate::texture::Texture;
+pub use crate::texture::WrapMode;
 
 /// Linear Rec.709 RGB triple (radiance, reflectance, …).
 pub type Rgb = Vec3;
@@ -88,7 +89,7 @@ pub struct Scene {
     pub environment: Option<Environment>,
 }
 
-/// Pinhole camera (DESIGN.md "Camera"): `to_world` maps the camera frame (looking down −Z,
+/// Pinhole camera (docs/ARCHITECTURE.md "Camera"): `to_world` maps the camera frame (looking down −Z,
 /// +Y up) to world space; `fov_y_deg` is the full vertical field of view in degrees.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
@@ -143,7 +144,7 @@ pub struct Film {
     pub height: u32,
 }
 
-/// Which light-transport quantity the oracle computes (DESIGN.md "Ground truth").
+/// Which light-transport quantity the oracle computes (docs/ARCHITECTURE.md "Ground truth").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum IntegratorKind {
     /// Full path tracing up to `max_depth` (Mitsuba's meaning: 1 = emitters seen directly,
@@ -227,18 +228,6 @@ impl Default for RenderSettings {
     }
 }
 
-/// How a texture coordinate outside [0, 1] is mapped back in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum WrapMode {
-    /// Tile (glTF REPEAT).
-    #[default]
-    Repeat,
-    /// Clamp to the edge texel (glTF CLAMP_TO_EDGE).
-    Clamp,
-    /// Mirror every other tile (glTF MIRRORED_REPEAT).
-    Mirror,
-}
-
 /// An RGB material input: a constant, or a texture times a factor (glTF's convention).
 #[derive(Clone, Debug, PartialEq)]
 pub enum TexRgb {
@@ -269,7 +258,7 @@ pub enum TexScalar {
     },
 }
 
-/// Smith masking-shadowing variant for GGX (DESIGN.md "BSDFs").
+/// Smith masking-shadowing variant for GGX (docs/ARCHITECTURE.md "BSDFs").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Masking {
     /// Height-correlated Smith G2 (Heitz 2014, eq. 99), as glTF specifies.
@@ -279,7 +268,7 @@ pub enum Masking {
     Separable,
 }
 
-/// Materials (DESIGN.md "BSDFs"). All are two-sided except the dielectric, which has an
+/// Materials (docs/ARCHITECTURE.md "BSDFs"). All are two-sided except the dielectric, which has an
 /// inside and an outside.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Material {
@@ -422,7 +411,7 @@ pub struct Shape {
     pub displacement: Option<Displacement>,
 }
 
-/// True displacement p' = p + scale·h(u, v)·n of a shape's surface (DESIGN.md "Ground truth":
+/// True displacement p' = p + scale·h(u, v)·n of a shape's surface (docs/ARCHITECTURE.md "Ground truth":
 /// surface detail), h one channel of a height texture at the surface's texture coordinates.
 ///
 /// - On a [`Geometry::Rectangle`] (a heightfield patch) n is the front normal and h is
@@ -497,7 +486,7 @@ impl Light {
     }
 }
 
-/// Distant environment (DESIGN.md "Environment map"): equirectangular, Mitsuba's `envmap`
+/// Distant environment (docs/ARCHITECTURE.md "Environment map"): equirectangular, Mitsuba's `envmap`
 /// orientation: u = 0 faces −Z, u = 0.25 faces +X, u = 0.5 faces +Z; row 0 is +Y.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Environment {
@@ -515,7 +504,7 @@ pub enum Environment {
     },
 }
 
-/// Equirectangular direction ↔ uv mapping shared by both renderers (DESIGN.md convention).
+/// Equirectangular direction ↔ uv mapping shared by both renderers (docs/ARCHITECTURE.md convention).
 /// For unit direction d: φ = atan2(d.x, −d.z) wrapped to [0, 2π), u = φ/2π, v = acos(d.y)/π,
 /// so u = 0 → −Z, u = 0.25 → +X, u = 0.5 → +Z and v = 0 (row 0) → +Y.
 pub fn equirect_uv(d: Vec3) -> Vec2 {

@@ -11,7 +11,7 @@ use glam::{Vec2, Vec4};
 
 use crate::budget::{self, Ledger};
 use crate::error::SceneError;
-use crate::model::WrapMode;
+use crate::srgb::srgb_to_linear;
 
 /// How 8-bit texels are decoded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -37,22 +37,16 @@ pub struct Texture {
     pub wrap: [WrapMode; 2],
 }
 
-/// Exact sRGB → linear decode (IEC 61966-2-1).
-pub fn srgb_to_linear(c: f32) -> f32 {
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-/// Exact linear → sRGB encode (IEC 61966-2-1), for previews.
-pub fn linear_to_srgb(c: f32) -> f32 {
-    if c <= 0.003_130_8 {
-        12.92 * c
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    }
+/// How a texture coordinate outside [0, 1] is mapped back in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum WrapMode {
+    /// Tile (glTF REPEAT).
+    #[default]
+    Repeat,
+    /// Clamp to the edge texel (glTF CLAMP_TO_EDGE).
+    Clamp,
+    /// Mirror every other tile (glTF MIRRORED_REPEAT).
+    Mirror,
 }
 
 impl Texture {

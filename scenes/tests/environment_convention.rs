@@ -1,5 +1,5 @@
 //! The environment-map convention against values measured from Mitsuba 3.9.1 `envmap`
-//! (`emitter.eval` on an 8×4 image whose texel (i, j) holds (i, j, 1)); DESIGN.md
+//! (`emitter.eval` on an 8×4 image whose texel (i, j) holds (i, j, 1)); docs/ARCHITECTURE.md
 //! "Environment map".
 
 use glam::{Vec2, Vec3, Vec4};

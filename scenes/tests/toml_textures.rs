@@ -8,7 +8,8 @@ use std::path::Path;
 use exr::prelude::WritableImage;
 use glam::{Vec2, Vec3, Vec4};
 use image::{ImageFormat, Luma, LumaA, Rgb, Rgba};
-use scenes::texture::{load_texture, srgb_to_linear, ColorSpace};
+use scenes::srgb::srgb_to_linear;
+use scenes::texture::{load_texture, ColorSpace};
 use scenes::{Material, TexRgb, TexScalar, WrapMode};
 use toml_support::{expect_error, scratch, write, BASE};
 

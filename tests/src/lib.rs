@@ -134,7 +134,7 @@ pub fn mean_and_stderr(img: &LayeredImage, c: usize) -> (f64, f64) {
     (mean, se)
 }
 
-/// relMSE = mean over pixels and channels of (a − r)²/(r² + 0.01) (DESIGN.md "Comparison").
+/// relMSE = mean over pixels and channels of (a − r)²/(r² + 0.01) (docs/ARCHITECTURE.md "Comparison").
 pub fn rel_mse(a: &LayeredImage, r: &LayeredImage) -> f64 {
     let mut sum = 0.0;
     let mut n = 0usize;

@@ -2,7 +2,7 @@
 //! directional) without shadows, every reflecting BSDF, analytic and mesh shapes; the oracle's
 //! `direct-unshadowed` integrator is the reference. Also: forward == deferred, and the AOVs.
 //!
-//! Thresholds (DESIGN.md "Comparison", relMSE = (a − r)²/(r² + 0.01)):
+//! Thresholds (docs/ARCHITECTURE.md "Comparison", relMSE = (a − r)²/(r² + 0.01)):
 //! - interior pixels, one sample at the pixel centre vs the oracle's pixel box filter:
 //!   relMSE < 1e-3 — what remains is the difference between a pixel's centre value and its
 //!   mean (second order in the pixel size) plus the reference's noise;

@@ -285,8 +285,8 @@ fn parity_shadow_unoccluded_images_equal_the_unshadowed_quadrature() {
     // Every method but the unshadowed ones and the environment maps and distance impostors
     // (which shade their reflector, here the floor, from a captured map: realtime/tests/envmap.rs
     // and distance_impostor.rs).
-    let others = realtime::Method::NAMES
-        .iter()
+    let others = realtime::Method::names()
+        .into_iter()
         .filter(|n| !n.starts_with("area_") && !n.starts_with("envmap_") && !n.starts_with("distance_"));
     for name in others {
         for pipeline in [PipelineKind::Forward, PipelineKind::Deferred] {

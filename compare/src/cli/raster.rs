@@ -23,44 +23,12 @@ pub struct RasterArgs {
     #[arg(value_name = "SCENE")]
     pub scene: PathBuf,
 
-    /// Method: area_quadrature (N×N quadrature, converges to the exact unshadowed integral),
-    /// area_representative_point (Karis 2013); shadow maps (N×N quadrature × visibility):
-    /// shadow_hard (Williams 1978), pcf_hw_2x2, pcf_box, pcf_poisson (Reeves et al. 1987),
-    /// pcss (Fernando 2005); surface detail on displaced shapes: normal_mapping, bump_mapping
-    /// (Blinn 1978), parallax (Kaneko 2001), parallax_offset_limited (Welsh 2004),
-    /// steep_parallax, relief_mapping (Policarpo 2005), pom (Tatarchuk 2006), cone_step
-    /// (Dummer 2006); environment mapping of one reflector, maps captured at a point:
-    /// envmap_cube (Greene 1986), envmap_sphere (Miller & Hoffman 1984), envmap_paraboloid
-    /// (Heidrich & Seidel 1998); distance impostors, cube lookups localized by stored
-    /// distances: distance_impostor (Szirmay-Kalos et al. 2005), distance_search (GPU Gems 3
-    /// ch. 17).
-    #[arg(long, value_name = "NAME", default_value = "area_quadrature")]
+    /// Method (--help lists them; docs/methods.md has each one's paper and parameters).
+    #[arg(long, value_name = "NAME", default_value = "area_quadrature", long_help = method_help())]
     pub method: String,
 
-    /// A method parameter, repeatable: n=16 (area_quadrature's N; 8 for the shadow methods),
-    /// env_n=8 (environment quadrature N, 0 = none; 0 for the shadow methods). Shadow methods:
-    /// map=1024 (64..=4096), bias=0.002 (metres along the light ray), slope_bias=1,
-    /// normal_offset=1 (texel footprints); pcf_box kernel=3 (3 or 5); pcf_poisson taps=16
-    /// (1..=64), radius=2 (texels); pcss blocker_samples=16, filter_samples=32 (1..=64),
-    /// light_size (metres; degrees for directional lights; default the light's own),
-    /// blocker_depth=search|ignore (ignore: the deliberately broken PCSS); pcf_box,
-    /// pcf_poisson and pcss receiver_plane=on|off (receiver-plane depth bias); pcf_poisson
-    /// and pcss rotate=off|on (per-pixel rotated Poisson taps); every shadow method
-    /// cascades=1 (1..=4 cascaded maps per directional light) and split_lambda=0.5 (PSSM λ).
-    /// Detail methods: height_scale=1 (0..=10); bump_mapping delta=1 (texels); parallax and
-    /// parallax_offset_limited bias=0 (−1..=1 of the height range); steep_parallax steps=16;
-    /// relief_mapping steps=16, binary_steps=6; pom min_steps=8, max_steps=32,
-    /// self_shadow=off|on, shadow_steps=16; cone_step steps=32, relaxed=off|on, binary_steps=6.
-    /// Environment-mapping methods: size=128 (4..=2048, the map's side), filter_samples=64
-    /// (1..=4096, per prefiltered texel), prefilter=lobe|box, irradiance=map|sh9,
-    /// dominant_direction=off|on, reflector=SHAPE (default: the one non-diffuse shape),
-    /// capture=X,Y,Z (default: the reflector's centre), detail=none|<detail method> (EMNM),
-    /// envmap_sphere sphere_view=X,Y,Z (default: towards the camera), envmap_paraboloid
-    /// seam=fill|none. Distance impostors (every envmap_cube parameter): distance_impostor
-    /// iterations=1 (0..=64; 0 = envmap_cube); distance_search linear_steps=16 (1..=256),
-    /// secant_steps=4 (0..=64), layers=1 (1..=4: depth-peeled distance layers); both
-    /// double_refraction=off|on (trace a dielectric to its exit).
-    #[arg(long = "param", value_name = "K=V", value_parser = parse_param)]
+    /// A method parameter, repeatable (--help lists each method's, with defaults and ranges).
+    #[arg(long = "param", value_name = "K=V", value_parser = parse_param, long_help = param_help())]
     pub params: Vec<(String, String)>,
 
     /// Forward shading, or deferred (G-buffer + lighting pass).
@@ -191,6 +159,22 @@ fn output_path(args: &RasterArgs) -> Result<PathBuf, CliError> {
 }
 
 /// `K=V` with a non-empty key.
+/// `--method`'s full help, from the parameter tables (realtime::technique).
+fn method_help() -> String {
+    format!(
+        "Method, by family (docs/methods.md has each one's paper and parameters):\n{}",
+        realtime::technique::method_help()
+    )
+}
+
+/// `--param`'s full help, from the parameter tables: NAME=DEFAULT (ACCEPTS UNIT).
+fn param_help() -> String {
+    format!(
+        "A method parameter, repeatable: NAME=DEFAULT (ACCEPTS UNIT) below (docs/methods.md says what each does):\n{}",
+        realtime::technique::param_help()
+    )
+}
+
 fn parse_param(s: &str) -> Result<(String, String), String> {
     match s.split_once('=') {
         Some((k, v)) if !k.trim().is_empty() => Ok((k.trim().to_string(), v.trim().to_string())),

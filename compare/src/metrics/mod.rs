@@ -39,7 +39,7 @@ use scenes::layered::LayeredImage;
 
 pub use mask::Mask;
 
-/// ε of relMSE and SMAPE (DESIGN.md "Comparison"; Rousselle et al. 2011 and Vogels et al.
+/// ε of relMSE and SMAPE (docs/ARCHITECTURE.md "Comparison"; Rousselle et al. 2011 and Vogels et al.
 /// 2018 use the same 0.01 so that dark pixels do not dominate).
 pub const RELATIVE_EPSILON: f32 = 0.01;
 

@@ -17,7 +17,7 @@
 //! The local statistics are computed in f64: σ² = E[x²] − μ² cancels catastrophically in f32
 //! on bright flat regions; the per-pixel map is stored in f32 (its values are in [−1, 1]).
 
-use scenes::texture::linear_to_srgb;
+use scenes::srgb::linear_to_srgb;
 
 use super::{display_value, RgbImage};
 

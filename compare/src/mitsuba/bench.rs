@@ -1,5 +1,5 @@
 //! Time to equal error: the oracle against Mitsuba 3 (`llvm_ad_rgb` and `scalar_rgb`) on the
-//! same scene and machine (DESIGN.md "Quality bar").
+//! same scene and machine (docs/ARCHITECTURE.md "Quality bar").
 //!
 //! 1. A reference: Mitsuba `llvm_ad_rgb` (the fastest here) at a high sample count, in 64
 //!    independent passes so that its own noise is known per pixel.
@@ -10,7 +10,7 @@
 //!    t and relMSE e give the time to E as t·e/E (a small first-order correction, t ∝ spp).
 //!
 //! Every relMSE has the reference's own noise subtracted: mean of σ²_ref/(ref² + 0.01), the
-//! part of (x − ref)²/(ref² + 0.01) the reference's noise contributes (DESIGN.md "Comparison").
+//! part of (x − ref)²/(ref² + 0.01) the reference's noise contributes (docs/ARCHITECTURE.md "Comparison").
 //! Render times exclude start-up; Mitsuba's start-up (import, variant), scene load and warm-up
 //! (the 1-spp render that JIT-compiles the llvm kernels) are reported separately.
 

@@ -1,4 +1,4 @@
-//! The Mitsuba 3 cross-check (DESIGN.md "Comparison"): export a scene to Mitsuba 3, render it
+//! The Mitsuba 3 cross-check (docs/ARCHITECTURE.md "Comparison"): export a scene to Mitsuba 3, render it
 //! with Mitsuba through the project's Python venv, and test per pixel that the oracle and
 //! Mitsuba converge to the same image.
 //!

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 use scenes::layered::LayeredImage;
-use scenes::texture::srgb_to_linear;
+use scenes::srgb::srgb_to_linear;
 
 use super::crosscheck::CrossCheck;
 use crate::markup::escape;

@@ -1,6 +1,6 @@
 //! The per-pixel z-test of Mitsuba 3's own render tests (mitsuba3
 //! `src/python/python/testing.py`, `RenderingRegressionTest.run`), for two renders that both
-//! carry their variance, plus relMSE (DESIGN.md "Comparison").
+//! carry their variance, plus relMSE (docs/ARCHITECTURE.md "Comparison").
 //!
 //! For every pixel-channel, with means a, b and variances of the means σa², σb²:
 //!
@@ -13,7 +13,7 @@
 //! sample count). The significance level 0.01 is corrected for the N = W·H pixels tested
 //! (Šidák 1967): α′ = 1 − (1 − 0.01)^(1/N), with N the pixel count as in Mitsuba. The test
 //! passes when at least 99.75 % of the pixel-channels have p > α′ and no value is NaN or
-//! infinite (a non-finite pixel is always a failure, DESIGN.md "Comparison").
+//! infinite (a non-finite pixel is always a failure, docs/ARCHITECTURE.md "Comparison").
 
 use glam::Vec3;
 use scenes::layered::LayeredImage;
@@ -198,7 +198,7 @@ pub fn erfc(x: f64) -> f64 {
     }
 }
 
-/// relMSE of `a` against the reference `r` (DESIGN.md "Comparison"): the mean over pixels and
+/// relMSE of `a` against the reference `r` (docs/ARCHITECTURE.md "Comparison"): the mean over pixels and
 /// channels of (a − r)²/(r² + 0.01).
 pub fn relmse(a: &[Vec3], r: &[Vec3]) -> f64 {
     let n = a.len().min(r.len()).max(1) as f64;

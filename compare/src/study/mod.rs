@@ -177,7 +177,7 @@ impl Study {
 /// The oracle's settings for the ground truth.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GroundTruth {
-    /// Transport mode (DESIGN.md "Ground truth is defined per effect").
+    /// Transport mode (docs/ARCHITECTURE.md "Ground truth is defined per effect").
     pub integrator: IntegratorKind,
     /// Path depth, Mitsuba semantics (`path` only); the scene's when absent.
     pub max_depth: Option<i32>,

@@ -1,4 +1,4 @@
-//! Scattering functions (DESIGN.md "BSDFs"): a closed set, one file per member.
+//! Scattering functions (docs/ARCHITECTURE.md "BSDFs"): a closed set, one file per member.
 //!
 //! Conventions shared by every member:
 //! - Directions are in the local shading frame: z is the shading normal, oriented to the

@@ -1,4 +1,4 @@
-//! `ao`: ambient occlusion with a radius, the ground truth for SSAO (DESIGN.md).
+//! `ao`: ambient occlusion with a radius, the ground truth for SSAO (docs/ARCHITECTURE.md).
 //!
 //! AO(x) = (1/π) ∫ V_r(x, ω) cosθ dω over the hemisphere of the shading normal turned
 //! towards the viewer, V_r = 1 when nothing lies within distance r along ω (Zhukov, Iones,

@@ -1,4 +1,4 @@
-//! `direct`: emission + one bounce of direct light + perfect-specular chains (DESIGN.md).
+//! `direct`: emission + one bounce of direct light + perfect-specular chains (docs/ARCHITECTURE.md).
 //!
 //! From the camera, rays follow mirror and dielectric bounces (up to `max_depth` surfaces,
 //! 64 when unbounded); at the first non-delta surface the direct light is estimated by one

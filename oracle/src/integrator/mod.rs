@@ -1,4 +1,4 @@
-//! Light-transport integrators (DESIGN.md "Ground truth is defined per effect"): `path`,
+//! Light-transport integrators (docs/ARCHITECTURE.md "Ground truth is defined per effect"): `path`,
 //! `direct` and `ao`, plus the pieces they share — shading setup at a hit, light sampling
 //! and BSDF sampling combined by multiple importance sampling (Veach & Guibas 1995,
 //! "Optimally Combining Sampling Techniques for Monte Carlo Rendering", power heuristic).

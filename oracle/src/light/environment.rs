@@ -1,6 +1,6 @@
 //! Environment light: constant radiance, or an equirectangular map × scale, at infinity.
 //!
-//! Orientation is Mitsuba 3's `envmap` (DESIGN.md "Environment map"): a direction ω maps to
+//! Orientation is Mitsuba 3's `envmap` (docs/ARCHITECTURE.md "Environment map"): a direction ω maps to
 //! (u, v) = [`equirect_uv`]`(ω)` with u = 0 → −Z, u = 0.25 → +X, row 0 (v = 0) → +Y, and the
 //! radiance is L(ω) = scale × [`environment_lookup`]`(texture, ω)`: bilinear with Mitsuba's
 //! texel placement (columns at texel centres, rows at v = j/(H − 1)), measured against

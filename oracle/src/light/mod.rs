@@ -1,4 +1,4 @@
-//! Lights (DESIGN.md "Lights", "Environment map"): one closed set of emitters, one file per
+//! Lights (docs/ARCHITECTURE.md "Lights", "Environment map"): one closed set of emitters, one file per
 //! kind, and the power-proportional light selection of a scene.
 //!
 //! | kind | file | delta | sampled by |

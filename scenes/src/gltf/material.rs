@@ -29,7 +29,8 @@ use super::source::Asset;
 use crate::budget::bytes_of;
 use crate::error::SceneError;
 use crate::model::{Emission, Material, NormalMap, TexRgb, TexScalar, WrapMode};
-use crate::texture::{decode_image_bytes, srgb_to_linear, ColorSpace, Texture};
+use crate::srgb::srgb_to_linear;
+use crate::texture::{decode_image_bytes, ColorSpace, Texture};
 
 /// What a glTF material turns into, per primitive that uses it.
 #[derive(Clone, Debug)]

@@ -89,7 +89,7 @@ pub fn interior_mask(raster: &LayeredImage, oracle: &LayeredImage) -> Vec<bool> 
     mask
 }
 
-/// relMSE = mean of (a − r)²/(r² + 0.01) over R, G, B of the masked pixels (DESIGN.md
+/// relMSE = mean of (a − r)²/(r² + 0.01) over R, G, B of the masked pixels (docs/ARCHITECTURE.md
 /// "Comparison"), and the reference's own noise contribution mean var_r/(r² + 0.01).
 pub fn rel_mse(a: &LayeredImage, r: &LayeredImage, mask: Option<&[bool]>) -> (f64, f64) {
     let (mut sum, mut noise, mut n) = (0.0, 0.0, 0usize);

@@ -7,7 +7,7 @@
 //! takes the irradiance on a surface facing it and the direction light travels to. Mitsuba
 //! has no sun disk, so a directional light with an angular diameter is refused. Environment:
 //! `constant`, or `envmap` with our image written as float EXR and the same `scale`; the
-//! orientation and texel placement are the same by convention (DESIGN.md,
+//! orientation and texel placement are the same by convention (docs/ARCHITECTURE.md,
 //! scenes/src/model.rs `environment_lookup`), so no rotation is exported.
 
 use glam::Vec3;

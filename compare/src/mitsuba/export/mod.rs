@@ -17,7 +17,7 @@
 //! | sphere, rectangle, disk, mesh | `sphere`, `rectangle`/`disk` under the affine map (half_u, half_v, n, center), `ply` |
 //! | emission (front side) | `area` |
 //! | point, spot, directional (delta) | `point`, `spot`, `directional` |
-//! | constant / map environment | `constant` / `envmap` (same image, no rotation: DESIGN.md) |
+//! | constant / map environment | `constant` / `envmap` (same image, no rotation: docs/ARCHITECTURE.md) |
 
 mod lights;
 mod materials;

@@ -1,9 +1,9 @@
-//! The Poisson-disk tap pattern of `pcf_poisson` and `pcss` (shaders/pcf.wgsl, pcss.wgsl):
+//! The Poisson-disk tap pattern of `pcf_poisson` and `pcss` (shaders/shadow/pcf.wgsl, shadow/pcss.wgsl):
 //! [`POISSON_TAPS`] points in the unit disk, generated once, deterministically, on the CPU.
 
 use scenes::random::SplitMix64;
 
-use crate::shadow::POISSON_TAPS;
+use super::maps::POISSON_TAPS;
 
 /// Mitchell's best-candidate factor: tap k is the best of `BEST_CANDIDATE_FACTOR`·k candidates
 /// (Mitchell 1991 uses a similar multiple; 10 chosen here).

@@ -1,4 +1,4 @@
-// pcf.wgsl — percentage-closer filtering: the fraction of shadow-map comparisons that pass
+// shadow/pcf.wgsl — percentage-closer filtering: the fraction of shadow-map comparisons that pass
 // around the lookup (`pcf_hw_2x2`, `pcf_box`, `pcf_poisson`).
 //
 // Technique: Reeves, Salesin & Cook 1987, "Rendering Antialiased Shadows with Depth Maps",
@@ -10,11 +10,11 @@
 // - `pcf_box`: k×k nearest comparisons on the texel grid centred on the lookup, averaged —
 //   a box of k texels (V in steps of 1/k²);
 // - `pcf_poisson`: N bilinear comparisons at Poisson-disk taps of radius R texels, averaged
-//   (the tap pattern: poisson.rs `poisson_disk`, Mitchell 1991 best candidate; a fixed
+//   (the tap pattern: shadow/poisson.rs `poisson_disk`, Mitchell 1991 best candidate; a fixed
 //   pattern, so undersampling shows as banding, unless `rotate` turns it per pixel by
-//   interleaved gradient noise, Jimenez 2014 — shadow_map_common.wgsl — trading it for noise).
+//   interleaved gradient noise, Jimenez 2014 — shadow/map_common.wgsl — trading it for noise).
 // Each tap compares against the receiver plane's depth there when the receiver-plane bias is
-// on (shadow_map_common.wgsl); the single-comparison `pcf_hw_2x2` cannot.
+// on (shadow/map_common.wgsl); the single-comparison `pcf_hw_2x2` cannot.
 // Failure mode: the penumbra width is the kernel's, fixed in texels — it does not grow with the
 // blocker–receiver distance (no contact hardening) and shrinks in world units as the map's
 // resolution rises; wide kernels on receivers tilted to the light self-shadow (one reference

@@ -1,5 +1,5 @@
-// envmap.wgsl — environment mapping: the reflector shaded from maps captured at one point
-// (realtime/src/envmap.rs), in place of its environment quadrature and its area lights.
+// envmap/envmap.wgsl — environment mapping: the reflector shaded from maps captured at one point
+// (realtime/src/technique/envmap/mod.rs), in place of its environment quadrature and its area lights.
 //
 // Technique: classic environment mapping (Blinn & Newell 1976, CACM 19(10)), the map looked
 // up along R = 2(n·ωo)n − ωo (and the refracted direction of Snell's law for a dielectric):
@@ -29,11 +29,8 @@
 // Inputs: group 3 (the maps, the sampler, SH coefficients, `envmap` uniform), a resolved
 // Bsdf, the shading normal turned to the geometric normal's side, ωo.
 
-// ENVMAP_METHOD values (envmap.rs `Parameterization::shader_code`); 0: no environment map.
-const ENVMAP_NONE: u32 = 0u;
-const ENVMAP_CUBE: u32 = 1u;
-const ENVMAP_SPHERE: u32 = 2u;
-const ENVMAP_PARABOLOID: u32 = 3u;
+// ENVMAP_METHOD values ENVMAP_NONE (0), ENVMAP_CUBE, ENVMAP_SPHERE, ENVMAP_PARABOLOID:
+// generated from the method tables (technique/mod.rs `wgsl_codes`).
 override ENVMAP_METHOD: u32 = 0u;
 
 // envmap.info.y: how diffuse reflection is looked up.
@@ -48,7 +45,7 @@ struct EnvMapUniforms {
     frame_x: vec4<f32>,
     frame_y: vec4<f32>,
     frame_z: vec4<f32>,
-    // Localization (distance_impostor.wgsl): mode (LOCAL_*), iterations or linear steps,
+    // Localization (distance_impostor/lookup.wgsl): mode (LOCAL_*), iterations or linear steps,
     // secant steps, double refraction (1) or not (0).
     local: vec4<u32>,
     // The capture point and the refractor's centre (its map's origin), world space.
@@ -69,7 +66,7 @@ struct EnvMapUniforms {
 // The refractor's distance map: outward normal (xyz) and distance from its centre (w).
 @group(3) @binding(7) var envmap_refractor: texture_cube<f32>;
 // Layers 1, 2, … of a layered distance map (radiance, distance), depth-peeled behind level 0
-// of envmap_cube (distance_impostor.wgsl).
+// of envmap_cube (distance_impostor/lookup.wgsl).
 @group(3) @binding(8) var envmap_layers: texture_cube_array<f32>;
 
 // Whether shape `shape` is the environment-mapped reflector.
@@ -105,7 +102,7 @@ fn envmap_radiance(d: vec3<f32>, level: f32) -> vec3<f32> {
 }
 
 // The nine real spherical harmonics Y_lm(d), bands 0–2 (Ramamoorthi & Hanrahan 2001, eq. 3);
-// envmap_filter.wgsl projects onto the same basis.
+// envmap/filter.wgsl projects onto the same basis.
 fn sh9_basis(d: vec3<f32>) -> array<f32, 9> {
     return array<f32, 9>(
         0.282095,

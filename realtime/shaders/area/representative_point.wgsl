@@ -1,4 +1,4 @@
-// area_representative_point.wgsl — unshadowed area lights and sun disks by a representative
+// area/representative_point.wgsl — unshadowed area lights and sun disks by a representative
 // point (`area_representative_point`), the cheap approximation to be measured.
 //
 // Technique: Karis 2013, "Real Shading in Unreal Engine 4", SIGGRAPH 2013 course "Physically

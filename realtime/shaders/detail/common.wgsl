@@ -1,4 +1,4 @@
-// detail_common.wgsl — what every surface-detail technique shares: the frame of a displaced
+// detail/common.wgsl — what every surface-detail technique shares: the frame of a displaced
 // surface at a base point, heights in metres, the displaced normal, and the dispatcher.
 //
 // Technique: a shape displaced by p' = p + w(u, v)·n, w = k·s·h (scenes/src/displacement.rs;
@@ -7,8 +7,8 @@
 // d = a·∂p/∂u + b·∂p/∂v + c·n (Cramer's rule) moves uv by (a, b) and the height by c, so along
 // the camera ray through p the point at height w has uv(w) = uv + w·(a, b)/c: exact over a
 // planar base (a rectangle; one triangle of a mesh), which every technique assumes. The
-// technique (detail_normal.wgsl, detail_parallax.wgsl, detail_ray_march.wgsl,
-// detail_cone_step.wgsl) returns the uv' and height w' it believes the ray meets; the surface
+// technique (detail/normal.wgsl, detail/parallax.wgsl, detail/ray_march.wgsl,
+// detail/cone_step.wgsl) returns the uv' and height w' it believes the ray meets; the surface
 // point is p + ∂p/∂u·Δu + ∂p/∂v·Δv + w'·n, shaded with the displaced surface's normal at uv',
 // N' ∝ (∂p/∂u + w_u·n) × (∂p/∂v + w_v·n) (Blinn 1978, "Simulation of Wrinkled Surfaces",
 // SIGGRAPH, §3; the curvature terms w·∂n/∂u vanish on a planar base), which is also its
@@ -20,17 +20,9 @@
 // Inputs: a Differential from surface.wgsl, the shape's `detail` fields (upload.rs), the
 // frame's `detail` uniforms.
 
-// The pipeline's surface-detail method (detail.rs `DetailTechnique::shader_code`).
+// The pipeline's surface-detail method: DETAIL_FLAT (0), DETAIL_NORMAL_MAPPING, …,
+// DETAIL_CONE_STEP, generated from the method tables (technique/mod.rs `wgsl_codes`).
 override DETAIL_METHOD: u32 = 0u;
-const DETAIL_FLAT: u32 = 0u;
-const DETAIL_NORMAL_MAPPING: u32 = 1u;
-const DETAIL_BUMP_MAPPING: u32 = 2u;
-const DETAIL_PARALLAX: u32 = 3u;
-const DETAIL_PARALLAX_OFFSET_LIMITED: u32 = 4u;
-const DETAIL_STEEP_PARALLAX: u32 = 5u;
-const DETAIL_RELIEF_MAPPING: u32 = 6u;
-const DETAIL_POM: u32 = 7u;
-const DETAIL_CONE_STEP: u32 = 8u;
 
 // The displaced surface around one base point.
 struct DetailFrame {

@@ -7,9 +7,9 @@
 use glam::Vec3;
 use scenes::{Camera, Scene};
 
-use super::{corners, orthographic, LightFrustum, FAR_MARGIN};
+use super::maps::{corners, orthographic, LightFrustum, FAR_MARGIN};
+use super::Shadow;
 use crate::frame::camera_near;
-use crate::method::Shadow;
 
 /// The camera view-depth range [n, f] the cascades split: n the camera's near plane, f the
 /// farthest corner of the scene's bounding box along the view direction, at least n.
@@ -110,9 +110,9 @@ pub(super) fn cascade_square(
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::{cascaded, hard, rect, scene, single_layers, sun};
+    use super::super::maps::tests::{cascaded, hard, rect, scene, single_layers, sun};
     use super::*;
-    use crate::shadow::light_frusta;
+    use crate::technique::shadow::maps::light_frusta;
     use glam::Vec3;
     use scenes::{Geometry, Light};
 

@@ -1,12 +1,12 @@
-// detail_normal.wgsl — normal mapping and bump mapping: the displaced surface's normal on the
+// detail/normal.wgsl — normal mapping and bump mapping: the displaced surface's normal on the
 // undisplaced base point.
 //
-// Technique: normal mapping reads a normal map baked from h (detail.rs `derivative_map`: per
+// Technique: normal mapping reads a normal map baked from h (detail/mod.rs `derivative_map`: per
 // texel central differences of h, stored as derivatives — Mikkelsen 2010, "Bump Mapping
 // Unparametrized Surfaces on the GPU", JGT 15(1) — so one map serves any uv scale), bilinearly
 // filtered: 4 fetches. Bump mapping differences h at run time (Blinn 1978, "Simulation of
 // Wrinkled Surfaces", SIGGRAPH, §3): w_u ≈ (w(u + δ, v) − w(u, v))/δ, likewise in v, δ = `delta`
-// texels: 12 fetches. Both feed detail_common.wgsl's `displaced_normal`.
+// texels: 12 fetches. Both feed detail/common.wgsl's `displaced_normal`.
 // Failure mode: the point stays on the base surface: no parallax (the texture seen is the one
 // under the base point, not the one the ray meets), no self-occlusion, no self-shadowing, no
 // silhouette — the missing occlusion the surface-detail studies bound from below. The

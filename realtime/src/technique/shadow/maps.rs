@@ -1,7 +1,7 @@
 //! Shadow maps (Williams 1978): Depth32Float layers, one per light (k per directional light
 //! under `cascades = k`), rendered every frame in a depth-only pass from the light, then
-//! filtered into a visibility factor V by the method's technique (`shaders/shadow_*.wgsl`,
-//! `pcf.wgsl`, `pcss.wgsl`).
+//! filtered into a visibility factor V by the method's technique (`shaders/shadow/*.wgsl`,
+//! `shadow/pcf.wgsl`, `shadow/pcss.wgsl`).
 //!
 //! Light slots are the realtime light order: the area emitters (spheres, rectangles, disks) in
 //! scene order, then the scene lights. Emissive meshes light nothing here and get no map. Each
@@ -21,11 +21,11 @@
 //! "Cascaded Shadow Maps", NVIDIA whitepaper): the camera's view depth range [n, f] — n its
 //! near plane, f the farthest corner of the scene's bounding box along its view direction (at
 //! least n) — is split by the practical split scheme
-//! z_i = λ·n·(f/n)^(i/k) + (1 − λ)·(n + (f − n)·i/k), i = 0..=k ([`pssm_splits`]; λ =
+//! z_i = λ·n·(f/n)^(i/k) + (1 − λ)·(n + (f − n)·i/k), i = 0..=k ([`super::cascades::pssm_splits`]; λ =
 //! `split_lambda`: 0 uniform; 1 logarithmic, the split that spreads perspective aliasing
 //! evenly over depth, but with a near plane close to the eye spends cascades on the first
 //! metres). Cascade i is an orthographic map along the light fitted to the eight
-//! corners of the camera frustum between z_i and z_{i+1} in light space ([`frustum_slice`]),
+//! corners of the camera frustum between z_i and z_{i+1} in light space ([`super::cascades::frustum_slice`]),
 //! clipped to the scene's light-space box (every receiver of the slice lies in both), squared;
 //! its depth range is the whole scene's, so casters outside the slice still shadow it. The
 //! square is snapped to its texels (Valient 2008, "Stable Rendering of Cascaded Shadow Maps",
@@ -68,14 +68,13 @@ use glam::{Mat4, Vec3};
 use scenes::{Geometry, Light, Scene};
 use wgpu::util::DeviceExt;
 
+use super::poisson::poisson_disk;
+use super::{BlockerDepth, Shadow, ShadowTechnique, MAX_SHADOW_TAPS};
 use crate::gpu_types::NONE;
-use crate::method::{BlockerDepth, Method, Shadow, ShadowTechnique, MAX_SHADOW_TAPS};
 use crate::pipelines::DEPTH_FORMAT;
-use crate::poisson::poisson_disk;
+use crate::technique::Method;
 
-mod cascades;
-pub use cascades::{cascade_range, frustum_slice, pssm_splits};
-use cascades::{cascade_square, cascades};
+use super::cascades::{cascade_square, cascades};
 
 /// Light slots the shadow uniform holds (WGSL `slots: array<vec4<u32>, 64>`).
 pub const MAX_SHADOWED_LIGHTS: usize = 64;
@@ -101,7 +100,7 @@ pub const MIN_NEAR_FRACTION: f32 = 1e-3;
 /// Largest total size of the shadow-map array accepted (bytes), chosen here: 1 GiB.
 pub const MAX_SHADOW_MAP_BYTES: u64 = 1 << 30;
 
-/// One map layer's projection (WGSL `ShadowLight`, shadow_map_common.wgsl): a light slot's one
+/// One map layer's projection (WGSL `ShadowLight`, shadow/map_common.wgsl): a light slot's one
 /// map, or one of its cascades.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -349,7 +348,7 @@ fn towards_scene(scene: &Scene, own: Option<usize>, eye: Vec3) -> Vec3 {
 }
 
 /// The eight corners of an axis-aligned box.
-fn corners((lo, hi): (Vec3, Vec3)) -> [Vec3; 8] {
+pub(super) fn corners((lo, hi): (Vec3, Vec3)) -> [Vec3; 8] {
     std::array::from_fn(|k| {
         Vec3::new(
             if k & 1 == 0 { lo.x } else { hi.x },
@@ -451,7 +450,7 @@ fn light_box(view: &Mat4, points: &[Vec3]) -> (Vec3, Vec3) {
 /// An orthographic frustum along the travel direction `axis`, its depth range over the whole
 /// scene; its square over the scene's bounding box, or with `cascade` = (the eight corners of
 /// a camera-frustum slice, the map side) over that slice (module docs, "Cascades").
-fn orthographic(
+pub(super) fn orthographic(
     scene: &Scene,
     name: &str,
     axis: Vec3,
@@ -704,12 +703,12 @@ impl ShadowMaps {
 }
 
 #[cfg(test)]
-mod tests {
+pub(in crate::technique::shadow) mod tests {
     use super::*;
     use scenes::{Camera, Emission, Film, Material, RenderSettings, Shape, TexRgb};
     use std::path::PathBuf;
 
-    pub(super) fn scene(shapes: Vec<(Geometry, bool)>, lights: Vec<Light>) -> Scene {
+    pub(in crate::technique::shadow) fn scene(shapes: Vec<(Geometry, bool)>, lights: Vec<Light>) -> Scene {
         Scene {
             source: PathBuf::from("<shadow test>"),
             camera: Camera::look_at(Vec3::new(0.0, 1.0, 3.0), Vec3::ZERO, Vec3::Y, 40.0),
@@ -740,7 +739,7 @@ mod tests {
     }
 
     /// Every slot's frusta for `shadow`, each slot asserted to have one layer.
-    pub(super) fn single_layers(s: &Scene, shadow: &Shadow) -> Vec<LightFrustum> {
+    pub(in crate::technique::shadow) fn single_layers(s: &Scene, shadow: &Shadow) -> Vec<LightFrustum> {
         light_frusta(s, shadow, 1.0)
             .into_iter()
             .map(|layers| {
@@ -750,11 +749,11 @@ mod tests {
             .collect()
     }
 
-    pub(super) fn hard() -> Shadow {
+    pub(in crate::technique::shadow) fn hard() -> Shadow {
         Shadow::new(ShadowTechnique::Hard)
     }
 
-    pub(super) fn rect(center: Vec3, half: f32, normal_down: bool) -> Geometry {
+    pub(in crate::technique::shadow) fn rect(center: Vec3, half: f32, normal_down: bool) -> Geometry {
         let (u, v) = (Vec3::X * half, Vec3::Z * half);
         Geometry::Rectangle {
             center,
@@ -870,7 +869,7 @@ mod tests {
         assert!((g[2].size - 2.0 * 2f32.to_radians().tan()).abs() < 1e-7);
     }
 
-    pub(super) fn sun(direction: Vec3) -> Light {
+    pub(in crate::technique::shadow) fn sun(direction: Vec3) -> Light {
         Light::Directional {
             name: "sun".into(),
             direction,
@@ -879,7 +878,7 @@ mod tests {
         }
     }
 
-    pub(super) fn cascaded(k: u32, lambda: f32) -> Shadow {
+    pub(in crate::technique::shadow) fn cascaded(k: u32, lambda: f32) -> Shadow {
         Shadow {
             cascades: k,
             split_lambda: lambda,

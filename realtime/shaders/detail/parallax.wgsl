@@ -1,10 +1,10 @@
-// detail_parallax.wgsl — parallax mapping (Kaneko et al. 2001) and offset-limited parallax
+// detail/parallax.wgsl — parallax mapping (Kaneko et al. 2001) and offset-limited parallax
 // mapping (Welsh 2004): one height lookup, one uv offset.
 //
 // Technique: Kaneko, Takahei, Inami, Kawakami, Yanagida, Maeda & Tachi 2001, "Detailed Shape
 // Representation with Parallax Mapping", ICAT: the ray is assumed to meet the surface at the
 // height w(uv) seen under the base point, so uv' = uv(w) = uv + w·(a, b)/c along the camera ray
-// (detail_common.wgsl), with Welsh's scale and bias w = k·s·h + b·(w_max − w_min).
+// (detail/common.wgsl), with Welsh's scale and bias w = k·s·h + b·(w_max − w_min).
 // Welsh 2004, "Parallax Mapping with Offset Limiting: A Per-Pixel Approximation of Uneven
 // Surfaces" (Infiscape tech. report): the offset × cos θ, i.e. the tangent-plane part of the
 // unit view vector instead of its ratio to the normal part, so it never exceeds the height.

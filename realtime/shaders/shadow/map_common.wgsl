@@ -1,17 +1,17 @@
-// shadow_map_common.wgsl — shadow maps: the per-light projection, the receiver's biased
+// shadow/map_common.wgsl — shadow maps: the per-light projection, the receiver's biased
 // lookup, and the leaf samplers every shadow technique filters with.
 //
 // Technique: Williams 1978, "Casting Curved Shadows on Curved Surfaces", SIGGRAPH '78
 // (https://doi.org/10.1145/965139.807402): render depth from the light, then a point is lit
 // where its own depth from the light is not greater than the stored one. One Depth32Float
-// layer per shadowed light (realtime/src/shadow.rs builds the projections: perspective from a
+// layer per shadowed light (realtime/src/technique/shadow/maps.rs builds the projections: perspective from a
 // rectangle's or disk's centre along its normal, from a sphere or point light towards the
 // scene, along a spot's axis; orthographic over the scene for directional lights), depth in
 // [0, 1] (near → 0), cleared to 1, compared with `LessEqual` (1 = lit).
 // Cascaded shadow maps (Zhang et al. 2006, "Parallel-Split Shadow Maps for Large-scale Virtual
 // Environments", VRCIA 2006, https://doi.org/10.1145/1128923.1128975; Dimitrov 2007, "Cascaded
 // Shadow Maps", NVIDIA whitepaper): under `cascades = k` a directional light has k layers, each
-// an orthographic map over one slice [z_i, z_{i+1}] of the camera's view depth (shadow.rs,
+// an orthographic map over one slice [z_i, z_{i+1}] of the camera's view depth (shadow/maps.rs,
 // "Cascades"); a receiver at camera view depth d takes the first cascade with d ≤ z_{i+1}
 // (`shadow_layer`), and that layer's texel size sizes every footprint.
 // Rotated Poisson taps (`rotate`): the disk turned per pixel by 2π·IGN(x, y), interleaved
@@ -47,15 +47,10 @@
 // the map array and two comparison samplers (group 2). Only the leaf samplers below and the
 // entry points read these bindings.
 
-// Shadow methods, picked per pipeline (method.rs `ShadowTechnique::shader_code`).
-const SHADOW_NONE: u32 = 0u;
-const SHADOW_HARD: u32 = 1u;
-const SHADOW_PCF_HW_2X2: u32 = 2u;
-const SHADOW_PCF_BOX: u32 = 3u;
-const SHADOW_PCF_POISSON: u32 = 4u;
-const SHADOW_PCSS: u32 = 5u;
+// Shadow methods SHADOW_NONE (0), SHADOW_HARD, …, SHADOW_PCSS, picked per pipeline: generated
+// from the method tables (technique/mod.rs `wgsl_codes`).
 
-// Pipeline-overridable constant: the shadow method (shadow_visibility.wgsl dispatches on it).
+// Pipeline-overridable constant: the shadow method (shadow/visibility.wgsl dispatches on it).
 override SHADOW_METHOD: u32 = 0u;
 
 // Largest tan θ of the slope-scaled bias (θ ≈ 84°), chosen here: beyond it the receiver is
@@ -67,7 +62,7 @@ const SHADOW_MAX_SLOPE: f32 = 10.0;
 // plane; 4 keeps the projected differences well above f32 rounding, chosen here).
 const SHADOW_PLANE_STEP: f32 = 4.0;
 
-// One light's shadow map (shadow.rs `GpuShadowLight`).
+// One light's shadow map (shadow/maps.rs `GpuShadowLight`).
 struct ShadowLight {
     // World to clip; depth z/w in [0, 1].
     view_proj: mat4x4<f32>,
@@ -87,7 +82,7 @@ struct ShadowLight {
     info: vec4<u32>,
 }
 
-// The method's parameters (shadow.rs `GpuShadowSettings`).
+// The method's parameters (shadow/maps.rs `GpuShadowSettings`).
 struct ShadowSettings {
     // Constant bias (m), slope-scaled bias, normal offset (texels), map side (texels).
     bias: vec4<f32>,
@@ -100,11 +95,11 @@ struct ShadowSettings {
 
 struct ShadowUniforms {
     settings: ShadowSettings,
-    // 64 taps in the unit disk, two per vec4 (poisson.rs `poisson_disk`).
+    // 64 taps in the unit disk, two per vec4 (shadow/poisson.rs `poisson_disk`).
     poisson: array<vec4<f32>, 32>,
     // Per light slot: first map layer, layer count (1, or its cascades), unused ×2.
     slots: array<vec4<u32>, 64>,
-    // One projection per map layer (shadow.rs MAX_SHADOW_LAYERS).
+    // One projection per map layer (shadow/maps.rs MAX_SHADOW_LAYERS).
     layers: array<ShadowLight, 128>,
 }
 

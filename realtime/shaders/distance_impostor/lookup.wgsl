@@ -1,6 +1,6 @@
-// distance_impostor.wgsl — localized environment-map lookups: the reflected or refracted ray
+// distance_impostor/lookup.wgsl — localized environment-map lookups: the reflected or refracted ray
 // x + R·t finds the cube texel its hit lies in from the distances the radiance cube stores in
-// alpha (realtime/src/distance_impostor.rs has the maths and the method table).
+// alpha (realtime/src/technique/distance_impostor.rs has the maths and the method table).
 //
 // Technique:
 // - iteration (envmap.local.x = 1; Szirmay-Kalos, Aszódi, Lazányi & Premecz 2005,
@@ -24,7 +24,7 @@
 // one whose map has too few layers treats what is behind its deepest layer as solid; the refractor
 // map keeps one layer (non-star-shaped refractors lose their inner surfaces) and internal
 // reflections beyond total internal reflection are dropped.
-// Inputs: group 3 (envmap.wgsl's cube, whose level 0 alpha is the distance; the further
+// Inputs: group 3 (envmap/envmap.wgsl's cube, whose level 0 alpha is the distance; the further
 // layers; the refractor cube; `envmap.local`, `envmap.capture`, `envmap.refractor`,
 // `envmap.layers`).
 

@@ -1,4 +1,4 @@
-// area_quadrature.wgsl — unshadowed area, sun-disk and environment light by N×N stratified
+// area/quadrature.wgsl — unshadowed area, sun-disk and environment light by N×N stratified
 // midpoint quadrature (`area_quadrature`).
 //
 // Technique: the product midpoint rule on each emitter's own parametrisation — one sample at

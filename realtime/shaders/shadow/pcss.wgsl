@@ -1,4 +1,4 @@
-// pcss.wgsl — percentage-closer soft shadows (`pcss`).
+// shadow/pcss.wgsl — percentage-closer soft shadows (`pcss`).
 //
 // Technique: Fernando 2005, "Percentage-Closer Soft Shadows", SIGGRAPH 2005 Sketches
 // (https://doi.org/10.1145/1187112.1187153), in three steps, with the search region and the
@@ -6,7 +6,7 @@
 // (NVIDIA whitepaper, PCSS_Integration.pdf):
 // 1. blocker search: `blocker_samples` Poisson taps over the region of the map where a blocker
 //    can hide part of the light from the receiver — the cone from the receiver (view depth z_r)
-//    to the light, cut at the search near plane z_n, the closest a blocker may be (shadow.rs:
+//    to the light, cut at the search near plane z_n, the closest a blocker may be (shadow/maps.rs:
 //    the nearest shape wholly in front of the light): width
 //    w_light·(z_r − z_n)/z_r at depth z_n for a perspective map (a light of width w_light at
 //    the eye, perpendicular to the axis), (z_r − z_n)·2tan(θ/2) for a sun of angular diameter θ
@@ -15,8 +15,8 @@
 // 2. penumbra width by similar triangles, parallel planar blocker and receiver:
 //    w_p = (z_r − z_b)·w_light/z_b (perspective), (z_r − z_b)·2tan(θ/2) (orthographic).
 // 3. PCF with `filter_samples` bilinear comparisons on the Poisson disk of diameter w_p at the
-//    receiver (pcf.wgsl `pcf_poisson`).
-// Both tap sets turn by the same per-pixel rotation under `rotate` (shadow_map_common.wgsl).
+//    receiver (shadow/pcf.wgsl `pcf_poisson`).
+// Both tap sets turn by the same per-pixel rotation under `rotate` (shadow/map_common.wgsl).
 // `blocker_depth = ignore` skips step 1 and takes z_b = PCSS_IGNORED_BLOCKER_FRACTION·z_r —
 // a deliberately broken PCSS (constant penumbra w_p = w_light, no contact hardening), kept as
 // a test device for the study thresholds, not as a technique.

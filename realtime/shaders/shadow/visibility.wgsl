@@ -1,10 +1,10 @@
-// shadow_visibility.wgsl — the one shadow dispatcher, and the per-light visibility AOV.
+// shadow/visibility.wgsl — the one shadow dispatcher, and the per-light visibility AOV.
 //
 // Technique: the decomposition every shadow-map technique makes — the light's unshadowed
 // integral times a visibility factor V ∈ [0, 1]: Lo ≈ V·∫ f·|cos θi|·Le dω, V from the light's
 // shadow map at the shading point. The filter is the pipeline-overridable constant
 // SHADOW_METHOD, picked here and nowhere else (bevy_pbr's `sample_shadow_map_*`):
-// shadow_hard.wgsl, pcf.wgsl (2×2, box, Poisson), pcss.wgsl.
+// shadow/hard.wgsl, shadow/pcf.wgsl (2×2, box, Poisson), shadow/pcss.wgsl.
 // The AOV `visibility.<light>.Y` follows the oracle's (oracle/src/integrator/mod.rs
 // `light_visibility`): 0 where the light cannot reach the point at all (behind a one-sided
 // emitter, on its plane, inside a one-sided sphere, outside a spot's cone, the emitter's own
@@ -14,7 +14,7 @@
 // rest) — a large light half hidden, its bright part behind the blocker, is wrong even with
 // the exact visible fraction; the environment is never shadowed.
 // Each light slot's map is its one layer, or under cascades the layer `shadow_layer` picks by
-// the point's camera view depth (shadow_map_common.wgsl).
+// the point's camera view depth (shadow/map_common.wgsl).
 // Inputs: the map layer's ShadowLight and settings, the point and its front geometric normal,
 // the Poisson taps' rotation; for the AOV the emitter or light and the surface point.
 

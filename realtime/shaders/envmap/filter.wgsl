@@ -1,4 +1,4 @@
-// envmap_filter.wgsl — building the environment maps of the environment-mapping methods from
+// envmap/filter.wgsl — building the environment maps of the environment-mapping methods from
 // the six captured views: the radiance cube and its box mips, the prefiltered specular levels
 // (GGX or normalized Phong), the cosine-convolved irradiance cube, the 9 spherical-harmonic
 // irradiance coefficients, the warps into a sphere map and a dual-paraboloid map, and the
@@ -10,7 +10,7 @@
 // Cube faces follow the Vulkan/WebGPU cube-map convention (Vulkan spec, "Cube Map Face
 // Selection"): layer f = +X, −X, +Y, −Y, +Z, −Z, texel (s, t) of face f looks along
 // `cube_direction`. The captured views come from right-handed cameras, so each is copied with
-// its columns mirrored (realtime/src/envmap_build.rs, "Capture").
+// its columns mirrored (realtime/src/technique/envmap/build.rs, "Capture").
 //
 // Technique:
 // - GGX prefiltering: Karis 2013, "Real Shading in Unreal Engine 4" (SIGGRAPH course notes),
@@ -41,7 +41,7 @@
 // paraboloid's unit disk the texels are the other hemisphere's directions (`seam` fill) or
 // black (`seam` none, the unhandled seam).
 
-// What one dispatch does (envmap_build.rs `FilterParams`).
+// What one dispatch does (envmap/build.rs `FilterParams`).
 struct FilterParams {
     // Output side, output level's roughness r (lobe width), source side at level 0, mode.
     size: u32,
@@ -256,7 +256,7 @@ fn cs_irradiance(@builtin(global_invocation_id) id: vec3<u32>) {
 const SH_THREADS: u32 = 64u;
 var<workgroup> sh_partial: array<array<vec3<f32>, 9>, 64>;
 
-// SH9 irradiance coefficients of one radiance level (basis: envmap.wgsl sh9_basis): one workgroup, a strided sum per thread,
+// SH9 irradiance coefficients of one radiance level (basis: envmap/envmap.wgsl sh9_basis): one workgroup, a strided sum per thread,
 // then thread 0 adds the partial sums and applies the cosine lobe's Â_l.
 @compute @workgroup_size(64)
 fn cs_sh9(@builtin(local_invocation_index) t: u32) {

@@ -1,5 +1,5 @@
 //! Building an environment-mapping method's maps for one render (module docs of
-//! [`crate::envmap`]): the capture, the filtering passes of `shaders/envmap_filter.wgsl`, and
+//! [`super`]): the capture, the filtering passes of `shaders/envmap/filter.wgsl`, and
 //! the bind group (group 3) the shading pipelines read them from.
 //!
 //! Capture: six forward renders of the scene without the reflector, from the capture point,
@@ -13,7 +13,7 @@
 //! ≤ 64) when it has a diffuse lobe, the warp into the sphere or paraboloid map (from the
 //! same levels; the capture cube has the map's side), the BRDF table for GGX and metal-rough.
 //! Level 0's alpha holds each texel's distance from the capture point (the distance
-//! impostors' lookups, [`crate::distance_impostor`]); with `double_refraction` a second cube
+//! impostors' lookups, [`crate::technique::distance_impostor`]); with `double_refraction` a second cube
 //! holds the refractor's outward normals and distances from its centre; with `layers` > 1
 //! the capture is repeated with depth peeling (`shaders/passes.wgsl` `peel_distance`: each
 //! pass keeps the nearest surface behind the previous layer's, level 0 only) and the further
@@ -25,14 +25,15 @@ use glam::Vec3;
 use scenes::{Camera, Geometry, Material, Scene};
 use wgpu::util::DeviceExt;
 
-use crate::distance_impostor::Localization;
-use crate::envmap::{EnvMapping, Irradiance, Parameterization, Prefilter, IRRADIANCE_SIZE};
+use super::localization::Localization;
+use super::{EnvMapping, Irradiance, Parameterization, Prefilter, IRRADIANCE_SIZE};
 use crate::error::RasterError;
 use crate::frame::{encode_passes, Frame, ShadingGroups};
-use crate::method::{Method, PipelineKind};
+use crate::pipelines::PipelineKind;
 use crate::render::{RasterSettings, Renderer};
-use crate::shadow::ShadowMaps;
 use crate::targets::Targets;
+use crate::technique::shadow::maps::ShadowMaps;
+use crate::technique::Method;
 use crate::upload::SceneGpu;
 
 /// Format of every map.
@@ -44,10 +45,10 @@ const BRDF_TABLE_SAMPLES: u32 = 512;
 const IRRADIANCE_SOURCE: u32 = 32;
 const SH9_SOURCE: u32 = 64;
 
-/// `FilterParams` of envmap_filter.wgsl.
+/// `FilterParams` of envmap/filter.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct FilterParams {
+pub(crate) struct FilterParams {
     size: u32,
     roughness: f32,
     source_size: u32,
@@ -60,6 +61,7 @@ struct FilterParams {
     frame_y: [f32; 4],
     frame_z: [f32; 4],
 }
+const _: () = assert!(std::mem::size_of::<FilterParams>() == 8 * 4 + 3 * 16);
 
 impl FilterParams {
     fn new(size: u32) -> FilterParams {
@@ -79,10 +81,10 @@ impl FilterParams {
     }
 }
 
-/// `EnvMapUniforms` of envmap.wgsl.
+/// `EnvMapUniforms` of envmap/envmap.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct EnvMapUniforms {
+pub(crate) struct EnvMapUniforms {
     info: [u32; 4],
     frame_x: [f32; 4],
     frame_y: [f32; 4],
@@ -92,8 +94,9 @@ struct EnvMapUniforms {
     refractor: [f32; 4],
     layers: [u32; 4],
 }
+const _: () = assert!(std::mem::size_of::<EnvMapUniforms>() == 8 * 16);
 
-/// The compute pipelines of envmap_filter.wgsl (auto layouts: group 0, bindings 10–17).
+/// The compute pipelines of envmap/filter.wgsl (auto layouts: group 0, bindings 10–17).
 pub(crate) struct FilterPipelines {
     face_copy: wgpu::ComputePipeline,
     refractor_sphere: wgpu::ComputePipeline,
@@ -377,8 +380,8 @@ fn sh_buffer(device: &wgpu::Device) -> wgpu::Buffer {
     })
 }
 
-/// `envmap.local.x` of a depth-peeling capture (distance_impostor.wgsl `LOCAL_PEEL`).
-const LOCAL_PEEL: u32 = 3;
+/// `envmap.local.x` of a depth-peeling capture (distance_impostor/lookup.wgsl `LOCAL_PEEL`).
+pub(crate) const LOCAL_PEEL: u32 = 3;
 
 /// Uniforms of a render without a reflector: `local` and `capture` as given.
 fn no_reflector_uniforms(local: [u32; 4], capture: [f32; 4]) -> EnvMapUniforms {
@@ -761,10 +764,7 @@ impl Renderer {
         let uniforms = EnvMapUniforms {
             info: [
                 index as u32,
-                match e.irradiance {
-                    Irradiance::Map => 0,
-                    Irradiance::Sh9 => 1,
-                },
+                e.irradiance.shader_code(),
                 levels,
                 u32::from(e.dominant_direction),
             ],
@@ -854,7 +854,7 @@ enum CaptureKind {
 
 impl Renderer {
     /// Six 90° forward renders of `scene` from `point`, of side `size` (the method's), copied
-    /// into a new cube of the full mip chain (level 0 written; envmap_filter.wgsl
+    /// into a new cube of the full mip chain (level 0 written; envmap/filter.wgsl
     /// `cs_face_copy`). With `peel`, a cube of one level holding the nearest surfaces behind
     /// those `peel` holds (depth peeling: passes.wgsl `peel_distance`).
     fn capture_cube(

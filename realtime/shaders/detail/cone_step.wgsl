@@ -1,9 +1,9 @@
-// detail_cone_step.wgsl — cone step mapping (Dummer 2006) and relaxed cone stepping
+// detail/cone_step.wgsl — cone step mapping (Dummer 2006) and relaxed cone stepping
 // (Policarpo & Oliveira 2007).
 //
 // Technique: Dummer 2006, "Cone Step Mapping: An Iterative Ray-Heightfield Intersection
 // Algorithm": each texel stores the ratio c (uv per metre of height) of the widest upward cone
-// with its apex on the surface there that holds no surface (cone_map.rs). From a ray point a gap
+// with its apex on the surface there that holds no surface (detail/cone_map.rs). From a ray point a gap
 // d above the surface, where the ray moves r = |(a, b)/c| in uv per metre of descent, the ray
 // leaves that cone after a descent δ = c·d/(c + r) (radius c·(d − δ) = r·δ), so stepping by δ
 // never crosses the surface; `steps` steps from w_max. Relaxed cones (Policarpo & Oliveira

@@ -1,4 +1,4 @@
-// shadow_hard.wgsl — hard shadows: one depth comparison at the nearest texel (`shadow_hard`).
+// shadow/hard.wgsl — hard shadows: one depth comparison at the nearest texel (`shadow_hard`).
 //
 // Technique: Williams 1978, "Casting Curved Shadows on Curved Surfaces", SIGGRAPH '78
 // (https://doi.org/10.1145/965139.807402): V = 1 if the receiver's biased depth is not
@@ -6,8 +6,8 @@
 // Failure mode: V is 0 or 1 — an area light's penumbra collapses to the hard shadow of its
 // centre; edges are stair-stepped at the texel size (aliasing), and crawl when the light or
 // the receiver moves; acne and peter-panning as the bias is too small or too large
-// (shadow_map_common.wgsl).
-// Inputs: the receiver's lookup (shadow_map_common.wgsl `ShadowReceiver`), the map layer.
+// (shadow/map_common.wgsl).
+// Inputs: the receiver's lookup (shadow/map_common.wgsl `ShadowReceiver`), the map layer.
 
 fn shadow_hard(r: ShadowReceiver, layer: u32) -> f32 {
     return shadow_compare_nearest(layer, r.uv, r.depth);

@@ -1,4 +1,4 @@
-// detail_ray_march.wgsl — steep parallax, relief mapping and parallax occlusion mapping: a
+// detail/ray_march.wgsl — steep parallax, relief mapping and parallax occlusion mapping: a
 // linear search down the camera ray through the height range, then each its own refinement;
 // POM's self-shadowing.
 //
