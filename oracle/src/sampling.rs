@@ -80,6 +80,18 @@ pub fn power_heuristic(a: f32, b: f32) -> f32 {
     a2 / (a2 + b2)
 }
 
+/// The solid-angle pdf at `p` of a point `p_light` sampled uniformly on an emitter of area
+/// `area` and normal `n_light`, in direction `wi`: r²/(A·|cos θl|), the change of variables
+/// dω = |cos θl|·dA/r² (pbrt-v4 §4.2.3, "Integrals over Area"); 0 where it is not finite (grazing).
+pub fn area_to_solid_angle_pdf(p: Vec3, wi: Vec3, p_light: Vec3, area: f32, n_light: Vec3) -> f32 {
+    let pdf = (p_light - p).length_squared() / (area * n_light.dot(wi).abs());
+    if pdf.is_finite() {
+        pdf
+    } else {
+        0.0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -10,23 +10,15 @@ use glam::{Mat4, Vec3};
 use scenes::Scene;
 use wgpu::util::DeviceExt;
 
+use crate::camera::camera_near;
 use crate::error::RasterError;
 use crate::gpu::Gpu;
 use crate::gpu_types::{vec4, FrameUniforms};
 use crate::pipelines::Stage;
-use crate::render::RasterSettings;
+use crate::settings::RasterSettings;
 use crate::targets::Targets;
 use crate::technique::shadow::maps::ShadowMaps;
 use crate::upload::SceneGpu;
-
-/// Near-plane distance as a fraction of the scene's bounding radius (reversed-Z keeps the
-/// depth precise anyway; only geometry closer than this to the camera is clipped).
-const NEAR_FRACTION: f32 = 1e-4;
-
-/// The camera's near-plane distance for `scene`: [`NEAR_FRACTION`] × its bounding radius.
-pub(crate) fn camera_near(scene: &Scene) -> f32 {
-    NEAR_FRACTION * scene.bounding_sphere().1
-}
 
 /// The per-render uniform, counter buffer and scene bind group.
 pub(crate) struct Frame {

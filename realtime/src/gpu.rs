@@ -13,6 +13,8 @@
 //! texture and buffer size limits, and `TIMESTAMP_QUERY` when the adapter has it (without it,
 //! timings fall back to wall time around submit-and-wait).
 
+use std::sync::{Arc, Mutex};
+
 use crate::error::{RasterError, INSTALL_HINT};
 
 /// Colour-attachment bytes per sample the passes write (three Rgba32Float targets).
@@ -44,6 +46,8 @@ pub struct Gpu {
     info: wgpu::AdapterInfo,
     timestamps: bool,
     limits: wgpu::Limits,
+    /// wgpu's uncaptured errors since the last [`Gpu::check_errors`].
+    errors: Arc<Mutex<Vec<String>>>,
 }
 
 impl Gpu {
@@ -94,13 +98,44 @@ impl Gpu {
         };
         let (device, queue) = pollster::block_on(adapter.request_device(&desc))
             .map_err(|e| unsupported(format!("device creation failed: {e}")))?;
+        let errors = Arc::new(Mutex::new(Vec::new()));
+        let sink = errors.clone();
+        device.on_uncaptured_error(Box::new(move |e| {
+            sink.lock().unwrap_or_else(|p| p.into_inner()).push(e.to_string());
+        }));
         Ok(Gpu {
             device,
             queue,
             info,
             timestamps,
             limits,
+            errors,
         })
+    }
+
+    /// wgpu errors reported since the last check, as one error naming `context`.
+    pub(crate) fn check_errors(&self, context: &str) -> Result<(), RasterError> {
+        let mut errors = self.errors.lock().unwrap_or_else(|p| p.into_inner());
+        if errors.is_empty() {
+            return Ok(());
+        }
+        let message = errors.join("\n");
+        errors.clear();
+        Err(RasterError::Gpu {
+            context: context.to_string(),
+            message,
+        })
+    }
+
+    /// Waits until the queue is idle.
+    pub(crate) fn wait(&self) -> Result<(), RasterError> {
+        self.device
+            .poll(wgpu::PollType::Wait)
+            .map(|_| ())
+            .map_err(|e| RasterError::Gpu {
+                context: "waiting for the GPU".into(),
+                message: e.to_string(),
+            })
     }
 
     /// The adapter's name as the driver reports it.

@@ -20,7 +20,8 @@
 //! | module | what |
 //! |---|---|
 //! | [`technique`] | the techniques, one module per family ([`technique::area`], [`technique::shadow`], [`technique::detail`], [`technique::envmap`], [`technique::distance_impostor`]): parameters and their tables, GPU resources; [`Method`] |
-//! | [`render`] | settings, the frame loop, timing, read-back |
+//! | [`settings`] | what to render: method, pipeline, resolution, supersampling, frames |
+//! | [`render`] | the renderer: the frame loop, timing, read-back |
 //! | `frame` | one frame: uniforms, render passes, timestamp queries |
 //! | [`pipelines`] | the shader module and pipelines (forward, G-buffer, lighting, shadow, visibility AOV), forward or deferred |
 //! | `targets` | colour, depth and G-buffer targets |
@@ -37,6 +38,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+mod camera;
 pub mod error;
 mod frame;
 pub mod gpu;
@@ -44,6 +46,7 @@ pub mod gpu_types;
 pub mod image;
 pub mod pipelines;
 pub mod render;
+pub mod settings;
 mod targets;
 pub mod technique;
 pub mod timing;
@@ -53,7 +56,8 @@ pub mod visibility;
 pub use error::{RasterError, INSTALL_HINT};
 pub use gpu::Gpu;
 pub use pipelines::PipelineKind;
-pub use render::{RasterOutput, RasterSettings, Renderer};
+pub use render::{RasterOutput, Renderer};
+pub use settings::RasterSettings;
 pub use technique::area::AreaMethod;
 pub use technique::detail::{Detail, DetailTechnique};
 pub use technique::envmap::{EnvMapping, Parameterization};

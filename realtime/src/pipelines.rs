@@ -29,11 +29,10 @@
 //! of the counting frame only: after a G-buffer pass it shades each visible sample once.
 
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::{Arc, Mutex};
 
 use crate::gpu_types::{AnalyticVertex, MeshVertex};
 use crate::technique::area::AreaMethod;
-use crate::technique::envmap::build::FilterPipelines;
 use crate::technique::{self, Method};
 
 /// Forward shading or deferred shading (G-buffer + lighting pass).
@@ -215,8 +214,6 @@ pub struct Pipelines {
     module: wgpu::ShaderModule,
     counting_module: wgpu::ShaderModule,
     cache: Mutex<HashMap<Key, Arc<wgpu::RenderPipeline>>>,
-    /// The environment-map filters (envmap/filter.wgsl), compiled on first use.
-    filters: OnceLock<Arc<FilterPipelines>>,
 }
 
 fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
@@ -399,25 +396,32 @@ impl Pipelines {
             module,
             counting_module,
             cache: Mutex::new(HashMap::new()),
-            filters: OnceLock::new(),
         }
     }
 
-    /// The environment-map filter pipelines: a module of the shading sources (whose BSDF and
-    /// frame helpers the filters call) and envmap/filter.wgsl, compiled once.
-    pub(crate) fn filters(&self, device: &wgpu::Device) -> Arc<FilterPipelines> {
-        self.filters
-            .get_or_init(|| {
-                let source = shader_source(false)
-                    + "// ---- envmap/filter.wgsl ----\n"
-                    + include_str!("../shaders/envmap/filter.wgsl");
-                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some("verity environment map filters"),
-                    source: wgpu::ShaderSource::Wgsl(source.into()),
-                });
-                Arc::new(FilterPipelines::new(device, &module))
-            })
-            .clone()
+    /// The pipelines one frame of `method` draws with under `pipeline`, in pass order: the
+    /// shadow pass's (under a shadow method), then the forward or the deferred ones.
+    pub(crate) fn stages(
+        &self,
+        device: &wgpu::Device,
+        method: &Method,
+        pipeline: PipelineKind,
+        counters: bool,
+    ) -> Vec<(Stage, Arc<wgpu::RenderPipeline>)> {
+        let shadow: &[Stage] = if method.shadow.is_some() {
+            &[Stage::ShadowMesh, Stage::ShadowAnalytic]
+        } else {
+            &[]
+        };
+        let list: &[Stage] = match pipeline {
+            PipelineKind::Forward => &[Stage::ForwardMesh, Stage::ForwardAnalytic, Stage::Background],
+            PipelineKind::Deferred => &[Stage::GBufferMesh, Stage::GBufferAnalytic, Stage::Lighting],
+        };
+        shadow
+            .iter()
+            .chain(list)
+            .map(|&s| (s, self.get(device, s, method, counters)))
+            .collect()
     }
 
     /// The pipeline for `stage` with `method`, the counting variant or not, built on first use.

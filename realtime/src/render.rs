@@ -15,147 +15,21 @@ use scenes::Scene;
 
 use crate::error::RasterError;
 use crate::frame::{encode_passes, Frame, ShadingGroups, Timestamps};
-use crate::gpu::{Gpu, COLOR_BYTES_PER_SAMPLE};
+use crate::gpu::Gpu;
 use crate::image::{assemble, box_filter, Readback};
 use crate::pipelines::PipelineKind;
 use crate::pipelines::{Pipelines, Stage};
+use crate::settings::RasterSettings;
 use crate::targets::Targets;
 use crate::technique::detail::ConeCache;
-use crate::technique::envmap::build::EnvMaps;
+use crate::technique::envmap::build::EnvMapBuilder;
 use crate::technique::shadow::maps::ShadowMaps;
-use crate::technique::{Method, MAX_QUADRATURE_N};
 use crate::timing::{median, Counters, PassTime, Timing, TimingSource};
 use crate::upload::SceneGpu;
 use crate::visibility::{encode_visibility_pass, named_sources, slots_per_chunk, Chunk, Source};
 
-/// Largest supersampling factor accepted (k×k samples per pixel).
-pub const MAX_SSAA: u32 = 16;
-
 /// The counting G-buffer names shapes below this (counters_on.wgsl `COUNT_RANGE`).
 const COUNTED_SHAPES: u32 = 4095;
-
-/// How to render.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RasterSettings {
-    /// The method (area lights, shadows, detail, environment maps) and its parameters.
-    pub method: Method,
-    /// Forward or deferred.
-    pub pipeline: PipelineKind,
-    /// Output width in pixels.
-    pub width: u32,
-    /// Output height in pixels.
-    pub height: u32,
-    /// Supersampling: k×k samples per pixel on a regular grid (box filter over the pixel).
-    pub ssaa: u32,
-    /// Frames rendered before timing.
-    pub warmup_frames: u32,
-    /// Frames timed (the reported time is their median).
-    pub timed_frames: u32,
-    /// Run one extra frame with the hardware-independent counters compiled in.
-    pub counters: bool,
-}
-
-impl RasterSettings {
-    /// `width`×`height`, default method, forward, no supersampling, 2 warm-up + 5 timed
-    /// frames, no counters.
-    pub fn new(width: u32, height: u32) -> Self {
-        RasterSettings {
-            method: Method::default(),
-            pipeline: PipelineKind::Forward,
-            width,
-            height,
-            ssaa: 1,
-            warmup_frames: 2,
-            timed_frames: 5,
-            counters: false,
-        }
-    }
-
-    /// With `method`.
-    pub fn method(self, method: Method) -> Self {
-        RasterSettings { method, ..self }
-    }
-
-    /// With `pipeline`.
-    pub fn pipeline(self, pipeline: PipelineKind) -> Self {
-        RasterSettings { pipeline, ..self }
-    }
-
-    /// With k×k supersampling.
-    pub fn ssaa(self, k: u32) -> Self {
-        RasterSettings { ssaa: k, ..self }
-    }
-
-    /// With `warmup` untimed and `timed` timed frames.
-    pub fn frames(self, warmup: u32, timed: u32) -> Self {
-        RasterSettings {
-            warmup_frames: warmup,
-            timed_frames: timed,
-            ..self
-        }
-    }
-
-    /// With or without the counting frame.
-    pub fn counters(self, counters: bool) -> Self {
-        RasterSettings { counters, ..self }
-    }
-
-    fn check(&self, max_dimension: u32) -> Result<(), RasterError> {
-        let bad = |m: String| Err(RasterError::Settings(m));
-        if self.width == 0 || self.height == 0 {
-            return bad(format!("resolution {}x{} is empty", self.width, self.height));
-        }
-        if !(1..=MAX_SSAA).contains(&self.ssaa) {
-            return bad(format!("ssaa = {} must be in 1..={MAX_SSAA}", self.ssaa));
-        }
-        let m = &self.method;
-        if !(1..=MAX_QUADRATURE_N).contains(&m.area_n) || m.env_n > MAX_QUADRATURE_N {
-            return bad(format!(
-                "method {m}: n must be in 1..={MAX_QUADRATURE_N} and env_n in 0..={MAX_QUADRATURE_N}"
-            ));
-        }
-        if let Err(e) = m.validate() {
-            return bad(e);
-        }
-        if let Some(sh) = &m.shadow {
-            if sh.map > max_dimension {
-                return bad(format!(
-                    "method {m}: map = {} exceeds the adapter's {max_dimension} texels per side",
-                    sh.map
-                ));
-            }
-        }
-        if self.timed_frames == 0 {
-            return bad("at least one timed frame is needed".into());
-        }
-        let (w, h) = (
-            u64::from(self.width) * u64::from(self.ssaa),
-            u64::from(self.height) * u64::from(self.ssaa),
-        );
-        if w > u64::from(max_dimension) || h > u64::from(max_dimension) {
-            return bad(format!(
-                "{}x{} with ssaa {} needs a {w}x{h} target; the adapter allows at most {max_dimension} per side",
-                self.width, self.height, self.ssaa
-            ));
-        }
-        // The render targets (three Rgba32Float colour targets and a depth target per sample)
-        // and, per output pixel, the read-back targets and the EXR's channels (about 26 f32)
-        // and the shadow maps (one Depth32Float layer per light), before any is allocated.
-        let targets = w
-            .saturating_mul(h)
-            .saturating_mul(u64::from(COLOR_BYTES_PER_SAMPLE) + 4);
-        let output = u64::from(self.width) * u64::from(self.height) * (48 + 26 * 4);
-        let maps = m.shadow.as_ref().map_or(0, |sh| u64::from(sh.map).pow(2) * 4);
-        scenes::budget::check(
-            targets.saturating_add(output).saturating_add(maps),
-            format!(
-                "resolution {}x{} with ssaa {}: the render targets and read-back",
-                self.width, self.height, self.ssaa
-            ),
-        )
-        .map_err(|e| RasterError::Settings(e.to_string()))
-    }
-}
 
 /// A finished raster render.
 #[derive(Clone, Debug)]
@@ -174,12 +48,11 @@ pub struct RasterOutput {
 pub struct Renderer {
     pub(crate) gpu: Gpu,
     pub(crate) pipelines: Pipelines,
-    errors: Arc<Mutex<Vec<String>>>,
     lock: Mutex<()>,
     /// Cone maps of `cone_step`, built once per height texture.
     pub(crate) cones: ConeCache,
-    /// Group 3 of renders without an environment map.
-    no_envmap: EnvMaps,
+    /// Environment maps: group 3 of renders without one, the filters, the builds.
+    envmaps: EnvMapBuilder,
 }
 
 impl Renderer {
@@ -187,42 +60,22 @@ impl Renderer {
     /// compiles the shader module.
     pub fn new() -> Result<Renderer, RasterError> {
         let gpu = Gpu::new()?;
-        let errors = Arc::new(Mutex::new(Vec::new()));
-        let sink = errors.clone();
-        gpu.device.on_uncaptured_error(Box::new(move |e| {
-            sink.lock().unwrap_or_else(|p| p.into_inner()).push(e.to_string());
-        }));
         let pipelines = Pipelines::new(&gpu.device);
-        let no_envmap = EnvMaps::placeholder(&gpu.device, &pipelines.envmap_layout);
+        let envmaps = EnvMapBuilder::new(&gpu.device, &pipelines.envmap_layout);
         let r = Renderer {
             gpu,
             pipelines,
-            errors,
             lock: Mutex::new(()),
             cones: ConeCache::default(),
-            no_envmap,
+            envmaps,
         };
-        r.check_errors("compiling the shaders")?;
+        r.gpu.check_errors("compiling the shaders")?;
         Ok(r)
     }
 
     /// The device and its adapter.
     pub fn gpu(&self) -> &Gpu {
         &self.gpu
-    }
-
-    /// wgpu errors reported since the last check, as one error.
-    pub(crate) fn check_errors(&self, context: &str) -> Result<(), RasterError> {
-        let mut errors = self.errors.lock().unwrap_or_else(|p| p.into_inner());
-        if errors.is_empty() {
-            return Ok(());
-        }
-        let message = errors.join("\n");
-        errors.clear();
-        Err(RasterError::Gpu {
-            context: context.to_string(),
-            message,
-        })
     }
 
     /// Renders `scene` (its camera; the settings' resolution) and reads the image back.
@@ -248,7 +101,9 @@ impl Renderer {
             self.gpu.limits(),
         )
         .map_err(RasterError::Settings)?;
-        let envmap = self.build_environment_maps(scene, settings, &self.no_envmap)?;
+        let envmap = self
+            .envmaps
+            .build(&self.gpu, &self.pipelines, &self.cones, scene, settings)?;
         let groups = ShadingGroups {
             empty: &self.pipelines.empty_bind_group,
             shadow: &shadow,
@@ -259,8 +114,11 @@ impl Renderer {
         let layout = &self.pipelines.scene_layout;
         let frame = Frame::new(device, layout, scene, &scene_gpu, &shadow, settings, k);
         let targets = Targets::new(device, settings.pipeline, tw, th, &self.pipelines.gbuffer_layout);
-        let stages = self.stages(settings, false);
-        self.check_errors("creating the scene buffers and pipelines")?;
+        let stages = self
+            .pipelines
+            .stages(&self.gpu.device, &settings.method, settings.pipeline, false);
+        self.gpu
+            .check_errors("creating the scene buffers and pipelines")?;
 
         let timing = self.timed_frames(&frame, &targets, &stages, &scene_gpu, &groups, settings)?;
         let main = self.read_back(&targets)?;
@@ -315,34 +173,6 @@ impl Renderer {
             timing,
             counters,
         })
-    }
-
-    /// The pipelines one frame of `settings` draws with, in pass order.
-    pub(crate) fn stages(
-        &self,
-        settings: &RasterSettings,
-        counters: bool,
-    ) -> Vec<(Stage, Arc<wgpu::RenderPipeline>)> {
-        let shadow: &[Stage] = if settings.method.shadow.is_some() {
-            &[Stage::ShadowMesh, Stage::ShadowAnalytic]
-        } else {
-            &[]
-        };
-        let list: &[Stage] = match settings.pipeline {
-            PipelineKind::Forward => &[Stage::ForwardMesh, Stage::ForwardAnalytic, Stage::Background],
-            PipelineKind::Deferred => &[Stage::GBufferMesh, Stage::GBufferAnalytic, Stage::Lighting],
-        };
-        shadow
-            .iter()
-            .chain(list)
-            .map(|&s| {
-                (
-                    s,
-                    self.pipelines
-                        .get(&self.gpu.device, s, &settings.method, counters),
-                )
-            })
-            .collect()
     }
 
     /// Warm-up and timed frames; the last one's image stays in `targets`.
@@ -434,19 +264,8 @@ impl Renderer {
             q.encode_resolve(&mut encoder);
         }
         self.gpu.queue.submit([encoder.finish()]);
-        self.wait()?;
-        self.check_errors("rendering a frame")
-    }
-
-    pub(crate) fn wait(&self) -> Result<(), RasterError> {
-        self.gpu
-            .device
-            .poll(wgpu::PollType::Wait)
-            .map(|_| ())
-            .map_err(|e| RasterError::Gpu {
-                context: "waiting for the GPU".into(),
-                message: e.to_string(),
-            })
+        self.gpu.wait()?;
+        self.gpu.check_errors("rendering a frame")
     }
 
     /// Copies the outputs back and maps them.
@@ -492,8 +311,8 @@ impl Renderer {
         });
         encoder.copy_buffer_to_buffer(src, 0, &readback, 0, src.size());
         self.gpu.queue.submit([encoder.finish()]);
-        self.wait()?;
-        self.check_errors(what)?;
+        self.gpu.wait()?;
+        self.gpu.check_errors(what)?;
         self.map(&readback)
     }
 
@@ -504,7 +323,7 @@ impl Renderer {
         slice.map_async(wgpu::MapMode::Read, move |r| {
             *s.lock().unwrap_or_else(|p| p.into_inner()) = Some(r);
         });
-        self.wait()?;
+        self.gpu.wait()?;
         let result = status.lock().unwrap_or_else(|p| p.into_inner()).take();
         match result {
             Some(Ok(())) => {

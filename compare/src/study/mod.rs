@@ -831,7 +831,7 @@ fn raster_options(t: Option<Table>) -> Result<RasterOptions, SceneError> {
     let Some(t) = t else { return Ok(o) };
     t.only(&["ssaa", "pipeline", "warmup_frames", "timed_frames"], "[raster]")?;
     if let Some(f) = t.get("ssaa") {
-        o.ssaa = f.int_in(1, realtime::render::MAX_SSAA as i64)? as u32;
+        o.ssaa = f.int_in(1, realtime::settings::MAX_SSAA as i64)? as u32;
     }
     if let Some(f) = t.get("pipeline") {
         o.pipeline = match f.keyword(&["forward", "deferred"])? {

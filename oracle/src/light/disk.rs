@@ -20,9 +20,9 @@ use std::f32::consts::{PI, TAU};
 use glam::{Vec2, Vec3};
 use scenes::Rgb;
 
-use super::radiance::{average, check_vec, Radiance};
+use super::radiance::{check_vec, Radiance};
 use super::LightSample;
-use crate::sampling::square_to_disk_concentric;
+use crate::sampling::{area_to_solid_angle_pdf, square_to_disk_concentric};
 
 /// Disk (ellipse) area light.
 #[derive(Clone, Debug)]
@@ -118,27 +118,17 @@ impl DiskLight {
         if !self.sees_emitter(p) {
             return 0.0;
         }
-        let pdf = (p_light - p).length_squared() / (self.area * self.normal.dot(wi).abs());
-        if pdf.is_finite() {
-            pdf
-        } else {
-            0.0
-        }
+        area_to_solid_angle_pdf(p, wi, p_light, self.area, self.normal)
     }
 
     /// L(uv) towards `wo` if `wo` leaves an emitting side, else zero.
     pub fn emitted(&self, n: Vec3, uv: Vec2, wo: Vec3) -> Rgb {
-        if self.two_sided || n.dot(wo) > 0.0 {
-            self.radiance.eval(uv)
-        } else {
-            Rgb::ZERO
-        }
+        self.radiance.emitted(self.two_sided, n, uv, wo)
     }
 
     /// Φ = π·A·mean(L), ×2 when two-sided.
     pub fn power(&self) -> f32 {
-        let sides = if self.two_sided { 2.0 } else { 1.0 };
-        sides * PI * self.area * average(self.radiance.mean())
+        self.radiance.power(self.two_sided, self.area)
     }
 }
 

@@ -18,16 +18,15 @@
 //! | `radiance` L | [`Radiance`], ≥ 0 | — | W·m⁻²·sr⁻¹ |
 //! | `two_sided` | bool | false | — |
 
-use std::f32::consts::PI;
 use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 use scenes::{Mesh, Rgb};
 
 use super::distribution::Distribution1D;
-use super::radiance::{average, Radiance};
+use super::radiance::Radiance;
 use super::LightSample;
-use crate::sampling::square_to_triangle;
+use crate::sampling::{area_to_solid_angle_pdf, square_to_triangle};
 
 /// Emissive triangle mesh.
 #[derive(Clone, Debug)]
@@ -132,27 +131,17 @@ impl MeshLight {
         if !self.two_sided && n_light.dot(wi) >= 0.0 {
             return 0.0;
         }
-        let pdf = (p_light - p).length_squared() / (self.area * n_light.dot(wi).abs());
-        if pdf.is_finite() {
-            pdf
-        } else {
-            0.0
-        }
+        area_to_solid_angle_pdf(p, wi, p_light, self.area, n_light)
     }
 
     /// L(uv) towards `wo` if `wo` leaves an emitting side, else zero.
     pub fn emitted(&self, n: Vec3, uv: Vec2, wo: Vec3) -> Rgb {
-        if self.two_sided || n.dot(wo) > 0.0 {
-            self.radiance.eval(uv)
-        } else {
-            Rgb::ZERO
-        }
+        self.radiance.emitted(self.two_sided, n, uv, wo)
     }
 
     /// Φ = π·A·mean(L), ×2 when two-sided.
     pub fn power(&self) -> f32 {
-        let sides = if self.two_sided { 2.0 } else { 1.0 };
-        sides * PI * self.area * average(self.radiance.mean())
+        self.radiance.power(self.two_sided, self.area)
     }
 
     /// Texture coordinate at barycentrics (b0, b1, b2) of triangle `t`.

@@ -74,6 +74,23 @@ impl Radiance {
             }
         }
     }
+
+    /// L(uv) of an area emitter with normal `n` towards `wo`: the radiance where `wo` leaves
+    /// an emitting side (either side when `two_sided`), else zero.
+    pub fn emitted(&self, two_sided: bool, n: Vec3, uv: Vec2, wo: Vec3) -> Rgb {
+        if two_sided || n.dot(wo) > 0.0 {
+            self.eval(uv)
+        } else {
+            Rgb::ZERO
+        }
+    }
+
+    /// Power of an area emitter of area `area`: Φ = π·A·mean(L) per emitting side (a
+    /// Lambertian emitter's exitance πL, integrated over the area), ×2 when `two_sided`.
+    pub fn power(&self, two_sided: bool, area: f32) -> f32 {
+        let sides = if two_sided { 2.0 } else { 1.0 };
+        sides * std::f32::consts::PI * area * average(self.mean())
+    }
 }
 
 /// Channel average of an RGB value: the scalar pbrt-v4's PowerLightSampler takes from a

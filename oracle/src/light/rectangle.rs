@@ -28,8 +28,9 @@ use std::f64::consts::TAU as TAU64;
 use glam::{DVec3, Vec2, Vec3};
 use scenes::Rgb;
 
-use super::radiance::{average, check_vec, Radiance};
+use super::radiance::{check_vec, Radiance};
 use super::LightSample;
+use crate::sampling::area_to_solid_angle_pdf;
 
 /// Solid angles below this (sr) are sampled by area instead.
 const MIN_SOLID_ANGLE: f64 = 1e-6;
@@ -268,31 +269,18 @@ impl RectangleLight {
         match self.strategy(p) {
             Strategy::None => 0.0,
             Strategy::SolidAngle(q) => (1.0 / q.solid_angle) as f32,
-            Strategy::Area => {
-                let dist2 = (p_light - p).length_squared();
-                let pdf = dist2 / (self.area * self.normal.dot(wi).abs());
-                if pdf.is_finite() {
-                    pdf
-                } else {
-                    0.0
-                }
-            }
+            Strategy::Area => area_to_solid_angle_pdf(p, wi, p_light, self.area, self.normal),
         }
     }
 
     /// L(uv) towards `wo` if `wo` leaves an emitting side, else zero.
     pub fn emitted(&self, n: Vec3, uv: Vec2, wo: Vec3) -> Rgb {
-        if self.two_sided || n.dot(wo) > 0.0 {
-            self.radiance.eval(uv)
-        } else {
-            Rgb::ZERO
-        }
+        self.radiance.emitted(self.two_sided, n, uv, wo)
     }
 
     /// Φ = π·A·mean(L), ×2 when two-sided.
     pub fn power(&self) -> f32 {
-        let sides = if self.two_sided { 2.0 } else { 1.0 };
-        sides * std::f32::consts::PI * self.area * average(self.radiance.mean())
+        self.radiance.power(self.two_sided, self.area)
     }
 }
 

@@ -19,6 +19,7 @@
 //! pass keeps the nearest surface behind the previous layer's, level 0 only) and the further
 //! layers are copied into a cube array (binding 8).
 
+use std::sync::{Arc, OnceLock};
 use std::time::Instant;
 
 use glam::Vec3;
@@ -29,9 +30,11 @@ use super::localization::Localization;
 use super::{EnvMapping, Irradiance, Parameterization, Prefilter, IRRADIANCE_SIZE};
 use crate::error::RasterError;
 use crate::frame::{encode_passes, Frame, ShadingGroups};
-use crate::pipelines::PipelineKind;
-use crate::render::{RasterSettings, Renderer};
+use crate::gpu::Gpu;
+use crate::pipelines::{shader_source, PipelineKind, Pipelines};
+use crate::settings::RasterSettings;
 use crate::targets::Targets;
+use crate::technique::detail::ConeCache;
 use crate::technique::shadow::maps::ShadowMaps;
 use crate::technique::Method;
 use crate::upload::SceneGpu;
@@ -439,14 +442,71 @@ impl EnvMaps {
     }
 }
 
-impl Renderer {
-    /// Captures and filters the maps of `settings`' environment-mapping method for `scene`.
-    pub(crate) fn build_environment_maps(
+/// What a renderer keeps for environment mapping: group 3 of the renders without a map, and
+/// the filter pipelines, compiled on first use (only renders with a map pay for them).
+pub(crate) struct EnvMapBuilder {
+    placeholder: EnvMaps,
+    filters: OnceLock<Arc<FilterPipelines>>,
+}
+
+impl EnvMapBuilder {
+    /// The placeholder group for `layout` (the shading pipelines' group 3); no filters yet.
+    pub(crate) fn new(device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> EnvMapBuilder {
+        EnvMapBuilder {
+            placeholder: EnvMaps::placeholder(device, layout),
+            filters: OnceLock::new(),
+        }
+    }
+
+    /// The environment-map filter pipelines: a module of the shading sources (whose BSDF and
+    /// frame helpers the filters call) and envmap/filter.wgsl, compiled once.
+    pub(crate) fn filters(&self, device: &wgpu::Device) -> Arc<FilterPipelines> {
+        self.filters
+            .get_or_init(|| {
+                let source = shader_source(false)
+                    + "// ---- envmap/filter.wgsl ----\n"
+                    + include_str!("../../../shaders/envmap/filter.wgsl");
+                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some("verity environment map filters"),
+                    source: wgpu::ShaderSource::Wgsl(source.into()),
+                });
+                Arc::new(FilterPipelines::new(device, &module))
+            })
+            .clone()
+    }
+
+    /// Captures and filters the maps of `settings`' environment-mapping method for `scene`
+    /// with the renderer's device, pipelines and cone maps (the placeholder without a method).
+    pub(crate) fn build(
         &self,
+        gpu: &Gpu,
+        pipelines: &Pipelines,
+        cones: &ConeCache,
         scene: &Scene,
         settings: &RasterSettings,
-        placeholder: &EnvMaps,
     ) -> Result<EnvMaps, RasterError> {
+        let build = Build {
+            gpu,
+            pipelines,
+            cones,
+            builder: self,
+        };
+        build.environment_maps(scene, settings)
+    }
+}
+
+/// One build: what it borrows from the renderer.
+struct Build<'a> {
+    gpu: &'a Gpu,
+    pipelines: &'a Pipelines,
+    cones: &'a ConeCache,
+    builder: &'a EnvMapBuilder,
+}
+
+impl Build<'_> {
+    /// The maps of `settings`' method for `scene`.
+    fn environment_maps(&self, scene: &Scene, settings: &RasterSettings) -> Result<EnvMaps, RasterError> {
+        let placeholder = &self.builder.placeholder;
         let Some(e) = &settings.method.envmap else {
             return Ok(EnvMaps {
                 bind_group: placeholder.bind_group.clone(),
@@ -473,32 +533,458 @@ impl Renderer {
         let size = e.size;
         let mut without = scene.clone();
         without.shapes.remove(index);
-        let filters = self.pipelines.filters(device);
+        let filters = self.builder.filters(device);
         let mips = size.ilog2() + 1;
-        let radiance = self.capture_cube(
-            &without,
-            capture,
-            settings,
-            placeholder,
-            CaptureKind::Radiance,
-            None,
-        )?;
+        let radiance = self.capture_cube(&without, capture, settings, CaptureKind::Radiance, None)?;
         // The further layers of a layered distance map, each peeled behind the one before.
         let layer_count = e.localization.distance_layers();
+        let layers = self.distance_layers(&without, capture, settings, &radiance, layer_count)?;
+
+        // The refractor's own map, for double refraction: a sphere's from its centre and
+        // radius, a mesh's rendered from its bounding-box centre.
+        let refractor_centre = (lo + hi) * 0.5;
+        let is_dielectric = matches!(scene.materials[reflector.material], Material::Dielectric { .. });
+        let refractor = if e.double_refraction && is_dielectric {
+            Some(self.refractor_map(scene, index, refractor_centre, settings)?)
+        } else {
+            None
+        };
+
+        // Box mips, then what the material reads.
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("environment map filtering"),
+        });
+        encode_box_mips(device, &mut encoder, &filters, &radiance, size, mips);
+        let levels = EnvMapping::levels(size).min(mips);
+        let s = sampler(device);
+        let radiance_cube = view(&radiance, wgpu::TextureViewDimension::Cube, 0..mips);
+        let prefiltered = match (glossy, e.prefilter) {
+            (Some(phong), Prefilter::Lobe) => Some(encode_prefilter(
+                device,
+                &mut encoder,
+                &filters,
+                (&radiance_cube, &s),
+                e,
+                phong,
+                levels,
+            )),
+            _ => None,
+        };
+        let specular_cube = match &prefiltered {
+            Some(t) => view(t, wgpu::TextureViewDimension::Cube, 0..levels),
+            None => view(&radiance, wgpu::TextureViewDimension::Cube, 0..levels),
+        };
+        let sh = sh_buffer(device);
+        let irradiance = (diffuse && e.irradiance == Irradiance::Map)
+            .then(|| encode_irradiance(device, &mut encoder, &filters, &radiance, size));
+        if diffuse && e.irradiance == Irradiance::Sh9 {
+            encode_sh9(device, &mut encoder, &filters, &radiance, size, &sh);
+        }
+        let frame = match e.parameterization {
+            Parameterization::Cube => [Vec3::X, Vec3::Y, Vec3::Z],
+            Parameterization::Sphere => {
+                let towards = e
+                    .sphere_view
+                    .unwrap_or_else(|| scene.camera.position() - capture)
+                    .try_normalize()
+                    .unwrap_or(Vec3::Z);
+                frame_about(towards)
+            }
+            Parameterization::Paraboloid => [Vec3::X, Vec3::NEG_Z, Vec3::Y],
+        };
+        let f4 = |v: Vec3| [v.x, v.y, v.z, 0.0];
+        let flat = (e.parameterization != Parameterization::Cube).then(|| {
+            encode_warp(
+                device,
+                &mut encoder,
+                &filters,
+                (&specular_cube, &s),
+                e,
+                frame,
+                levels,
+            )
+        });
+        let brdf = split_sum.then(|| encode_brdf_table(device, &mut encoder, &filters));
+        self.gpu.queue.submit([encoder.finish()]);
+        self.gpu.wait()?;
+        self.gpu.check_errors("building the environment maps")?;
+        let build_ms = start.elapsed().as_secs_f64() * 1e3;
+
+        let uniforms = EnvMapUniforms {
+            info: [
+                index as u32,
+                e.irradiance.shader_code(),
+                levels,
+                u32::from(e.dominant_direction),
+            ],
+            frame_x: f4(frame[0]),
+            frame_y: f4(frame[1]),
+            frame_z: f4(frame[2]),
+            local: e.localization.shader_info(refractor.is_some()),
+            capture: f4(capture),
+            refractor: f4(refractor_centre),
+            layers: [layer_count, 0, 0, 0],
+        };
+        let bind_group = bind_maps(
+            device,
+            &self.pipelines.envmap_layout,
+            &Maps {
+                specular_cube: &specular_cube,
+                levels,
+                flat: flat.as_ref(),
+                irradiance: irradiance.as_ref(),
+                brdf: brdf.as_ref(),
+                sh: &sh,
+                refractor: refractor.as_ref(),
+                layers: layers.as_ref(),
+            },
+            uniforms,
+        );
+        let describe = describe(e, levels, glossy, &reflector.name, capture, refractor.is_some());
+        Ok(EnvMaps {
+            bind_group,
+            header: vec![
+                ("environment_map", describe),
+                ("environment_map_texels", e.texels().to_string()),
+                ("environment_map_build_ms", format!("{build_ms:.3}")),
+            ],
+        })
+    }
+}
+
+/// The box mips of `radiance` (side `size`, `mips` levels), each level from the one above.
+fn encode_box_mips(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    filters: &FilterPipelines,
+    radiance: &wgpu::Texture,
+    size: u32,
+    mips: u32,
+) {
+    for k in 1..mips {
+        let n = (size >> k).max(1);
+        let src = level_view(radiance, k - 1);
+        let dst = level_view(radiance, k);
+        let params = FilterParams {
+            layers: 6,
+            ..FilterParams::new(n)
+        };
+        dispatch(
+            device,
+            encoder,
+            &filters.downsample,
+            params,
+            &[(11, Res::View(&src)), (14, Res::View(&dst))],
+            [tiles(n), tiles(n), 6],
+        );
+    }
+}
+
+/// The lobe-prefiltered cube (Karis 2013's split sum, n = v = r; filtered importance
+/// sampling, Křivánek & Colbert 2008): level k of `levels` convolved with the lobe of roughness
+/// k/(levels − 1), normalized Phong if `phong`, else GGX, from `source` (the radiance cube and
+/// its sampler).
+fn encode_prefilter(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    filters: &FilterPipelines,
+    source: (&wgpu::TextureView, &wgpu::Sampler),
+    e: &EnvMapping,
+    phong: bool,
+    levels: u32,
+) -> wgpu::Texture {
+    let (radiance_cube, s) = source;
+    let size = e.size;
+    let t = map_texture(device, "prefiltered cube", size, 6, levels);
+    for k in 0..levels {
+        let n = (size >> k).max(1);
+        let dst = level_view(&t, k);
+        let params = FilterParams {
+            roughness: if levels > 1 {
+                k as f32 / (levels - 1) as f32
+            } else {
+                0.0
+            },
+            source_size: size,
+            mode: u32::from(phong),
+            samples: e.filter_samples,
+            ..FilterParams::new(n)
+        };
+        dispatch(
+            device,
+            encoder,
+            &filters.prefilter,
+            params,
+            &[
+                (12, Res::View(radiance_cube)),
+                (13, Res::Sampler(s)),
+                (14, Res::View(&dst)),
+            ],
+            [tiles(n), tiles(n), 6],
+        );
+    }
+    t
+}
+
+/// The cosine-convolved irradiance cube (faces of [`IRRADIANCE_SIZE`]) from the radiance
+/// level nearest [`IRRADIANCE_SOURCE`] texels across.
+fn encode_irradiance(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    filters: &FilterPipelines,
+    radiance: &wgpu::Texture,
+    size: u32,
+) -> wgpu::Texture {
+    let t = map_texture(device, "irradiance cube", IRRADIANCE_SIZE, 6, 1);
+    let level = level_of_side(size, IRRADIANCE_SOURCE);
+    let src = level_view(radiance, level);
+    let params = FilterParams {
+        source_size: (size >> level).max(1),
+        ..FilterParams::new(IRRADIANCE_SIZE)
+    };
+    let dst = level_view(&t, 0);
+    dispatch(
+        device,
+        encoder,
+        &filters.irradiance,
+        params,
+        &[(11, Res::View(&src)), (14, Res::View(&dst))],
+        [tiles(IRRADIANCE_SIZE), tiles(IRRADIANCE_SIZE), 6],
+    );
+    t
+}
+
+/// Nine spherical-harmonic coefficients of the radiance (Ramamoorthi & Hanrahan 2001) into
+/// `sh`, from the level nearest [`SH9_SOURCE`] texels across.
+fn encode_sh9(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    filters: &FilterPipelines,
+    radiance: &wgpu::Texture,
+    size: u32,
+    sh: &wgpu::Buffer,
+) {
+    let level = level_of_side(size, SH9_SOURCE);
+    let src = level_view(radiance, level);
+    let params = FilterParams {
+        source_size: (size >> level).max(1),
+        ..FilterParams::new(1)
+    };
+    dispatch(
+        device,
+        encoder,
+        &filters.sh9,
+        params,
+        &[(11, Res::View(&src)), (16, Res::Buffer(sh))],
+        [1, 1, 1],
+    );
+}
+
+/// The sphere or dual-paraboloid levels of `e`, warped from `source` (the specular cube and
+/// its sampler) in the map frame `frame`.
+fn encode_warp(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    filters: &FilterPipelines,
+    source: (&wgpu::TextureView, &wgpu::Sampler),
+    e: &EnvMapping,
+    frame: [Vec3; 3],
+    levels: u32,
+) -> wgpu::Texture {
+    let (specular_cube, s) = source;
+    let size = e.size;
+    let f4 = |v: Vec3| [v.x, v.y, v.z, 0.0];
+    let layers = e.parameterization.layers();
+    let t = map_texture(device, "sphere or paraboloid map", size, layers, levels);
+    for k in 0..levels {
+        let n = (size >> k).max(1);
+        let dst = level_view(&t, k);
+        let params = FilterParams {
+            mode: u32::from(e.parameterization == Parameterization::Paraboloid),
+            source_level: k,
+            layers,
+            flag: u32::from(e.seam_fill),
+            frame_x: f4(frame[0]),
+            frame_y: f4(frame[1]),
+            frame_z: f4(frame[2]),
+            ..FilterParams::new(n)
+        };
+        dispatch(
+            device,
+            encoder,
+            &filters.warp,
+            params,
+            &[
+                (12, Res::View(specular_cube)),
+                (13, Res::Sampler(s)),
+                (14, Res::View(&dst)),
+            ],
+            [tiles(n), tiles(n), layers],
+        );
+    }
+    t
+}
+
+/// The split-sum BRDF table (Karis 2013): scale and bias of F0 per (n·v, roughness), two
+/// layers for the two masking variants.
+fn encode_brdf_table(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    filters: &FilterPipelines,
+) -> wgpu::Texture {
+    let t = map_texture(device, "split-sum BRDF table", BRDF_TABLE_SIZE, 2, 1);
+    let dst = level_view(&t, 0);
+    let params = FilterParams {
+        samples: BRDF_TABLE_SAMPLES,
+        ..FilterParams::new(BRDF_TABLE_SIZE)
+    };
+    dispatch(
+        device,
+        encoder,
+        &filters.brdf_lut,
+        params,
+        &[(14, Res::View(&dst))],
+        [tiles(BRDF_TABLE_SIZE), tiles(BRDF_TABLE_SIZE), 2],
+    );
+    t
+}
+
+/// The maps a build made, for group 3 (None: the method does not read that map).
+struct Maps<'a> {
+    /// The prefiltered cube (or the radiance cube's box mips), `levels` levels.
+    specular_cube: &'a wgpu::TextureView,
+    levels: u32,
+    flat: Option<&'a wgpu::Texture>,
+    irradiance: Option<&'a wgpu::Texture>,
+    brdf: Option<&'a wgpu::Texture>,
+    sh: &'a wgpu::Buffer,
+    refractor: Option<&'a wgpu::Texture>,
+    layers: Option<&'a wgpu::Texture>,
+}
+
+/// Group 3 of the render: `maps`, 1×1 stand-ins where the method reads none, and `uniforms`.
+fn bind_maps(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    maps: &Maps,
+    uniforms: EnvMapUniforms,
+) -> wgpu::BindGroup {
+    // 1×1 stand-ins for the maps this method does not build.
+    let placeholder_cube = map_texture(device, "placeholder cube", 1, 6, 1);
+    let placeholder_flat = map_texture(device, "placeholder map", 1, 2, 1);
+    let irradiance_view = match maps.irradiance {
+        Some(t) => view(t, wgpu::TextureViewDimension::Cube, 0..1),
+        None => view(&placeholder_cube, wgpu::TextureViewDimension::Cube, 0..1),
+    };
+    let flat_view = match maps.flat {
+        Some(t) => view(t, wgpu::TextureViewDimension::D2Array, 0..maps.levels),
+        None => view(&placeholder_flat, wgpu::TextureViewDimension::D2Array, 0..1),
+    };
+    let brdf_view = match maps.brdf {
+        Some(t) => view(t, wgpu::TextureViewDimension::D2Array, 0..1),
+        None => view(&placeholder_flat, wgpu::TextureViewDimension::D2Array, 0..1),
+    };
+    let refractor_view = match maps.refractor {
+        Some(t) => view(t, wgpu::TextureViewDimension::Cube, 0..1),
+        None => irradiance_view.clone(),
+    };
+    let layers_view = view(
+        maps.layers.unwrap_or(&placeholder_cube),
+        wgpu::TextureViewDimension::CubeArray,
+        0..1,
+    );
+    bind_group(
+        device,
+        layout,
+        maps.specular_cube,
+        &flat_view,
+        &irradiance_view,
+        &brdf_view,
+        maps.sh,
+        &refractor_view,
+        &layers_view,
+        uniforms,
+    )
+}
+
+/// The header's `environment_map`: the map, its levels and filter, the reflector, the capture
+/// point and how lookups are localized.
+fn describe(
+    e: &EnvMapping,
+    levels: u32,
+    glossy: Option<bool>,
+    reflector: &str,
+    capture: Vec3,
+    double_refraction: bool,
+) -> String {
+    let size = e.size;
+    let localized = match e.localization {
+        Localization::Distant => String::new(),
+        Localization::Iterations(k) => format!(", lookups localized by {k} iterations"),
+        Localization::Search {
+            linear_steps,
+            secant_steps,
+            layers: 1,
+        } => format!(", lookups localized by {linear_steps} linear + {secant_steps} secant steps"),
+        Localization::Search {
+            linear_steps,
+            secant_steps,
+            layers,
+        } => format!(
+            ", lookups localized by {linear_steps} linear + {secant_steps} secant steps in {layers} depth-peeled distance layers"
+        ),
+    };
+    let refracted = if double_refraction {
+        ", double refraction through the reflector's own map"
+    } else {
+        ""
+    };
+    format!(
+        "{} of side {size}, {levels} levels ({}), reflector {}, captured at ({:.4}, {:.4}, {:.4}){localized}{refracted}",
+        e.parameterization,
+        match (glossy, e.prefilter) {
+            (Some(true), Prefilter::Lobe) => "Phong lobe",
+            (Some(false), Prefilter::Lobe) => "GGX lobe",
+            (Some(_), Prefilter::Box) => "box mips",
+            (None, _) => "unfiltered",
+        },
+        reflector,
+        capture.x,
+        capture.y,
+        capture.z
+    )
+}
+
+/// What a capture stores in rgb (alpha: the distance from the capture point).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum CaptureKind {
+    /// The radiance seen (the environment's map).
+    Radiance,
+    /// The shading normal (a refractor's map).
+    Normal,
+}
+
+impl Build<'_> {
+    /// Layers 2..=`layer_count` of a layered distance map (GPU Gems 3 §17.2), each captured
+    /// behind the one before (depth peeling from `radiance`, the first), in one cube array;
+    /// None for one layer.
+    fn distance_layers(
+        &self,
+        scene: &Scene,
+        capture: Vec3,
+        settings: &RasterSettings,
+        radiance: &wgpu::Texture,
+        layer_count: u32,
+    ) -> Result<Option<wgpu::Texture>, RasterError> {
+        let device = &self.gpu.device;
+        let size = settings.method.envmap.as_ref().map_or(1, |e| e.size);
         let mut further: Vec<wgpu::Texture> = Vec::new();
         for _ in 1..layer_count {
-            let previous = further.last().unwrap_or(&radiance);
-            let layer = self.capture_cube(
-                &without,
-                capture,
-                settings,
-                placeholder,
-                CaptureKind::Radiance,
-                Some(previous),
-            )?;
+            let previous = further.last().unwrap_or(radiance);
+            let layer = self.capture_cube(scene, capture, settings, CaptureKind::Radiance, Some(previous))?;
             further.push(layer);
         }
-        let layers = (layer_count > 1).then(|| {
+        Ok((layer_count > 1).then(|| {
             let t = map_texture(device, "distance map layers", size, 6 * (layer_count - 1), 1);
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("distance map layers"),
@@ -525,334 +1011,56 @@ impl Renderer {
             }
             self.gpu.queue.submit([encoder.finish()]);
             t
-        });
-        drop(further);
+        }))
+    }
 
-        // The refractor's own map, for double refraction: a sphere's from its centre and
-        // radius, a mesh's rendered from its bounding-box centre.
-        let refractor_centre = (lo + hi) * 0.5;
-        let is_dielectric = matches!(scene.materials[reflector.material], Material::Dielectric { .. });
-        let refractor = if e.double_refraction && is_dielectric {
-            Some(match &reflector.geometry {
-                Geometry::Sphere { radius, .. } => {
-                    let t = map_texture(device, "refractor map", size, 6, 1);
-                    let dst = level_view(&t, 0);
-                    let params = FilterParams {
-                        roughness: *radius,
-                        ..FilterParams::new(size)
-                    };
-                    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                        label: Some("refractor map"),
-                    });
-                    dispatch(
-                        device,
-                        &mut encoder,
-                        &filters.refractor_sphere,
-                        params,
-                        &[(14, Res::View(&dst))],
-                        [tiles(size), tiles(size), 6],
-                    );
-                    self.gpu.queue.submit([encoder.finish()]);
-                    t
-                }
-                Geometry::Mesh { .. } => {
-                    let mut alone = scene.clone();
-                    alone.shapes = vec![reflector.clone()];
-                    self.capture_cube(
-                        &alone,
-                        refractor_centre,
-                        settings,
-                        placeholder,
-                        CaptureKind::Normal,
-                        None,
-                    )?
-                }
-                _ => {
-                    return Err(bad(format!(
-                        "double_refraction = on: reflector {} is not a closed shape (a sphere or a mesh)",
-                        reflector.name
-                    )))
-                }
-            })
-        } else {
-            None
-        };
-
-        // Box mips, then what the material reads.
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("environment map filtering"),
-        });
-        for k in 1..mips {
-            let n = (size >> k).max(1);
-            let src = level_view(&radiance, k - 1);
-            let dst = level_view(&radiance, k);
-            let params = FilterParams {
-                layers: 6,
-                ..FilterParams::new(n)
-            };
-            dispatch(
-                device,
-                &mut encoder,
-                &filters.downsample,
-                params,
-                &[(11, Res::View(&src)), (14, Res::View(&dst))],
-                [tiles(n), tiles(n), 6],
-            );
-        }
-        let levels = EnvMapping::levels(size).min(mips);
-        let s = sampler(device);
-        let radiance_cube = view(&radiance, wgpu::TextureViewDimension::Cube, 0..mips);
-        let prefiltered = match (glossy, e.prefilter) {
-            (Some(phong), Prefilter::Lobe) => {
-                let t = map_texture(device, "prefiltered cube", size, 6, levels);
-                for k in 0..levels {
-                    let n = (size >> k).max(1);
-                    let dst = level_view(&t, k);
-                    let params = FilterParams {
-                        roughness: if levels > 1 {
-                            k as f32 / (levels - 1) as f32
-                        } else {
-                            0.0
-                        },
-                        source_size: size,
-                        mode: u32::from(phong),
-                        samples: e.filter_samples,
-                        ..FilterParams::new(n)
-                    };
-                    dispatch(
-                        device,
-                        &mut encoder,
-                        &filters.prefilter,
-                        params,
-                        &[
-                            (12, Res::View(&radiance_cube)),
-                            (13, Res::Sampler(&s)),
-                            (14, Res::View(&dst)),
-                        ],
-                        [tiles(n), tiles(n), 6],
-                    );
-                }
-                Some(t)
-            }
-            _ => None,
-        };
-        let specular_cube = match &prefiltered {
-            Some(t) => view(t, wgpu::TextureViewDimension::Cube, 0..levels),
-            None => view(&radiance, wgpu::TextureViewDimension::Cube, 0..levels),
-        };
-        let sh = sh_buffer(device);
-        let irradiance = if diffuse && e.irradiance == Irradiance::Map {
-            let t = map_texture(device, "irradiance cube", IRRADIANCE_SIZE, 6, 1);
-            let level = level_of_side(size, IRRADIANCE_SOURCE);
-            let src = level_view(&radiance, level);
-            let params = FilterParams {
-                source_size: (size >> level).max(1),
-                ..FilterParams::new(IRRADIANCE_SIZE)
-            };
-            let dst = level_view(&t, 0);
-            dispatch(
-                device,
-                &mut encoder,
-                &filters.irradiance,
-                params,
-                &[(11, Res::View(&src)), (14, Res::View(&dst))],
-                [tiles(IRRADIANCE_SIZE), tiles(IRRADIANCE_SIZE), 6],
-            );
-            Some(t)
-        } else {
-            None
-        };
-        if diffuse && e.irradiance == Irradiance::Sh9 {
-            let level = level_of_side(size, SH9_SOURCE);
-            let src = level_view(&radiance, level);
-            let params = FilterParams {
-                source_size: (size >> level).max(1),
-                ..FilterParams::new(1)
-            };
-            dispatch(
-                device,
-                &mut encoder,
-                &filters.sh9,
-                params,
-                &[(11, Res::View(&src)), (16, Res::Buffer(&sh))],
-                [1, 1, 1],
-            );
-        }
-        let frame = match e.parameterization {
-            Parameterization::Cube => [Vec3::X, Vec3::Y, Vec3::Z],
-            Parameterization::Sphere => {
-                let towards = e
-                    .sphere_view
-                    .unwrap_or_else(|| scene.camera.position() - capture)
-                    .try_normalize()
-                    .unwrap_or(Vec3::Z);
-                frame_about(towards)
-            }
-            Parameterization::Paraboloid => [Vec3::X, Vec3::NEG_Z, Vec3::Y],
-        };
-        let f4 = |v: Vec3| [v.x, v.y, v.z, 0.0];
-        let flat = if e.parameterization == Parameterization::Cube {
-            None
-        } else {
-            let layers = e.parameterization.layers();
-            let t = map_texture(device, "sphere or paraboloid map", size, layers, levels);
-            for k in 0..levels {
-                let n = (size >> k).max(1);
-                let dst = level_view(&t, k);
+    /// The refractor's own distance map for double refraction, centred at `centre`: a
+    /// sphere's computed from its radius, a mesh's captured (outward normals and distances);
+    /// other shapes are not closed and refused.
+    fn refractor_map(
+        &self,
+        scene: &Scene,
+        index: usize,
+        centre: Vec3,
+        settings: &RasterSettings,
+    ) -> Result<wgpu::Texture, RasterError> {
+        let device = &self.gpu.device;
+        let size = settings.method.envmap.as_ref().map_or(1, |e| e.size);
+        let reflector = &scene.shapes[index];
+        match &reflector.geometry {
+            Geometry::Sphere { radius, .. } => {
+                let t = map_texture(device, "refractor map", size, 6, 1);
+                let dst = level_view(&t, 0);
                 let params = FilterParams {
-                    mode: u32::from(e.parameterization == Parameterization::Paraboloid),
-                    source_level: k,
-                    layers,
-                    flag: u32::from(e.seam_fill),
-                    frame_x: f4(frame[0]),
-                    frame_y: f4(frame[1]),
-                    frame_z: f4(frame[2]),
-                    ..FilterParams::new(n)
+                    roughness: *radius,
+                    ..FilterParams::new(size)
                 };
+                let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("refractor map"),
+                });
                 dispatch(
                     device,
                     &mut encoder,
-                    &filters.warp,
+                    &self.builder.filters(device).refractor_sphere,
                     params,
-                    &[
-                        (12, Res::View(&specular_cube)),
-                        (13, Res::Sampler(&s)),
-                        (14, Res::View(&dst)),
-                    ],
-                    [tiles(n), tiles(n), layers],
+                    &[(14, Res::View(&dst))],
+                    [tiles(size), tiles(size), 6],
                 );
+                self.gpu.queue.submit([encoder.finish()]);
+                Ok(t)
             }
-            Some(t)
-        };
-        let brdf = split_sum.then(|| {
-            let t = map_texture(device, "split-sum BRDF table", BRDF_TABLE_SIZE, 2, 1);
-            let dst = level_view(&t, 0);
-            let params = FilterParams {
-                samples: BRDF_TABLE_SAMPLES,
-                ..FilterParams::new(BRDF_TABLE_SIZE)
-            };
-            dispatch(
-                device,
-                &mut encoder,
-                &filters.brdf_lut,
-                params,
-                &[(14, Res::View(&dst))],
-                [tiles(BRDF_TABLE_SIZE), tiles(BRDF_TABLE_SIZE), 2],
-            );
-            t
-        });
-        self.gpu.queue.submit([encoder.finish()]);
-        self.wait()?;
-        self.check_errors("building the environment maps")?;
-        let build_ms = start.elapsed().as_secs_f64() * 1e3;
-
-        // 1×1 stand-ins for the maps this method does not build.
-        let placeholder_cube = map_texture(device, "placeholder cube", 1, 6, 1);
-        let placeholder_flat = map_texture(device, "placeholder map", 1, 2, 1);
-        let irradiance_view = match &irradiance {
-            Some(t) => view(t, wgpu::TextureViewDimension::Cube, 0..1),
-            None => view(&placeholder_cube, wgpu::TextureViewDimension::Cube, 0..1),
-        };
-        let flat_view = match &flat {
-            Some(t) => view(t, wgpu::TextureViewDimension::D2Array, 0..levels),
-            None => view(&placeholder_flat, wgpu::TextureViewDimension::D2Array, 0..1),
-        };
-        let brdf_view = match &brdf {
-            Some(t) => view(t, wgpu::TextureViewDimension::D2Array, 0..1),
-            None => view(&placeholder_flat, wgpu::TextureViewDimension::D2Array, 0..1),
-        };
-        let uniforms = EnvMapUniforms {
-            info: [
-                index as u32,
-                e.irradiance.shader_code(),
-                levels,
-                u32::from(e.dominant_direction),
-            ],
-            frame_x: f4(frame[0]),
-            frame_y: f4(frame[1]),
-            frame_z: f4(frame[2]),
-            local: e.localization.shader_info(refractor.is_some()),
-            capture: f4(capture),
-            refractor: f4(refractor_centre),
-            layers: [layer_count, 0, 0, 0],
-        };
-        let refractor_view = match &refractor {
-            Some(t) => view(t, wgpu::TextureViewDimension::Cube, 0..1),
-            None => irradiance_view.clone(),
-        };
-        let layers_view = view(
-            layers.as_ref().unwrap_or(&placeholder_cube),
-            wgpu::TextureViewDimension::CubeArray,
-            0..1,
-        );
-        let bind_group = bind_group(
-            device,
-            &self.pipelines.envmap_layout,
-            &specular_cube,
-            &flat_view,
-            &irradiance_view,
-            &brdf_view,
-            &sh,
-            &refractor_view,
-            &layers_view,
-            uniforms,
-        );
-        let localized = match e.localization {
-            Localization::Distant => String::new(),
-            Localization::Iterations(k) => format!(", lookups localized by {k} iterations"),
-            Localization::Search {
-                linear_steps,
-                secant_steps,
-                layers: 1,
-            } => format!(", lookups localized by {linear_steps} linear + {secant_steps} secant steps"),
-            Localization::Search {
-                linear_steps,
-                secant_steps,
-                layers,
-            } => format!(
-                ", lookups localized by {linear_steps} linear + {secant_steps} secant steps in {layers} depth-peeled distance layers"
-            ),
-        };
-        let refracted = if refractor.is_some() {
-            ", double refraction through the reflector's own map"
-        } else {
-            ""
-        };
-        let describe = format!(
-            "{} of side {size}, {levels} levels ({}), reflector {}, captured at ({:.4}, {:.4}, {:.4}){localized}{refracted}",
-            e.parameterization,
-            match (glossy, e.prefilter) {
-                (Some(true), Prefilter::Lobe) => "Phong lobe",
-                (Some(false), Prefilter::Lobe) => "GGX lobe",
-                (Some(_), Prefilter::Box) => "box mips",
-                (None, _) => "unfiltered",
-            },
-            reflector.name,
-            capture.x,
-            capture.y,
-            capture.z
-        );
-        Ok(EnvMaps {
-            bind_group,
-            header: vec![
-                ("environment_map", describe),
-                ("environment_map_texels", e.texels().to_string()),
-                ("environment_map_build_ms", format!("{build_ms:.3}")),
-            ],
-        })
+            Geometry::Mesh { .. } => {
+                let mut alone = scene.clone();
+                alone.shapes = vec![reflector.clone()];
+                self.capture_cube(&alone, centre, settings, CaptureKind::Normal, None)
+            }
+            _ => Err(RasterError::Settings(format!(
+                "method {}: double_refraction = on: reflector {} is not a closed shape (a sphere or a mesh)",
+                settings.method, reflector.name
+            ))),
+        }
     }
-}
 
-/// What a capture stores in rgb (alpha: the distance from the capture point).
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum CaptureKind {
-    /// The radiance seen (the environment's map).
-    Radiance,
-    /// The shading normal (a refractor's map).
-    Normal,
-}
-
-impl Renderer {
     /// Six 90° forward renders of `scene` from `point`, of side `size` (the method's), copied
     /// into a new cube of the full mip chain (level 0 written; envmap/filter.wgsl
     /// `cs_face_copy`). With `peel`, a cube of one level holding the nearest surfaces behind
@@ -862,10 +1070,10 @@ impl Renderer {
         scene: &Scene,
         point: Vec3,
         settings: &RasterSettings,
-        placeholder: &EnvMaps,
         kind: CaptureKind,
         peel: Option<&wgpu::Texture>,
     ) -> Result<wgpu::Texture, RasterError> {
+        let placeholder = &self.builder.placeholder;
         let device = &self.gpu.device;
         let limits = self.gpu.limits();
         let size = settings.method.envmap.as_ref().map_or(1, |e| e.size);
@@ -883,7 +1091,7 @@ impl Renderer {
             scene,
             max_binding,
             face_settings.method.detail.as_ref(),
-            &self.cones,
+            self.cones,
         )
         .map_err(RasterError::Scene)?;
         let shadow = ShadowMaps::new(
@@ -900,8 +1108,10 @@ impl Renderer {
             shadow: &shadow,
             envmap: &placeholder.bind_group,
         };
-        let stages = self.stages(&face_settings, false);
-        let filters = self.pipelines.filters(device);
+        let stages = self
+            .pipelines
+            .stages(device, &face_settings.method, face_settings.pipeline, false);
+        let filters = self.builder.filters(device);
         let mips = match (kind, peel) {
             (CaptureKind::Radiance, None) => size.ilog2() + 1,
             _ => 1,

@@ -7,9 +7,9 @@
 use glam::Vec3;
 use scenes::{Camera, Scene};
 
-use super::maps::{corners, orthographic, LightFrustum, FAR_MARGIN};
+use super::frustum::{corners, orthographic, LightFrustum};
 use super::Shadow;
-use crate::frame::camera_near;
+use crate::camera::camera_near;
 
 /// The camera view-depth range [n, f] the cascades split: n the camera's near plane, f the
 /// farthest corner of the scene's bounding box along the view direction, at least n.
@@ -82,30 +82,6 @@ pub(super) fn cascades(
             f
         })
         .collect()
-}
-
-/// A cascade's light-space square (centre x, centre y, half side): the slice's light-space box
-/// clipped to the scene's (the slice's own box if they miss each other: nothing there to
-/// shadow), its larger side × [`FAR_MARGIN`], snapped to texels of size t = 2·half/(side − 2)
-/// (Valient 2008, the shadow module's "Cascades"); at least 10⁻⁴ × the scene radius across.
-pub(super) fn cascade_square(
-    scene: (Vec3, Vec3),
-    slice: (Vec3, Vec3),
-    side: u32,
-    radius: f32,
-) -> (f32, f32, f32) {
-    let (mut lo, mut hi) = (slice.0.max(scene.0), slice.1.min(scene.1));
-    if lo.x > hi.x || lo.y > hi.y {
-        (lo, hi) = slice;
-    }
-    let half = (0.5 * (hi.x - lo.x).max(hi.y - lo.y) * FAR_MARGIN).max(1e-4 * radius);
-    let texel = 2.0 * half / side.saturating_sub(2).max(1) as f32;
-    let snap = |c: f32| (c / texel).round() * texel;
-    (
-        snap(0.5 * (lo.x + hi.x)),
-        snap(0.5 * (lo.y + hi.y)),
-        0.5 * texel * side as f32,
-    )
 }
 
 #[cfg(test)]

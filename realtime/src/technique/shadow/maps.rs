@@ -69,12 +69,14 @@ use scenes::{Geometry, Light, Scene};
 use wgpu::util::DeviceExt;
 
 use super::poisson::poisson_disk;
-use super::{BlockerDepth, Shadow, ShadowTechnique, MAX_SHADOW_TAPS};
+use super::{BlockerDepth, Shadow, ShadowTechnique};
 use crate::gpu_types::NONE;
 use crate::pipelines::DEPTH_FORMAT;
 use crate::technique::Method;
 
-use super::cascades::{cascade_square, cascades};
+use super::cascades::cascades;
+use super::frustum::{corners, orthographic, LightFrustum, FAR_MARGIN};
+use super::poisson::POISSON_TAPS;
 
 /// Light slots the shadow uniform holds (WGSL `slots: array<vec4<u32>, 64>`).
 pub const MAX_SHADOWED_LIGHTS: usize = 64;
@@ -82,8 +84,6 @@ pub const MAX_SHADOWED_LIGHTS: usize = 64;
 /// one layer, or its cascades. Chosen here: room for every slot plus cascades for a few suns,
 /// the uniform well under wgpu's default 64 KiB binding limit.
 pub const MAX_SHADOW_LAYERS: usize = 128;
-/// Poisson taps in the table (WGSL `poisson`, two per vec4).
-pub const POISSON_TAPS: usize = MAX_SHADOW_TAPS as usize;
 /// Widest perspective field of view (the brief's rule for lights whose frustum cannot be fitted:
 /// 150° keeps the texel footprint at the edge within tan 75°/tan 0° ≈ 3.7× the centre's).
 pub const MAX_FOV_DEG: f32 = 150.0;
@@ -92,8 +92,6 @@ pub const MIN_FOV_DEG: f32 = 1.0;
 /// Near plane as a fraction of the nearest bounding-box depth (a margin so the nearest caster
 /// is not clipped), chosen here.
 pub const NEAR_MARGIN: f32 = 0.9;
-/// Far plane as a multiple of the farthest bounding-box depth, chosen here.
-pub const FAR_MARGIN: f32 = 1.01;
 /// Smallest near plane as a fraction of the scene's bounding radius (as the camera's
 /// NEAR_FRACTION, frame.rs, but 10× larger: a standard-Z map loses depth precision as n/z²).
 pub const MIN_NEAR_FRACTION: f32 = 1e-3;
@@ -159,80 +157,6 @@ const _: () = assert!(
 );
 // wgpu's default `max_uniform_buffer_binding_size` (the limit gpu.rs requests).
 const _: () = assert!(std::mem::size_of::<GpuShadowUniforms>() <= 64 << 10);
-
-/// One map layer's frustum (a light's, or one cascade of it), as built on the CPU.
-#[derive(Clone, Debug, PartialEq)]
-pub struct LightFrustum {
-    /// The light's name, with `cascade i/k` for cascades (the pass label).
-    pub name: String,
-    /// World to clip.
-    pub view_proj: Mat4,
-    /// Eye, or a point on the axis (orthographic).
-    pub eye: Vec3,
-    /// Unit view direction.
-    pub axis: Vec3,
-    /// Perspective (true) or orthographic.
-    pub perspective: bool,
-    /// Full field of view (perspective, degrees) or side of the square extent (orthographic, m).
-    pub extent: f32,
-    /// Near and far view depth.
-    pub near: f32,
-    /// Far view depth.
-    pub far: f32,
-    /// Nearest blocker depth PCSS's search assumes (module docs).
-    pub search_near: f32,
-    /// PCSS light-size term (w_light, or 2·tan(θ/2) for directional lights).
-    pub size: f32,
-    /// The emitter's own shape.
-    pub own_shape: Option<usize>,
-    /// A cascade's camera view-depth slice [z_i, z_{i+1}]; None for a map over the scene.
-    pub slice: Option<(f32, f32)>,
-}
-
-impl LightFrustum {
-    /// World size of one texel at view depth z of a `side`² map: (a, b) with τ = a·z + b.
-    pub fn texel(&self, side: u32) -> (f32, f32) {
-        if self.perspective {
-            (2.0 * (0.5 * self.extent.to_radians()).tan() / side as f32, 0.0)
-        } else {
-            (0.0, self.extent / side as f32)
-        }
-    }
-
-    /// `name: perspective 123.4°, depth 0.9–1.5 m, w_light 0.5 m`; cascades add their slice.
-    pub fn describe(&self) -> String {
-        let slice = self.slice.map_or(String::new(), |(z0, z1)| {
-            format!(", camera depth {z0:.4}–{z1:.4} m")
-        });
-        if self.perspective {
-            format!(
-                "{}: perspective {:.1}°, depth {:.4}–{:.4} m (search from {:.4}), w_light {} m{slice}",
-                self.name, self.extent, self.near, self.far, self.search_near, self.size
-            )
-        } else {
-            format!(
-                "{}: orthographic {:.4} m square, depth {:.4}–{:.4} m (search from {:.4}), penumbra {} m/m{slice}",
-                self.name, self.extent, self.near, self.far, self.search_near, self.size
-            )
-        }
-    }
-
-    fn gpu(&self, side: u32) -> GpuShadowLight {
-        let (a, b) = self.texel(side);
-        GpuShadowLight {
-            view_proj: self.view_proj.to_cols_array_2d(),
-            inv_view_proj: self.view_proj.inverse().to_cols_array_2d(),
-            eye: self
-                .eye
-                .extend(if self.perspective { 1.0 } else { 0.0 })
-                .to_array(),
-            axis: self.axis.extend(self.size).to_array(),
-            depth: [self.near, self.far, a, b],
-            search: [self.search_near, self.slice.map_or(f32::MAX, |s| s.1), 0.0, 0.0],
-            info: [1, self.own_shape.map_or(NONE, |s| s as u32), 0, 0],
-        }
-    }
-}
 
 /// The frusta of every light slot of `scene` (area emitters, then scene lights), one per map
 /// layer of the slot: one, or `shadow.cascades` for a directional light (module docs) seen
@@ -347,17 +271,6 @@ fn towards_scene(scene: &Scene, own: Option<usize>, eye: Vec3) -> Vec3 {
     (target - eye).try_normalize().unwrap_or(Vec3::NEG_Y)
 }
 
-/// The eight corners of an axis-aligned box.
-pub(super) fn corners((lo, hi): (Vec3, Vec3)) -> [Vec3; 8] {
-    std::array::from_fn(|k| {
-        Vec3::new(
-            if k & 1 == 0 { lo.x } else { hi.x },
-            if k & 2 == 0 { lo.y } else { hi.y },
-            if k & 4 == 0 { lo.z } else { hi.z },
-        )
-    })
-}
-
 /// A perspective frustum from `eye` along `axis` fitted to the other shapes (module docs), its
 /// full field of view at most `max_fov` degrees.
 #[allow(clippy::too_many_arguments)]
@@ -437,57 +350,17 @@ fn perspective(
     }
 }
 
-/// The light-space (`view`) bounding box of `points`.
-fn light_box(view: &Mat4, points: &[Vec3]) -> (Vec3, Vec3) {
-    points
-        .iter()
-        .map(|c| view.transform_point3(*c))
-        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
-            (lo.min(p), hi.max(p))
-        })
-}
-
-/// An orthographic frustum along the travel direction `axis`, its depth range over the whole
-/// scene; its square over the scene's bounding box, or with `cascade` = (the eight corners of
-/// a camera-frustum slice, the map side) over that slice (module docs, "Cascades").
-pub(super) fn orthographic(
-    scene: &Scene,
-    name: &str,
-    axis: Vec3,
-    size: f32,
-    cascade: Option<(&[Vec3; 8], u32)>,
-) -> LightFrustum {
-    let (centre, radius) = scene.bounding_sphere();
-    let eye = centre - axis * (2.0 * radius);
-    let view = Mat4::look_to_rh(eye, axis, axis.any_orthonormal_vector());
-    let (lo, hi) = light_box(&view, &corners(scene.bounds()));
-    let (cx, cy, half) = match cascade {
-        None => (
-            0.5 * (lo.x + hi.x),
-            0.5 * (lo.y + hi.y),
-            0.5 * (hi.x - lo.x).max(hi.y - lo.y) * FAR_MARGIN,
-        ),
-        Some((slice, side)) => {
-            let (slo, shi) = light_box(&view, slice);
-            cascade_square((lo, hi), (slo, shi), side, radius)
-        }
-    };
-    let margin = 0.01 * radius;
-    let (near, far) = (-hi.z - margin, -lo.z + margin);
-    let proj = Mat4::orthographic_rh(cx - half, cx + half, cy - half, cy + half, near, far);
-    LightFrustum {
-        name: name.to_string(),
-        view_proj: proj * view,
-        eye,
-        axis,
-        perspective: false,
-        extent: 2.0 * half,
-        near,
-        far,
-        search_near: near,
-        size,
-        own_shape: None,
-        slice: None,
+/// The WGSL `ShadowLight` of frustum `f` on a `side`² map.
+fn gpu_light(f: &LightFrustum, side: u32) -> GpuShadowLight {
+    let (a, b) = f.texel(side);
+    GpuShadowLight {
+        view_proj: f.view_proj.to_cols_array_2d(),
+        inv_view_proj: f.view_proj.inverse().to_cols_array_2d(),
+        eye: f.eye.extend(if f.perspective { 1.0 } else { 0.0 }).to_array(),
+        axis: f.axis.extend(f.size).to_array(),
+        depth: [f.near, f.far, a, b],
+        search: [f.search_near, f.slice.map_or(f32::MAX, |s| s.1), 0.0, 0.0],
+        info: [1, f.own_shape.map_or(NONE, |s| s as u32), 0, 0],
     }
 }
 
@@ -541,7 +414,7 @@ pub fn shadow_uniforms(method: &Method, frusta: &[Vec<LightFrustum>]) -> GpuShad
         u.slots[slot] = [first as u32, layers.len() as u32, 0, 0];
         for f in layers {
             if let Some(layer) = u.layers.get_mut(first) {
-                *layer = f.gpu(s.map);
+                *layer = gpu_light(f, s.map);
             }
             first += 1;
         }

@@ -7,6 +7,7 @@
 //! |---|---|
 //! | `mod.rs` | the methods, their parameters and tables (this file) |
 //! | [`maps`] | light frusta, the shadow uniform, the map array |
+//! | [`frustum`] | a map layer's projection; the orthographic fit of directional lights and cascades |
 //! | [`cascades`] | cascaded maps of directional lights (Zhang et al. 2006; Dimitrov 2007) |
 //! | [`poisson`] | the Poisson-disk taps of `pcf_poisson` and `pcss` (Mitchell 1991) |
 //! | `shaders/shadow/*.wgsl` | the map lookup, one file per filter, the `SHADOW_METHOD` switch |
@@ -21,13 +22,14 @@
 //! broken PCSS, a test device for thresholds, not a technique.
 
 pub mod cascades;
+pub mod frustum;
 pub mod maps;
 pub mod poisson;
 
 use super::param::{Kind, MethodSpec, Param, Value};
 
 /// Largest Poisson tap count (`taps`, `blocker_samples`, `filter_samples`): the size of the
-/// tap table ([`maps::POISSON_TAPS`]).
+/// tap table ([`poisson::POISSON_TAPS`]).
 pub const MAX_SHADOW_TAPS: u32 = 64;
 /// Shadow-map sides accepted.
 pub const SHADOW_MAP_SIZES: std::ops::RangeInclusive<u32> = 64..=4096;

@@ -3,7 +3,10 @@
 
 use scenes::random::SplitMix64;
 
-use super::maps::POISSON_TAPS;
+use super::MAX_SHADOW_TAPS;
+
+/// Poisson taps in the table (WGSL `poisson`, two per vec4).
+pub const POISSON_TAPS: usize = MAX_SHADOW_TAPS as usize;
 
 /// Mitchell's best-candidate factor: tap k is the best of `BEST_CANDIDATE_FACTOR`·k candidates
 /// (Mitchell 1991 uses a similar multiple; 10 chosen here).

@@ -1,0 +1,134 @@
+//! How to render: the method, forward or deferred, the resolution, supersampling and the
+//! frames timed ([`RasterSettings`]), checked before anything is allocated.
+
+use crate::error::RasterError;
+use crate::gpu::COLOR_BYTES_PER_SAMPLE;
+use crate::pipelines::PipelineKind;
+use crate::technique::{Method, MAX_QUADRATURE_N};
+
+/// Largest supersampling factor accepted (k×k samples per pixel).
+pub const MAX_SSAA: u32 = 16;
+
+/// How to render.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RasterSettings {
+    /// The method (area lights, shadows, detail, environment maps) and its parameters.
+    pub method: Method,
+    /// Forward or deferred.
+    pub pipeline: PipelineKind,
+    /// Output width in pixels.
+    pub width: u32,
+    /// Output height in pixels.
+    pub height: u32,
+    /// Supersampling: k×k samples per pixel on a regular grid (box filter over the pixel).
+    pub ssaa: u32,
+    /// Frames rendered before timing.
+    pub warmup_frames: u32,
+    /// Frames timed (the reported time is their median).
+    pub timed_frames: u32,
+    /// Run one extra frame with the hardware-independent counters compiled in.
+    pub counters: bool,
+}
+
+impl RasterSettings {
+    /// `width`×`height`, default method, forward, no supersampling, 2 warm-up + 5 timed
+    /// frames, no counters.
+    pub fn new(width: u32, height: u32) -> Self {
+        RasterSettings {
+            method: Method::default(),
+            pipeline: PipelineKind::Forward,
+            width,
+            height,
+            ssaa: 1,
+            warmup_frames: 2,
+            timed_frames: 5,
+            counters: false,
+        }
+    }
+
+    /// With `method`.
+    pub fn method(self, method: Method) -> Self {
+        RasterSettings { method, ..self }
+    }
+
+    /// With `pipeline`.
+    pub fn pipeline(self, pipeline: PipelineKind) -> Self {
+        RasterSettings { pipeline, ..self }
+    }
+
+    /// With k×k supersampling.
+    pub fn ssaa(self, k: u32) -> Self {
+        RasterSettings { ssaa: k, ..self }
+    }
+
+    /// With `warmup` untimed and `timed` timed frames.
+    pub fn frames(self, warmup: u32, timed: u32) -> Self {
+        RasterSettings {
+            warmup_frames: warmup,
+            timed_frames: timed,
+            ..self
+        }
+    }
+
+    /// With or without the counting frame.
+    pub fn counters(self, counters: bool) -> Self {
+        RasterSettings { counters, ..self }
+    }
+
+    /// Checks the settings against the adapter's largest texture side and the memory budget.
+    pub(crate) fn check(&self, max_dimension: u32) -> Result<(), RasterError> {
+        let bad = |m: String| Err(RasterError::Settings(m));
+        if self.width == 0 || self.height == 0 {
+            return bad(format!("resolution {}x{} is empty", self.width, self.height));
+        }
+        if !(1..=MAX_SSAA).contains(&self.ssaa) {
+            return bad(format!("ssaa = {} must be in 1..={MAX_SSAA}", self.ssaa));
+        }
+        let m = &self.method;
+        if !(1..=MAX_QUADRATURE_N).contains(&m.area_n) || m.env_n > MAX_QUADRATURE_N {
+            return bad(format!(
+                "method {m}: n must be in 1..={MAX_QUADRATURE_N} and env_n in 0..={MAX_QUADRATURE_N}"
+            ));
+        }
+        if let Err(e) = m.validate() {
+            return bad(e);
+        }
+        if let Some(sh) = &m.shadow {
+            if sh.map > max_dimension {
+                return bad(format!(
+                    "method {m}: map = {} exceeds the adapter's {max_dimension} texels per side",
+                    sh.map
+                ));
+            }
+        }
+        if self.timed_frames == 0 {
+            return bad("at least one timed frame is needed".into());
+        }
+        let (w, h) = (
+            u64::from(self.width) * u64::from(self.ssaa),
+            u64::from(self.height) * u64::from(self.ssaa),
+        );
+        if w > u64::from(max_dimension) || h > u64::from(max_dimension) {
+            return bad(format!(
+                "{}x{} with ssaa {} needs a {w}x{h} target; the adapter allows at most {max_dimension} per side",
+                self.width, self.height, self.ssaa
+            ));
+        }
+        // The render targets (three Rgba32Float colour targets and a depth target per sample)
+        // and, per output pixel, the read-back targets and the EXR's channels (about 26 f32)
+        // and the shadow maps (one Depth32Float layer per light), before any is allocated.
+        let targets = w
+            .saturating_mul(h)
+            .saturating_mul(u64::from(COLOR_BYTES_PER_SAMPLE) + 4);
+        let output = u64::from(self.width) * u64::from(self.height) * (48 + 26 * 4);
+        let maps = m.shadow.as_ref().map_or(0, |sh| u64::from(sh.map).pow(2) * 4);
+        scenes::budget::check(
+            targets.saturating_add(output).saturating_add(maps),
+            format!(
+                "resolution {}x{} with ssaa {}: the render targets and read-back",
+                self.width, self.height, self.ssaa
+            ),
+        )
+        .map_err(|e| RasterError::Settings(e.to_string()))
+    }
+}
