@@ -565,6 +565,22 @@ fn shadow_grid(bias: usize, slope: usize, offset: usize) -> String {
         .replace("scene = { light_size = 1.0 }\n", "")
 }
 
+/// Each swept value is accepted alone, but one combination is not (`max_steps` is POM's, not
+/// normal mapping's): an error naming the sweep, not a panic when the variants are built.
+#[test]
+fn study_grids_refuse_a_combination_the_method_refuses() {
+    let body = GOOD
+        .replace("name = \"area_quadrature\"\nsweep = { n = [4, 2] }", "name = \"envmap_cube\"\nparams = { detail = \"pom\" }\nsweep = { detail = [\"pom\", \"normal_mapping\"], max_steps = [64] }")
+        .replace("method = \"area_quadrature\"", "method = \"envmap_cube\"");
+    let e = study_error(&body);
+    assert!(
+        e.contains(
+            "test-bad.toml:8: field `method[0].sweep`: method envmap_cube has no parameter `max_steps`"
+        ),
+        "{e}"
+    );
+}
+
 /// A grid is counted from its sweep lengths before any variant exists: 64 × 1000 × 64 is one
 /// error line, not 4 million variants (6.2 GB, then an abort).
 #[test]

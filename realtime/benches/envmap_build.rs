@@ -1,5 +1,5 @@
 //! Environment-map build time: the six-view capture and the filtering passes of
-//! `envmap_build.rs` (box mips, prefiltered levels, irradiance cube or SH9, warps, BRDF
+//! `technique/envmap/build.rs` (box mips, prefiltered levels, irradiance cube or SH9, warps, BRDF
 //! table), for each parameterization at sides 64–512, for a glossy (GGX, 64 samples per
 //! prefiltered texel) and a diffuse (irradiance cube) ball under the Venice sunset.
 //!

@@ -573,7 +573,8 @@ mod tests {
 
     use super::*;
     use crate::gpu_types::*;
-    use crate::technique::envmap::build::{EnvMapUniforms, FilterParams, LOCAL_PEEL};
+    use crate::technique::envmap::build::{EnvMapUniforms, LOCAL_PEEL};
+    use crate::technique::envmap::filter::FilterParams;
     use crate::technique::envmap::localization::Localization;
     use crate::technique::envmap::Irradiance;
     use crate::technique::shadow::maps::{GpuShadowLight, GpuShadowSettings, GpuShadowUniforms};

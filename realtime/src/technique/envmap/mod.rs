@@ -3,7 +3,7 @@
 //!
 //! Each render captures six 90° views from the capture point with the realtime renderer
 //! itself (the reflector left out), into a radiance cube, and derives the maps the method
-//! reads ([`build`], `shaders/envmap/filter.wgsl`): box mips, prefiltered specular
+//! reads ([`build`], [`filter`], `shaders/envmap/filter.wgsl`): box mips, prefiltered specular
 //! levels, an irradiance cube, nine spherical-harmonic coefficients, and for the sphere and
 //! paraboloid methods the same levels warped into their parameterization. The reflector is
 //! then shaded from the maps along R = 2(n·ωo)n − ωo (`shaders/envmap/envmap.wgsl`); every other
@@ -30,6 +30,7 @@ use super::param::{Kind, MethodSpec, Param, Value};
 use localization::Localization;
 
 pub(crate) mod build;
+pub(crate) mod filter;
 pub mod localization;
 
 /// Smallest and largest `size`.

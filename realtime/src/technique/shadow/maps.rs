@@ -530,42 +530,7 @@ impl ShadowMaps {
                 (f.name.clone(), view)
             })
             .collect();
-        let array = texture.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("shadow map array view"),
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
-        let sampler = |label: &str, filter: wgpu::FilterMode| {
-            device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some(label),
-                address_mode_u: wgpu::AddressMode::ClampToEdge,
-                address_mode_v: wgpu::AddressMode::ClampToEdge,
-                mag_filter: filter,
-                min_filter: filter,
-                compare: Some(wgpu::CompareFunction::LessEqual),
-                ..Default::default()
-            })
-        };
-        let nearest = sampler("shadow comparison sampler (nearest)", wgpu::FilterMode::Nearest);
-        let bilinear = sampler("shadow comparison sampler (bilinear)", wgpu::FilterMode::Linear);
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("shadow map bind group"),
-            layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&array),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::Sampler(&nearest),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::Sampler(&bilinear),
-                },
-            ],
-        });
+        let bind_group = map_bind_group(device, layout, &texture);
         Ok(ShadowMaps {
             uniform,
             layers: layer_views,
@@ -573,6 +538,51 @@ impl ShadowMaps {
             frusta,
         })
     }
+}
+
+/// Group 2 of the shading pipelines: the map array (`texture`) and its two comparison
+/// samplers, nearest and bilinear.
+fn map_bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    texture: &wgpu::Texture,
+) -> wgpu::BindGroup {
+    let array = texture.create_view(&wgpu::TextureViewDescriptor {
+        label: Some("shadow map array view"),
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    let sampler = |label: &str, filter: wgpu::FilterMode| {
+        device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some(label),
+            address_mode_u: wgpu::AddressMode::ClampToEdge,
+            address_mode_v: wgpu::AddressMode::ClampToEdge,
+            mag_filter: filter,
+            min_filter: filter,
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        })
+    };
+    let nearest = sampler("shadow comparison sampler (nearest)", wgpu::FilterMode::Nearest);
+    let bilinear = sampler("shadow comparison sampler (bilinear)", wgpu::FilterMode::Linear);
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("shadow map bind group"),
+        layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&array),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::Sampler(&nearest),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::Sampler(&bilinear),
+            },
+        ],
+    })
 }
 
 #[cfg(test)]
