@@ -201,9 +201,9 @@ fn includes_may_read_the_scene_folder_or_be_allowed_out() {
     std::fs::create_dir(&assets).unwrap();
     let mut bin = Bin::new();
     let meshes = triangle(&mut bin, "", None);
-    write(&scene_dir, "shared.bin", &bin.bytes);
+    write(&scene_dir, "scene-folder.bin", &bin.bytes);
     let json = document(
-        &bin.parts_with_uri("../shared.bin"),
+        &bin.parts_with_uri("../scene-folder.bin"),
         &format!("{meshes},\"nodes\":[{{\"mesh\":0}}]"),
     );
     let asset = write(&assets, "up.gltf", json);
@@ -213,7 +213,7 @@ fn includes_may_read_the_scene_folder_or_be_allowed_out() {
         scenes::gltf::load(&asset),
         "up.gltf",
         "buffers[0].uri",
-        &["shared.bin, outside"],
+        &["scene-folder.bin, outside"],
     );
 
     let elsewhere = temp_dir("include-elsewhere");

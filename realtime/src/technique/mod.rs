@@ -165,11 +165,10 @@ impl Family {
 
     /// Its methods' names, summaries and papers.
     pub fn methods(self) -> Vec<MethodInfo> {
-        fn infos<T>(family: Family, specs: &'static [MethodSpec<T>]) -> Vec<MethodInfo> {
+        fn infos<T>(specs: &'static [MethodSpec<T>]) -> Vec<MethodInfo> {
             specs
                 .iter()
                 .map(|s| MethodInfo {
-                    family,
                     name: s.name,
                     summary: s.summary,
                     source: s.source,
@@ -177,11 +176,11 @@ impl Family {
                 .collect()
         }
         match self {
-            Family::Area => infos(self, area::METHODS),
-            Family::Shadow => infos(self, shadow::METHODS),
-            Family::Detail => infos(self, detail::METHODS),
-            Family::EnvMap => infos(self, envmap::METHODS),
-            Family::DistanceImpostor => infos(self, distance_impostor::METHODS),
+            Family::Area => infos(area::METHODS),
+            Family::Shadow => infos(shadow::METHODS),
+            Family::Detail => infos(detail::METHODS),
+            Family::EnvMap => infos(envmap::METHODS),
+            Family::DistanceImpostor => infos(distance_impostor::METHODS),
         }
     }
 
@@ -204,8 +203,6 @@ impl Family {
 /// A method's name, what it does and its paper.
 #[derive(Clone, Copy, Debug)]
 pub struct MethodInfo {
-    /// Its family.
-    pub family: Family,
     /// `--method NAME`.
     pub name: &'static str,
     /// One line: what it does per pixel.
