@@ -177,9 +177,6 @@ fn every_study_full_run_fits_a_24_gb_machine() {
 /// record went stale). The list only shrinks: the test below fails when a listed study has a
 /// current record, and when an unlisted one has none.
 const AWAITING_FIRST_FULL_RUN: &[&str] = &[
-    "shadow-contact-hardening",
-    "shadow-light-size",
-    "shadow-overlapping-blockers",
     "shadow-thin-blockers",
     "soft-shadows",
 ];
