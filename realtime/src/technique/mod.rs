@@ -98,8 +98,8 @@ pub static COMMON: &[Param<Method>] = &[
 ];
 
 /// The values of an environment map's `detail`: `none`, then every detail method.
-const DETAIL_CHOICES: [&str; 9] = {
-    let mut names = ["none"; 9];
+const DETAIL_CHOICES: [&str; 1 + detail::METHODS.len()] = {
+    let mut names = ["none"; 1 + detail::METHODS.len()];
     let mut i = 0;
     while i < detail::METHODS.len() {
         names[i + 1] = detail::METHODS[i].name;
