@@ -27,19 +27,7 @@ pub fn render(
 ) -> Result<RenderResult, RenderError> {
     let scene = job.scene;
     let (width, height) = (scene.film.width, scene.film.height);
-    if width == 0 || height == 0 {
-        return Err(RenderError::Scene(format!(
-            "{}: film size {width}x{height} is empty",
-            scene.source.display()
-        )));
-    }
-    if job.stop.spp == 0 {
-        return Err(RenderError::Scene("spp must be at least 1".into()));
-    }
-    // Before anything is allocated (callers that loaded the scene with a ledger have charged
-    // the same figures to it already, with the scene's own memory: `memory::charge`).
-    crate::memory::charge(scene, job.checkpoint.is_some(), &scenes::budget::Ledger::new())
-        .map_err(|over| RenderError::Memory(over.exceeded().clone()))?;
+    check_job(job)?;
     let accel =
         Accel::build(scene).map_err(|e| RenderError::Scene(format!("{}: {e}", scene.source.display())))?;
     let lights =
@@ -109,7 +97,42 @@ pub fn render(
         let _ = std::fs::remove_file(&cp.path);
     }
     let mut image = film.to_layered(&names, &object_ids);
-    let attrs = [
+    image
+        .attributes
+        .extend(attributes(job, &film, seconds).map(|(k, v)| (k.to_string(), v)));
+    Ok(RenderResult {
+        image,
+        spp: film.spp,
+        seconds,
+        paths: film.paths,
+        rays: film.rays,
+        nonfinite_samples: film.nonfinite,
+    })
+}
+
+/// Refuses a job with an empty film or no samples, or one whose buffers exceed the memory
+/// budget, before anything is allocated (callers that loaded the scene with a ledger have
+/// charged the same figures to it already, with the scene's own memory: `memory::charge`).
+fn check_job(job: &RenderJob) -> Result<(), RenderError> {
+    let scene = job.scene;
+    let (width, height) = (scene.film.width, scene.film.height);
+    if width == 0 || height == 0 {
+        return Err(RenderError::Scene(format!(
+            "{}: film size {width}x{height} is empty",
+            scene.source.display()
+        )));
+    }
+    if job.stop.spp == 0 {
+        return Err(RenderError::Scene("spp must be at least 1".into()));
+    }
+    crate::memory::charge(scene, job.checkpoint.is_some(), &scenes::budget::Ledger::new())
+        .map_err(|over| RenderError::Memory(over.exceeded().clone()))
+}
+
+/// The render's header attributes: what was rendered, how, and what it cost.
+fn attributes(job: &RenderJob, film: &Film, seconds: f64) -> [(&'static str, String); 12] {
+    let scene = job.scene;
+    [
         ("scene", scene.source.display().to_string()),
         ("renderer", format!("verity oracle {}", env!("CARGO_PKG_VERSION"))),
         (
@@ -128,18 +151,7 @@ pub fn render(
             "variance",
             "variance of the pixel mean (sample variance / spp)".to_string(),
         ),
-    ];
-    image
-        .attributes
-        .extend(attrs.into_iter().map(|(k, v)| (k.to_string(), v)));
-    Ok(RenderResult {
-        image,
-        spp: film.spp,
-        seconds,
-        paths: film.paths,
-        rays: film.rays,
-        nonfinite_samples: film.nonfinite,
-    })
+    ]
 }
 
 fn stop_now(stop: &StopRule, done: u32, elapsed: f64, rel_err: f32) -> bool {

@@ -121,9 +121,69 @@ pub(crate) struct ShadingGroups<'a> {
     pub(crate) envmap: &'a wgpu::BindGroup,
 }
 
-/// Records the frame's render passes: the shadow pass when `stages` has its pipelines, the
-/// geometry pass (forward, or G-buffer), then for the deferred pipeline the lighting pass.
-/// Query pairs are numbered in that order.
+/// One timed pass of a frame. The frame runs its passes in the order of [`Pass::of_frame`], and
+/// the i-th pass writes timestamp queries 2i and 2i + 1, so each pass is timed on its own and
+/// the timing names it by [`Pass::label`].
+///
+/// The stages of a frame, in order (docs/ARCHITECTURE.md "Passes of one frame"):
+/// 1. [`Pass::Shadow`]: depth from each light (under a shadow method with a map layer);
+/// 2. [`Pass::Forward`], or [`Pass::GBuffer`]: the scene rasterised once;
+/// 3. *G-buffer post-passes* (after `GBuffer`, before `Lighting`): passes that read depth and
+///    normals and write an input of the lighting, e.g. screen-space AO and its blur;
+/// 4. [`Pass::Lighting`]: the deferred full-screen lighting;
+/// 5. *post-process passes* (last): passes that read the lit image, e.g. FXAA, SMAA, TAA.
+///
+/// A new pass is a variant here, its encode function (called from [`encode_passes`]) and its
+/// place in [`Pass::of_frame`]; its timestamps and its timing entry follow from that place.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Pass {
+    /// Depth-only passes into the shadow map layers, timed together.
+    Shadow,
+    /// Forward shading of the scene into the outputs.
+    Forward,
+    /// The scene's G-buffer.
+    GBuffer,
+    /// The full-screen deferred lighting reading the G-buffer.
+    Lighting,
+}
+
+impl Pass {
+    /// The passes of a frame with these pipelines, in the order they run: the shadow pass when
+    /// `stages` holds the shadow pipelines and the method has map layers, the geometry pass, and
+    /// the lighting pass when `stages` holds the lighting pipeline.
+    pub(crate) fn of_frame(
+        stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
+        shadow: &ShadowMaps,
+        targets: &Targets,
+    ) -> Vec<Pass> {
+        let has = |wanted: fn(Stage) -> bool| stages.iter().any(|(s, _)| wanted(*s));
+        let mut passes = Vec::with_capacity(3);
+        if has(Stage::is_shadow) && !shadow.layers.is_empty() {
+            passes.push(Pass::Shadow);
+        }
+        passes.push(if targets.gbuffer_views.is_some() {
+            Pass::GBuffer
+        } else {
+            Pass::Forward
+        });
+        if has(|s| s == Stage::Lighting) {
+            passes.push(Pass::Lighting);
+        }
+        passes
+    }
+
+    /// The pass's name in the timing (`Timing::passes`) and in the render-pass labels.
+    pub(crate) fn label(self) -> &'static str {
+        match self {
+            Pass::Shadow => "shadow pass",
+            Pass::Forward => "forward pass",
+            Pass::GBuffer => "G-buffer pass",
+            Pass::Lighting => "lighting pass",
+        }
+    }
+}
+
+/// Records the frame's render passes, [`Pass::of_frame`] in order; pass i writes query pair i.
 pub(crate) fn encode_passes(
     encoder: &mut wgpu::CommandEncoder,
     frame: &Frame,
@@ -133,36 +193,23 @@ pub(crate) fn encode_passes(
     groups: &ShadingGroups<'_>,
     queries: Option<&Timestamps>,
 ) {
-    let mut pass = 0;
-    if stages.iter().any(|(s, _)| s.is_shadow()) && !groups.shadow.layers.is_empty() {
-        encode_shadow_passes(
-            encoder,
-            frame,
-            stages,
-            sg,
-            groups.shadow,
-            queries.map(|q| (q, pass)),
-        );
-        pass += 1;
-    }
-    encode_geometry_pass(
-        encoder,
-        frame,
-        targets,
-        stages,
-        sg,
-        groups,
-        queries.map(|q| (q, pass)),
-    );
-    if let Some((_, lighting)) = stages.iter().find(|(s, _)| *s == Stage::Lighting) {
-        encode_lighting_pass(
-            encoder,
-            frame,
-            targets,
-            lighting,
-            groups,
-            queries.map(|q| (q, pass + 1)),
-        );
+    for (i, pass) in Pass::of_frame(stages, groups.shadow, targets)
+        .into_iter()
+        .enumerate()
+    {
+        let queries = queries.map(|q| (q, i as u32));
+        match pass {
+            Pass::Shadow => encode_shadow_passes(encoder, frame, stages, sg, groups.shadow, queries),
+            Pass::Forward | Pass::GBuffer => {
+                encode_geometry_pass(encoder, frame, targets, stages, sg, groups, queries)
+            }
+            Pass::Lighting => {
+                let lighting = stages.iter().find(|(s, _)| *s == Stage::Lighting);
+                if let Some((_, pipeline)) = lighting {
+                    encode_lighting_pass(encoder, frame, targets, pipeline, groups, queries);
+                }
+            }
+        }
     }
 }
 
@@ -233,10 +280,12 @@ fn encode_geometry_pass(
         }),
         stencil_ops: None,
     };
-    let deferred = targets.gbuffer_views.is_some();
-    let color = attachments(targets.gbuffer_views.as_ref().unwrap_or(&targets.output_views));
+    let (color, label) = match &targets.gbuffer_views {
+        Some(views) => (attachments(views), Pass::GBuffer.label()),
+        None => (attachments(&targets.output_views), Pass::Forward.label()),
+    };
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some(if deferred { "G-buffer pass" } else { "forward pass" }),
+        label: Some(label),
         color_attachments: &color,
         depth_stencil_attachment: Some(depth),
         timestamp_writes: queries.map(|(q, i)| q.writes(i)),
@@ -283,7 +332,7 @@ fn encode_lighting_pass(
 ) {
     let color = attachments(&targets.output_views);
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("lighting pass"),
+        label: Some(Pass::Lighting.label()),
         color_attachments: &color,
         depth_stencil_attachment: None,
         timestamp_writes: queries.map(|(q, i)| q.writes(i)),

@@ -189,6 +189,35 @@ impl Stage {
     pub fn is_shadow(self) -> bool {
         matches!(self, Stage::ShadowMesh | Stage::ShadowAnalytic)
     }
+
+    /// The depth test and write of the stage's pipeline: reversed-Z (greater is nearer) for the
+    /// camera's passes, the background only where nothing was drawn, conventional Z (less) in
+    /// the shadow pass, none in the lighting pass.
+    fn depth_stencil(self) -> Option<wgpu::DepthStencilState> {
+        let depth = |compare, write| wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: write,
+            depth_compare: compare,
+            stencil: wgpu::StencilState::default(),
+            bias: wgpu::DepthBiasState::default(),
+        };
+        match self {
+            Stage::Lighting => None,
+            Stage::Background => Some(depth(wgpu::CompareFunction::GreaterEqual, false)),
+            Stage::ShadowMesh | Stage::ShadowAnalytic => Some(depth(wgpu::CompareFunction::Less, true)),
+            // A render pass needs an attachment: the G-buffer's depth, untouched.
+            Stage::VisibilityAov => Some(depth(wgpu::CompareFunction::Always, false)),
+            _ => Some(depth(wgpu::CompareFunction::Greater, true)),
+        }
+    }
+
+    /// Analytic proxies are wound so that back-face culling keeps one layer; nothing else is culled.
+    fn cull_mode(self) -> Option<wgpu::Face> {
+        match self {
+            Stage::ForwardAnalytic | Stage::GBufferAnalytic | Stage::ShadowAnalytic => Some(wgpu::Face::Back),
+            _ => None,
+        }
+    }
 }
 
 /// Cache key: the pipeline, the area method, the shadow, detail and environment-mapping
@@ -273,6 +302,66 @@ fn pipeline_layout(
     })
 }
 
+/// Group 2: the shadow maps (a depth array) with their comparison samplers (shadow/maps.rs).
+fn shadow_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let fragment = wgpu::ShaderStages::FRAGMENT;
+    let comparison = wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison);
+    bind_group_layout(
+        device,
+        "shadow map bind group layout",
+        &[
+            layout_entry(
+                0,
+                fragment,
+                wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: wgpu::TextureViewDimension::D2Array,
+                    multisampled: false,
+                },
+            ),
+            layout_entry(1, fragment, comparison),
+            layout_entry(2, fragment, comparison),
+        ],
+    )
+}
+
+/// Group 3: the environment maps (envmap/build.rs `bind_maps` lists what each binding holds).
+fn envmap_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    let fragment = wgpu::ShaderStages::FRAGMENT;
+    let texture = |binding, view_dimension| {
+        layout_entry(
+            binding,
+            fragment,
+            wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                view_dimension,
+                multisampled: false,
+            },
+        )
+    };
+    let cube = wgpu::TextureViewDimension::Cube;
+    let array = wgpu::TextureViewDimension::D2Array;
+    bind_group_layout(
+        device,
+        "environment map bind group layout",
+        &[
+            texture(0, cube),
+            texture(1, array),
+            texture(2, cube),
+            texture(3, array),
+            layout_entry(
+                4,
+                fragment,
+                wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+            ),
+            storage_entry(5, true),
+            layout_entry(6, fragment, uniform_type()),
+            texture(7, cube),
+            texture(8, wgpu::TextureViewDimension::CubeArray),
+        ],
+    )
+}
+
 impl Pipelines {
     /// Compiles the shader module (validation errors come back from the caller's error scope).
     pub fn new(device: &wgpu::Device) -> Pipelines {
@@ -302,56 +391,8 @@ impl Pipelines {
         aov_entries.push(storage_entry(3, false));
         aov_entries.push(layout_entry(4, fragment, uniform_type()));
         let aov_layout = bind_group_layout(device, "visibility AOV bind group layout", &aov_entries);
-        let comparison = wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison);
-        let shadow_layout = bind_group_layout(
-            device,
-            "shadow map bind group layout",
-            &[
-                layout_entry(
-                    0,
-                    fragment,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Depth,
-                        view_dimension: wgpu::TextureViewDimension::D2Array,
-                        multisampled: false,
-                    },
-                ),
-                layout_entry(1, fragment, comparison),
-                layout_entry(2, fragment, comparison),
-            ],
-        );
-        let texture = |binding, view_dimension| {
-            layout_entry(
-                binding,
-                fragment,
-                wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                    view_dimension,
-                    multisampled: false,
-                },
-            )
-        };
-        let cube = wgpu::TextureViewDimension::Cube;
-        let array = wgpu::TextureViewDimension::D2Array;
-        let envmap_layout = bind_group_layout(
-            device,
-            "environment map bind group layout",
-            &[
-                texture(0, cube),
-                texture(1, array),
-                texture(2, cube),
-                texture(3, array),
-                layout_entry(
-                    4,
-                    fragment,
-                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                ),
-                storage_entry(5, true),
-                layout_entry(6, fragment, uniform_type()),
-                texture(7, cube),
-                texture(8, wgpu::TextureViewDimension::CubeArray),
-            ],
-        );
+        let shadow_layout = shadow_group_layout(device);
+        let envmap_layout = envmap_group_layout(device);
         let empty_layout = bind_group_layout(device, "empty bind group layout", &[]);
         let empty_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("empty bind group (group 1 of the geometry pipelines)"),
@@ -501,26 +542,6 @@ impl Pipelines {
             Stage::ForwardAnalytic | Stage::GBufferAnalytic | Stage::ShadowAnalytic => &analytic_layout,
             Stage::Background | Stage::Lighting | Stage::VisibilityAov => &[],
         };
-        let depth = |compare, write| wgpu::DepthStencilState {
-            format: DEPTH_FORMAT,
-            depth_write_enabled: write,
-            depth_compare: compare,
-            stencil: wgpu::StencilState::default(),
-            bias: wgpu::DepthBiasState::default(),
-        };
-        let depth_stencil = match stage {
-            Stage::Lighting => None,
-            Stage::Background => Some(depth(wgpu::CompareFunction::GreaterEqual, false)),
-            Stage::ShadowMesh | Stage::ShadowAnalytic => Some(depth(wgpu::CompareFunction::Less, true)),
-            // A render pass needs an attachment: the G-buffer's depth, untouched.
-            Stage::VisibilityAov => Some(depth(wgpu::CompareFunction::Always, false)),
-            _ => Some(depth(wgpu::CompareFunction::Greater, true)),
-        };
-        let cull_mode = match stage {
-            // Analytic proxies are wound so that back-face culling keeps one layer.
-            Stage::ForwardAnalytic | Stage::GBufferAnalytic | Stage::ShadowAnalytic => Some(wgpu::Face::Back),
-            _ => None,
-        };
         let target = Some(wgpu::ColorTargetState {
             format: COLOR_FORMAT,
             blend: None,
@@ -555,10 +576,10 @@ impl Pipelines {
             primitive: wgpu::PrimitiveState {
                 topology: wgpu::PrimitiveTopology::TriangleList,
                 front_face: wgpu::FrontFace::Ccw,
-                cull_mode,
+                cull_mode: stage.cull_mode(),
                 ..Default::default()
             },
-            depth_stencil,
+            depth_stencil: stage.depth_stencil(),
             multisample: wgpu::MultisampleState::default(),
             fragment,
             multiview: None,

@@ -14,7 +14,7 @@ use scenes::layered::LayeredImage;
 use scenes::Scene;
 
 use crate::error::RasterError;
-use crate::frame::{encode_passes, Frame, ShadingGroups, Timestamps};
+use crate::frame::{encode_passes, Frame, Pass, ShadingGroups, Timestamps};
 use crate::gpu::Gpu;
 use crate::image::{assemble, box_filter, Readback};
 use crate::pipelines::PipelineKind;
@@ -185,8 +185,7 @@ impl Renderer {
         groups: &ShadingGroups<'_>,
         settings: &RasterSettings,
     ) -> Result<Timing, RasterError> {
-        let shadow_pass = settings.method.shadow.is_some() && !groups.shadow.layers.is_empty();
-        let passes = pass_names(settings.pipeline, shadow_pass);
+        let passes = Pass::of_frame(stages, groups.shadow, targets);
         let queries = self
             .gpu
             .has_timestamps()
@@ -231,7 +230,7 @@ impl Renderer {
                     .iter()
                     .zip(&per_pass)
                     .map(|(n, v)| PassTime {
-                        name: n.to_string(),
+                        name: n.label().to_string(),
                         ms: median(v),
                     })
                     .collect()
@@ -487,16 +486,6 @@ impl Renderer {
         }
         Ok(out)
     }
-}
-
-/// Labels of the timed passes of a frame (the shadow pass: all its render passes together).
-fn pass_names(kind: PipelineKind, shadow: bool) -> Vec<&'static str> {
-    let mut names = if shadow { vec!["shadow pass"] } else { Vec::new() };
-    match kind {
-        PipelineKind::Forward => names.push("forward pass"),
-        PipelineKind::Deferred => names.extend(["G-buffer pass", "lighting pass"]),
-    }
-    names
 }
 
 /// Header attributes: renderer, adapter, backend, method, parameters, timing, counters, the

@@ -19,7 +19,8 @@ use std::sync::Arc;
 use glam::{Vec2, Vec3, Vec4};
 use scenes::texture::Texture;
 use scenes::{
-    Emission, Environment, Geometry, Light, Masking, Material, Mesh, Scene, TexRgb, TexScalar, WrapMode,
+    Displacement, Emission, Environment, Geometry, Light, Masking, Material, Mesh, Scene, TexRgb, TexScalar,
+    WrapMode,
 };
 use wgpu::util::DeviceExt;
 
@@ -373,36 +374,7 @@ fn add_shape(
         g.normal_scale = map.scale;
     }
     if let Some(d) = &shape.displacement {
-        check_texture(d.texture, scene.textures.len(), "displacement")?;
-        if d.channel > 3 || !d.scale.is_finite() {
-            return Err(format!(
-                "displacement: channel {} must be 0..=3 and scale {} finite",
-                d.channel, d.scale
-            ));
-        }
-        let height = &scene.textures[d.texture];
-        let (lo, hi) = height
-            .texels
-            .iter()
-            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), t| {
-                let w = t[d.channel] * d.scale;
-                (lo.min(w), hi.max(w))
-            });
-        if !(lo.is_finite() && hi.is_finite()) {
-            return Err("displacement: the height texture holds non-finite heights".into());
-        }
-        g.detail = [
-            d.texture as u32,
-            d.channel as u32,
-            a.texture_infos.len() as u32,
-            NONE,
-        ];
-        g.detail_range = [d.scale, lo, hi, 0.0];
-        add_texture(a, &Arc::new(derivative_map(height, d.channel)))?;
-        if let Some(kind) = detail.and_then(|m| m.technique.cone_kind()) {
-            g.detail[3] = a.texture_infos.len() as u32;
-            add_texture(a, &cones.get(height, d.channel, d.scale, kind))?;
-        }
+        add_displacement(a, &mut g, scene, d, detail, cones)?;
     }
     if let Some(Emission { radiance, two_sided }) = &shape.emission {
         let (tex, value) = tex_rgb(radiance, scene.textures.len(), "emission.radiance")?;
@@ -420,6 +392,49 @@ fn add_shape(
         }
     }
     a.shapes.push(g);
+    Ok(())
+}
+
+/// A displaced shape's detail inputs: its height range, the derivative map of its height
+/// channel, and the cone map when the detail method steps by cones.
+fn add_displacement(
+    a: &mut Arrays,
+    g: &mut GpuShape,
+    scene: &Scene,
+    d: &Displacement,
+    detail: Option<&Detail>,
+    cones: &ConeCache,
+) -> Result<(), String> {
+    check_texture(d.texture, scene.textures.len(), "displacement")?;
+    if d.channel > 3 || !d.scale.is_finite() {
+        return Err(format!(
+            "displacement: channel {} must be 0..=3 and scale {} finite",
+            d.channel, d.scale
+        ));
+    }
+    let height = &scene.textures[d.texture];
+    let (lo, hi) = height
+        .texels
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), t| {
+            let w = t[d.channel] * d.scale;
+            (lo.min(w), hi.max(w))
+        });
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Err("displacement: the height texture holds non-finite heights".into());
+    }
+    g.detail = [
+        d.texture as u32,
+        d.channel as u32,
+        a.texture_infos.len() as u32,
+        NONE,
+    ];
+    g.detail_range = [d.scale, lo, hi, 0.0];
+    add_texture(a, &Arc::new(derivative_map(height, d.channel)))?;
+    if let Some(kind) = detail.and_then(|m| m.technique.cone_kind()) {
+        g.detail[3] = a.texture_infos.len() as u32;
+        add_texture(a, &cones.get(height, d.channel, d.scale, kind))?;
+    }
     Ok(())
 }
 

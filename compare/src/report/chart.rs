@@ -234,6 +234,88 @@ pub struct Series<'a> {
 /// Line colours of the series, in order (then repeated, dashed).
 const SERIES_COLOURS: [&str; 8] = ["#36c", "#d62", "#393", "#93c", "#c39", "#088", "#b80", "#555"];
 
+/// One error-against-parameter chart's axes and x values, shared by its series.
+struct Plot<'a> {
+    parameter: &'a str,
+    metric: &'a str,
+    values: &'a [String],
+    xs: &'a [f64],
+    x: &'a Axis,
+    y: &'a Axis,
+}
+
+impl Plot<'_> {
+    /// Series `n` of `count`: its line, its points (with tooltips), its break point and, when
+    /// there are several, its legend row.
+    fn series(&self, svg: &mut String, s: &Series, n: usize, count: usize) {
+        let colour = if count == 1 {
+            SERIES_COLOURS[0]
+        } else {
+            SERIES_COLOURS[n % SERIES_COLOURS.len()]
+        };
+        // Past the palette, lines repeat its colours dashed (and dotted after that), so no
+        // two series look alike up to three times its length.
+        let dash = ["", r#" stroke-dasharray="6 3""#, r#" stroke-dasharray="1.5 2""#]
+            [(n / SERIES_COLOURS.len()).min(2)];
+        let mut order: Vec<usize> = (0..self.values.len())
+            .filter(|&i| s.errors[i].is_finite())
+            .collect();
+        order.sort_by(|&a, &b| self.xs[a].total_cmp(&self.xs[b]));
+        let line: Vec<String> = order
+            .iter()
+            .map(|&i| format!("{:.1},{:.1}", self.x.px(self.xs[i]), self.y.px(s.errors[i])))
+            .collect();
+        let _ = writeln!(
+            svg,
+            r##"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="1.5"{dash}/>"##,
+            line.join(" ")
+        );
+        let name = if s.label.is_empty() {
+            String::new()
+        } else {
+            format!("{}: ", esc(s.label))
+        };
+        for &i in &order {
+            let broken = s.breakpoint == Some(self.values[i].as_str());
+            let _ = writeln!(
+                svg,
+                r##"<g><title>{name}{} = {}: {} {:.3e}{}</title><circle cx="{:.1}" cy="{:.1}" r="4.5" fill="{}" stroke="{colour}"/></g>"##,
+                self.parameter,
+                esc(&self.values[i]),
+                self.metric,
+                s.errors[i],
+                if broken { " (break point)" } else { "" },
+                self.x.px(self.xs[i]),
+                self.y.px(s.errors[i]),
+                if broken { "#d33" } else { colour }
+            );
+        }
+        if let Some(b) = s.breakpoint.and_then(|b| self.values.iter().position(|v| v == b)) {
+            let p = self.x.px(self.xs[b]);
+            let _ = writeln!(
+                svg,
+                r##"<line x1="{p:.1}" y1="{TOP}" x2="{p:.1}" y2="{:.1}" stroke="{colour}" stroke-dasharray="2 2"/>"##,
+                H - BOTTOM
+            );
+        }
+        if count > 1 {
+            // Legend below the chart, one row per series, with its break point.
+            let (lx, ly) = (LEFT, H + 4.0 + LEGEND_ROW * n as f64);
+            let _ = writeln!(
+                svg,
+                r##"<line x1="{lx:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{colour}" stroke-width="2"{dash}/><text x="{:.1}" y="{ly:.1}" font-size="9">{}{}</text>"##,
+                ly - 3.0,
+                lx + 14.0,
+                ly - 3.0,
+                lx + 18.0,
+                esc(s.label),
+                s.breakpoint
+                    .map_or(String::new(), |b| format!(" (breaks at {})", esc(b)))
+            );
+        }
+    }
+}
+
 /// Error against a swept parameter (values in listed order along x), one line per series,
 /// with the noise floor and each series' break point marked.
 pub fn error_vs_parameter(
@@ -285,68 +367,16 @@ pub fn error_vs_parameter(
             );
         }
     }
+    let plot = Plot {
+        parameter,
+        metric,
+        values,
+        xs: &xs,
+        x: &x,
+        y: &y,
+    };
     for (n, s) in series.iter().enumerate() {
-        let colour = if series.len() == 1 {
-            SERIES_COLOURS[0]
-        } else {
-            SERIES_COLOURS[n % SERIES_COLOURS.len()]
-        };
-        // Past the palette, lines repeat its colours dashed (and dotted after that), so no
-        // two series look alike up to three times its length.
-        let dash = ["", r#" stroke-dasharray="6 3""#, r#" stroke-dasharray="1.5 2""#]
-            [(n / SERIES_COLOURS.len()).min(2)];
-        let mut order: Vec<usize> = (0..values.len()).filter(|&i| s.errors[i].is_finite()).collect();
-        order.sort_by(|&a, &b| xs[a].total_cmp(&xs[b]));
-        let line: Vec<String> = order
-            .iter()
-            .map(|&i| format!("{:.1},{:.1}", x.px(xs[i]), y.px(s.errors[i])))
-            .collect();
-        let _ = writeln!(
-            svg,
-            r##"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="1.5"{dash}/>"##,
-            line.join(" ")
-        );
-        let name = if s.label.is_empty() {
-            String::new()
-        } else {
-            format!("{}: ", esc(s.label))
-        };
-        for &i in &order {
-            let broken = s.breakpoint == Some(values[i].as_str());
-            let _ = writeln!(
-                svg,
-                r##"<g><title>{name}{parameter} = {}: {metric} {:.3e}{}</title><circle cx="{:.1}" cy="{:.1}" r="4.5" fill="{}" stroke="{colour}"/></g>"##,
-                esc(&values[i]),
-                s.errors[i],
-                if broken { " (break point)" } else { "" },
-                x.px(xs[i]),
-                y.px(s.errors[i]),
-                if broken { "#d33" } else { colour }
-            );
-        }
-        if let Some(b) = s.breakpoint.and_then(|b| values.iter().position(|v| v == b)) {
-            let p = x.px(xs[b]);
-            let _ = writeln!(
-                svg,
-                r##"<line x1="{p:.1}" y1="{TOP}" x2="{p:.1}" y2="{:.1}" stroke="{colour}" stroke-dasharray="2 2"/>"##,
-                H - BOTTOM
-            );
-        }
-        if series.len() > 1 {
-            // Legend below the chart, one row per series, with its break point.
-            let (lx, ly) = (LEFT, H + 4.0 + LEGEND_ROW * n as f64);
-            let _ = writeln!(
-                svg,
-                r##"<line x1="{lx:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{colour}" stroke-width="2"{dash}/><text x="{:.1}" y="{ly:.1}" font-size="9">{}{}</text>"##,
-                ly - 3.0,
-                lx + 14.0,
-                ly - 3.0,
-                lx + 18.0,
-                esc(s.label),
-                s.breakpoint
-                    .map_or(String::new(), |b| format!(" (breaks at {})", esc(b)))
-            );
-        }
+        plot.series(&mut svg, s, n, series.len());
     }
     if series.len() == 1 {
         if let Some(b) = series[0]

@@ -53,17 +53,7 @@ pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Resul
                 &masks,
                 opts,
             )?;
-            let (metric, mask) = (study.stability.metric.name(), study.stability.mask.as_str());
-            let v = result
-                .metrics
-                .iter()
-                .find(|m| m.mask == mask)
-                .and_then(|m| m.values.iter().find(|e| e.metric == metric));
-            steps.done(&format!(
-                "report: {line}: {metric} over {mask} {:.3e}, {:.3} ms/frame",
-                v.map_or(f64::NAN, |e| e.value),
-                result.cost.frame_ms
-            ));
+            steps.done(&format!("report: {line}: {}", headline(study, &result)));
             adapter.get_or_insert(timing);
             results.push(result);
         }
@@ -93,17 +83,7 @@ pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Resul
         width: w,
         height: h,
         ground_truth: ground_truths[0].clone(),
-        adapter: AdapterInfo {
-            is_cpu: is_cpu_adapter(&timing.adapter),
-            name: timing.adapter,
-            backend: timing.backend,
-            driver: timing.driver,
-            timing_source: match timing.source {
-                realtime::TimingSource::GpuTimestamps => "gpu_timestamps",
-                realtime::TimingSource::WallClock => "wall_clock",
-            }
-            .into(),
-        },
+        adapter: adapter_info(timing),
         metrics: study.metrics.iter().map(|m| m.name().into()).collect(),
         masks,
         thresholds: Vec::new(),
@@ -128,6 +108,36 @@ pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Resul
     out.run.peak_memory_bytes = scenes::budget::peak_resident_bytes();
     out.write_files(&opts.out_dir).map_err(io_err(&opts.out_dir))?;
     Ok(out)
+}
+
+/// A variant's progress line: the chart's metric over the chart's mask, and its frame time.
+fn headline(study: &Study, result: &VariantResult) -> String {
+    let (metric, mask) = (study.stability.metric.name(), study.stability.mask.as_str());
+    let v = result
+        .metrics
+        .iter()
+        .find(|m| m.mask == mask)
+        .and_then(|m| m.values.iter().find(|e| e.metric == metric));
+    format!(
+        "{metric} over {mask} {:.3e}, {:.3} ms/frame",
+        v.map_or(f64::NAN, |e| e.value),
+        result.cost.frame_ms
+    )
+}
+
+/// The adapter the variants were rendered on, as metrics.json `adapter` records it.
+fn adapter_info(timing: realtime::Timing) -> AdapterInfo {
+    AdapterInfo {
+        is_cpu: is_cpu_adapter(&timing.adapter),
+        name: timing.adapter,
+        backend: timing.backend,
+        driver: timing.driver,
+        timing_source: match timing.source {
+            realtime::TimingSource::GpuTimestamps => "gpu_timestamps",
+            realtime::TimingSource::WallClock => "wall_clock",
+        }
+        .into(),
+    }
 }
 
 /// The run's settings for metrics.json (`run`); time and memory are filled in at the end.

@@ -326,11 +326,8 @@ impl Build<'_> {
         let (glossy, diffuse, split_sum) = lobes(&scene.materials[reflector.material]);
 
         // Capture: the scene without the reflector, six faces of side `size`.
-        let size = e.size;
         let mut without = scene.clone();
         without.shapes.remove(index);
-        let filters = self.builder.filters(device);
-        let mips = size.ilog2() + 1;
         let radiance = self.capture_cube(&without, capture, settings, CaptureKind::Radiance, None)?;
         // The further layers of a layered distance map, each peeled behind the one before.
         let layer_count = e.localization.distance_layers();
@@ -346,66 +343,11 @@ impl Build<'_> {
             None
         };
 
-        // Box mips, then what the material reads.
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("environment map filtering"),
-        });
-        encode_box_mips(device, &mut encoder, &filters, &radiance, size, mips);
-        let levels = EnvMapping::levels(size).min(mips);
-        let s = sampler(device);
-        let radiance_cube = view(&radiance, wgpu::TextureViewDimension::Cube, 0..mips);
-        let prefiltered = match (glossy, e.prefilter) {
-            (Some(phong), Prefilter::Lobe) => Some(encode_prefilter(
-                device,
-                &mut encoder,
-                &filters,
-                (&radiance_cube, &s),
-                e,
-                phong,
-                levels,
-            )),
-            _ => None,
-        };
-        let specular_cube = match &prefiltered {
-            Some(t) => view(t, wgpu::TextureViewDimension::Cube, 0..levels),
-            None => view(&radiance, wgpu::TextureViewDimension::Cube, 0..levels),
-        };
-        let sh = sh_buffer(device);
-        let irradiance = (diffuse && e.irradiance == Irradiance::Map)
-            .then(|| encode_irradiance(device, &mut encoder, &filters, &radiance, size));
-        if diffuse && e.irradiance == Irradiance::Sh9 {
-            encode_sh9(device, &mut encoder, &filters, &radiance, size, &sh);
-        }
-        let frame = match e.parameterization {
-            Parameterization::Cube => [Vec3::X, Vec3::Y, Vec3::Z],
-            Parameterization::Sphere => {
-                let towards = e
-                    .sphere_view
-                    .unwrap_or_else(|| scene.camera.position() - capture)
-                    .try_normalize()
-                    .unwrap_or(Vec3::Z);
-                frame_about(towards)
-            }
-            Parameterization::Paraboloid => [Vec3::X, Vec3::NEG_Z, Vec3::Y],
-        };
-        let f4 = |v: Vec3| [v.x, v.y, v.z, 0.0];
-        let flat = (e.parameterization != Parameterization::Cube).then(|| {
-            encode_warp(
-                device,
-                &mut encoder,
-                &filters,
-                (&specular_cube, &s),
-                e,
-                frame,
-                levels,
-            )
-        });
-        let brdf = split_sum.then(|| encode_brdf_table(device, &mut encoder, &filters));
-        self.gpu.queue.submit([encoder.finish()]);
-        self.gpu.wait()?;
-        self.gpu.check_errors("building the environment maps")?;
+        let maps = self.filter_maps(scene, e, &radiance, capture, (glossy, diffuse, split_sum))?;
         let build_ms = start.elapsed().as_secs_f64() * 1e3;
 
+        let (levels, frame) = (maps.levels, maps.frame);
+        let f4 = |v: Vec3| [v.x, v.y, v.z, 0.0];
         let uniforms = EnvMapUniforms {
             info: [
                 index as u32,
@@ -425,12 +367,12 @@ impl Build<'_> {
             device,
             &self.pipelines.envmap_layout,
             &Maps {
-                specular_cube: &specular_cube,
+                specular_cube: &maps.specular_cube,
                 levels,
-                flat: flat.as_ref(),
-                irradiance: irradiance.as_ref(),
-                brdf: brdf.as_ref(),
-                sh: &sh,
+                flat: maps.flat.as_ref(),
+                irradiance: maps.irradiance.as_ref(),
+                brdf: maps.brdf.as_ref(),
+                sh: &maps.sh,
                 refractor: refractor.as_ref(),
                 layers: layers.as_ref(),
             },
@@ -446,9 +388,115 @@ impl Build<'_> {
             ],
         })
     }
+
+    /// The filtering passes over the captured `radiance` cube (module docs): box mips, then
+    /// what the reflector's material reads, submitted and waited for.
+    /// `lobes` as [`lobes`] gives them.
+    fn filter_maps(
+        &self,
+        scene: &Scene,
+        e: &EnvMapping,
+        radiance: &wgpu::Texture,
+        capture: Vec3,
+        (glossy, diffuse, split_sum): (Option<bool>, bool, bool),
+    ) -> Result<Filtered, RasterError> {
+        let device = &self.gpu.device;
+        let filters = self.builder.filters(device);
+        let size = e.size;
+        let mips = size.ilog2() + 1;
+        // Box mips, then what the material reads.
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("environment map filtering"),
+        });
+        encode_box_mips(device, &mut encoder, &filters, radiance, size, mips);
+        let levels = EnvMapping::levels(size).min(mips);
+        let s = sampler(device);
+        let radiance_cube = view(radiance, wgpu::TextureViewDimension::Cube, 0..mips);
+        let prefiltered = match (glossy, e.prefilter) {
+            (Some(phong), Prefilter::Lobe) => Some(encode_prefilter(
+                device,
+                &mut encoder,
+                &filters,
+                (&radiance_cube, &s),
+                e,
+                phong,
+                levels,
+            )),
+            _ => None,
+        };
+        let specular_cube = match &prefiltered {
+            Some(t) => view(t, wgpu::TextureViewDimension::Cube, 0..levels),
+            None => view(radiance, wgpu::TextureViewDimension::Cube, 0..levels),
+        };
+        let sh = sh_buffer(device);
+        let irradiance = (diffuse && e.irradiance == Irradiance::Map)
+            .then(|| encode_irradiance(device, &mut encoder, &filters, radiance, size));
+        if diffuse && e.irradiance == Irradiance::Sh9 {
+            encode_sh9(device, &mut encoder, &filters, radiance, size, &sh);
+        }
+        let frame = map_frame(e, scene, capture);
+        let flat = (e.parameterization != Parameterization::Cube).then(|| {
+            encode_warp(
+                device,
+                &mut encoder,
+                &filters,
+                (&specular_cube, &s),
+                e,
+                frame,
+                levels,
+            )
+        });
+        let brdf = split_sum.then(|| encode_brdf_table(device, &mut encoder, &filters));
+        self.gpu.queue.submit([encoder.finish()]);
+        self.gpu.wait()?;
+        self.gpu.check_errors("building the environment maps")?;
+        Ok(Filtered {
+            levels,
+            frame,
+            _prefiltered: prefiltered,
+            specular_cube,
+            flat,
+            irradiance,
+            sh,
+            brdf,
+        })
+    }
 }
 
 /// The maps a build made, for group 3 (None: the method does not read that map).
+/// The filtered maps of one build (`Build::filter_maps`).
+struct Filtered {
+    /// Levels of the specular cube the material reads.
+    levels: u32,
+    /// The sphere or paraboloid map's frame (the axes for a cube).
+    frame: [Vec3; 3],
+    /// The prefiltered cube, kept alive beside its view.
+    _prefiltered: Option<wgpu::Texture>,
+    specular_cube: wgpu::TextureView,
+    flat: Option<wgpu::Texture>,
+    irradiance: Option<wgpu::Texture>,
+    sh: wgpu::Buffer,
+    brdf: Option<wgpu::Texture>,
+}
+
+/// The frame of the map's parameterisation: the world axes for a cube, the sphere map's frame
+/// about its view direction (`sphere_view`, or from the capture point to the camera), the
+/// paraboloid's with its front along +Y.
+fn map_frame(e: &EnvMapping, scene: &Scene, capture: Vec3) -> [Vec3; 3] {
+    match e.parameterization {
+        Parameterization::Cube => [Vec3::X, Vec3::Y, Vec3::Z],
+        Parameterization::Sphere => {
+            let towards = e
+                .sphere_view
+                .unwrap_or_else(|| scene.camera.position() - capture)
+                .try_normalize()
+                .unwrap_or(Vec3::Z);
+            frame_about(towards)
+        }
+        Parameterization::Paraboloid => [Vec3::X, Vec3::NEG_Z, Vec3::Y],
+    }
+}
+
 struct Maps<'a> {
     /// The prefiltered cube (or the radiance cube's box mips), `levels` levels.
     specular_cube: &'a wgpu::TextureView,
@@ -660,30 +708,14 @@ impl Build<'_> {
         }
     }
 
-    /// Six 90° forward renders of `scene` from `point`, of side `size` (the method's), copied
-    /// into a new cube of the full mip chain (level 0 written; envmap/filter.wgsl
-    /// `cs_face_copy`). With `peel`, a cube of one level holding the nearest surfaces behind
-    /// those `peel` holds (depth peeling: passes.wgsl `peel_distance`).
-    fn capture_cube(
+    /// The scene buffers and shadow maps of a capture render with `face_settings`.
+    fn capture_scene(
         &self,
         scene: &Scene,
-        point: Vec3,
-        settings: &RasterSettings,
-        kind: CaptureKind,
-        peel: Option<&wgpu::Texture>,
-    ) -> Result<wgpu::Texture, RasterError> {
-        let placeholder = &self.builder.placeholder;
+        face_settings: &RasterSettings,
+    ) -> Result<(SceneGpu, ShadowMaps), RasterError> {
         let device = &self.gpu.device;
         let limits = self.gpu.limits();
-        let size = settings.method.envmap.as_ref().map_or(1, |e| e.size);
-        let capture_method = Method {
-            envmap: None,
-            ..settings.method.clone()
-        };
-        let face_settings = RasterSettings::new(size, size)
-            .method(capture_method)
-            .pipeline(PipelineKind::Forward)
-            .frames(0, 1);
         let max_binding = u64::from(limits.max_storage_buffer_binding_size);
         let scene_gpu = SceneGpu::new(
             device,
@@ -702,6 +734,33 @@ impl Build<'_> {
             limits,
         )
         .map_err(RasterError::Settings)?;
+        Ok((scene_gpu, shadow))
+    }
+
+    /// Six 90° forward renders of `scene` from `point`, of side `size` (the method's), copied
+    /// into a new cube of the full mip chain (level 0 written; envmap/filter.wgsl
+    /// `cs_face_copy`). With `peel`, a cube of one level holding the nearest surfaces behind
+    /// those `peel` holds (depth peeling: passes.wgsl `peel_distance`).
+    fn capture_cube(
+        &self,
+        scene: &Scene,
+        point: Vec3,
+        settings: &RasterSettings,
+        kind: CaptureKind,
+        peel: Option<&wgpu::Texture>,
+    ) -> Result<wgpu::Texture, RasterError> {
+        let placeholder = &self.builder.placeholder;
+        let device = &self.gpu.device;
+        let size = settings.method.envmap.as_ref().map_or(1, |e| e.size);
+        let capture_method = Method {
+            envmap: None,
+            ..settings.method.clone()
+        };
+        let face_settings = RasterSettings::new(size, size)
+            .method(capture_method)
+            .pipeline(PipelineKind::Forward)
+            .frames(0, 1);
+        let (scene_gpu, shadow) = self.capture_scene(scene, &face_settings)?;
         let groups = ShadingGroups {
             empty: &self.pipelines.empty_bind_group,
             shadow: &shadow,
@@ -758,27 +817,41 @@ impl Build<'_> {
             });
             encode_passes(&mut encoder, &frame, &targets, &stages, &scene_gpu, &groups, None);
             let dst = face_view(&cube, face as u32);
-            let params = FilterParams {
-                mode: match kind {
-                    CaptureKind::Radiance => 0,
-                    CaptureKind::Normal => 1,
-                },
-                ..FilterParams::new(size)
-            };
-            dispatch(
-                device,
-                &mut encoder,
-                &filters.face_copy,
-                params,
-                &[
-                    (10, Res::View(&targets.output_views[0])),
-                    (17, Res::View(&targets.output_views[1])),
-                    (14, Res::View(&dst)),
-                ],
-                [tiles(size), tiles(size), 1],
-            );
+            encode_face_copy(device, &mut encoder, &filters, &targets, &dst, kind);
             self.gpu.queue.submit([encoder.finish()]);
         }
         Ok(cube)
     }
+}
+
+/// Copies a capture render's colour (radiance, or normal and distance for `Normal`) into cube
+/// face `dst`, mirroring its columns (envmap/filter.wgsl `cs_face_copy`).
+fn encode_face_copy(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    filters: &FilterPipelines,
+    targets: &Targets,
+    dst: &wgpu::TextureView,
+    kind: CaptureKind,
+) {
+    let size = targets.width;
+    let params = FilterParams {
+        mode: match kind {
+            CaptureKind::Radiance => 0,
+            CaptureKind::Normal => 1,
+        },
+        ..FilterParams::new(size)
+    };
+    dispatch(
+        device,
+        encoder,
+        &filters.face_copy,
+        params,
+        &[
+            (10, Res::View(&targets.output_views[0])),
+            (17, Res::View(&targets.output_views[1])),
+            (14, Res::View(dst)),
+        ],
+        [tiles(size), tiles(size), 1],
+    );
 }
