@@ -6,6 +6,8 @@
 #![warn(missing_docs)]
 
 pub mod cli;
+pub mod diff;
+pub mod input;
 pub mod markup;
 pub mod metrics;
 pub mod mitsuba;

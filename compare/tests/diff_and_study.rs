@@ -44,7 +44,11 @@ fn diff_exit_statuses_follow_idiff() {
     // relMSE of b: half the pixels off by 0.05 at ~0.53: (0.0025/0.29)/2 ≈ 4.3e-3.
     assert_eq!(diff(&[a, b, "--fail", "1e-2"]).0, 0);
     assert_eq!(diff(&[a, b, "--fail", "1e-3"]).0, 2);
-    assert_eq!(diff(&[a, b, "--warn", "1e-3"]).0, 1);
+    assert_eq!(diff(&[a, b, "--warn", "1e-3", "--fail", "1e-2"]).0, 1);
+    // Without --fail, relMSE's default bound 1e-3 fails it (idiff fails by default too).
+    let (code, text) = diff(&[a, b, "--warn", "1e-2"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("above the fail bound 1.000e-3 (default)"), "{text}");
     // Per-pixel rule: 50 % of pixels exceed 1e-3; allowing 60 % passes, 40 % fails.
     assert_eq!(diff(&[a, b, "--fail", "1e-3", "--fail-percent", "60"]).0, 0);
     let (code, text) = diff(&[a, b, "--fail", "1e-3", "--fail-percent", "40"]);

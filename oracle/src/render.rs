@@ -100,6 +100,7 @@ pub fn render(
     image
         .attributes
         .extend(attributes(job, &film, seconds).map(|(k, v)| (k.to_string(), v)));
+    image.set_object_names(scene.shapes.iter().map(|s| s.name.as_str()));
     Ok(RenderResult {
         image,
         spp: film.spp,

@@ -489,7 +489,7 @@ impl Renderer {
 }
 
 /// Header attributes: renderer, adapter, backend, method, parameters, timing, counters, the
-/// shadow maps' projections.
+/// shadow maps' projections, the object-id names (`scenes::layered::OBJECT_NAMES_ATTRIBUTE`).
 #[allow(clippy::too_many_arguments)]
 fn add_header(
     image: &mut LayeredImage,
@@ -565,4 +565,5 @@ fn add_header(
     for (k, v) in attrs {
         image.set_attribute(k, v);
     }
+    image.set_object_names(scene.shapes.iter().map(|s| s.name.as_str()));
 }

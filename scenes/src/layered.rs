@@ -46,6 +46,11 @@ pub struct LayeredImage {
     pub attributes: Vec<(String, String)>,
 }
 
+/// Header attribute naming the shapes behind the `object_id.Y` channel (object id k is shape
+/// index k − 1; 0 is the background): a JSON array of strings whose element k − 1 is the name
+/// of object id k, e.g. `["floor","ball"]`. Both renderers write it.
+pub const OBJECT_NAMES_ATTRIBUTE: &str = "object_names";
+
 /// The full name of component `component` of layer `prefix`: `("", "R")` → `R`,
 /// `("albedo", "R")` → `albedo.R`.
 pub fn channel_name(prefix: &str, component: &str) -> String {
@@ -118,6 +123,27 @@ impl LayeredImage {
             .iter()
             .find(|(k, _)| k == key)
             .map(|(_, v)| v.as_str())
+    }
+
+    /// Records the names of the shapes behind `object_id.Y` ([`OBJECT_NAMES_ATTRIBUTE`]):
+    /// `names[k − 1]` is the shape of object id k.
+    pub fn set_object_names<'a>(&mut self, names: impl IntoIterator<Item = &'a str>) {
+        let names: Vec<&str> = names.into_iter().collect();
+        let json = serde_json::to_string(&names).unwrap_or_else(|_| "[]".into());
+        self.set_attribute(OBJECT_NAMES_ATTRIBUTE, json);
+    }
+
+    /// The shape names of [`OBJECT_NAMES_ATTRIBUTE`] (element k − 1 names object id k), `None`
+    /// when the header has none (an image from another renderer, or an older Verity), an
+    /// error when it is not a JSON array of strings.
+    pub fn object_names(&self) -> Result<Option<Vec<String>>, String> {
+        self.attribute(OBJECT_NAMES_ATTRIBUTE)
+            .map(|json| {
+                serde_json::from_str(json).map_err(|e| {
+                    format!("header attribute `{OBJECT_NAMES_ATTRIBUTE}` is not a JSON array of names: {e}")
+                })
+            })
+            .transpose()
     }
 
     /// Channels `<prefix>.R/G/B` (plain `R`, `G`, `B` for an empty prefix) as one vector per

@@ -12,6 +12,7 @@ pub mod atomic;
 pub mod budget;
 pub mod displacement;
 pub mod error;
+pub mod glob;
 pub mod gltf;
 pub mod layered;
 pub mod model;

@@ -1,12 +1,17 @@
-//! `verity diff A.exr B.exr`: idiff-like comparison of a test image B against a reference A.
+//! `verity diff A B`: idiff-like comparison of a test image B against a reference A, for
+//! images from any renderer (OpenEXR of any layer, PNG/JPEG, Radiance HDR: [`crate::input`]).
 //!
 //! Prints every requested metric with the reference's noise floor (from A's `variance.*`
-//! layers when it has them). The first `--metric` is the criterion:
+//! layers when it has them), the signed bias per channel and, with `--per-object`, a table by
+//! object name; `--json FILE` (or `-`) writes the same as JSON ([`crate::diff::DiffReport`],
+//! schema in compare/README.md). The first `--metric` is the criterion:
 //!
 //! - `--fail T`: fail when the criterion's value is worse than T (above it; below it for PSNR
 //!   and SSIM). With `--fail-percent P`, fail instead when more than P % of the pixels have a
 //!   per-pixel error above T (the criterion's error map, 1 − SSIM for `ssim`; idiff's
-//!   `-fail`/`-failpercent`).
+//!   `-fail`/`-failpercent`). Without `--fail`, the criterion's default bound
+//!   ([`crate::diff::default_fail_bound`]: relMSE 1e-3, …) applies, as idiff fails any
+//!   difference by default.
 //! - `--warn T`: warn when the value is worse than T.
 //!
 //! NaN/Inf in B always fails, and so does any metric whose value is not a number that can be
@@ -15,34 +20,40 @@
 //! are checked before any file is read: finite, within the criterion's range
 //! ([`Metric::range`]; with `--fail-percent`, the range of its per-pixel map), a percentage in
 //! [0, 100]. Exit status: 0 pass, 1 warn, 2 fail (also for bad usage), 3 the images differ in
-//! size, 4 a file cannot be read (or lacks R, G, B).
+//! size, 4 a file cannot be read (not an image, no colour, no such layer).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
+use scenes::budget::Ledger;
 use scenes::layered::LayeredImage;
 
 use super::{CliError, Failure};
-use crate::metrics::{self, Mask, Metric, MetricError, RgbImage};
+use crate::diff::{self, Bounds, DiffReport, ImageInfo, MaskInfo, MetricEntry, Verdict};
+use crate::input::{read_image, Format, InputImage, ReadOptions};
+use crate::metrics::{self, Bias, Mask, Metric, MetricError, RgbImage};
 
 /// Flags of `verity diff`.
 #[derive(Args, Clone, Debug)]
 pub struct DiffArgs {
-    /// Reference image (EXR).
-    #[arg(value_name = "A.exr")]
+    /// Reference image: OpenEXR, PNG, JPEG or Radiance HDR.
+    #[arg(value_name = "A")]
     pub reference: PathBuf,
-    /// Test image (EXR).
-    #[arg(value_name = "B.exr")]
+    /// Test image: OpenEXR, PNG, JPEG or Radiance HDR.
+    #[arg(value_name = "B")]
     pub test: PathBuf,
     /// Metric, repeatable; the first is the pass/fail criterion [default: relmse].
     /// mse, rmse, relmse, smape, psnr, ssim, flip_ldr, flip_hdr.
     #[arg(long = "metric", value_name = "M", value_parser = Metric::parse)]
     pub metrics: Vec<Metric>,
-    /// Pixels to compare: all, interior, rect:X0,Y0,X1,Y1 (pixels), objects:ID,ID (A's
-    /// object_id.Y), or file:MASK.exr (first channel > 0.5).
+    /// Pixels to compare: all, interior (surfaces away from edges: no background, no id, depth
+    /// or normal discontinuity), rect:X0,Y0,X1,Y1 (pixels), objects:NAME,PATTERN*,ID (A's
+    /// object_id.Y and its object-name table), or file:MASK.exr (first channel > 0.5).
     #[arg(long, value_name = "MASK", default_value = "all")]
     pub mask: String,
-    /// Fail when the criterion is worse than T (or, with --fail-percent, when too many pixels are).
+    /// Fail when the criterion is worse than T (or, with --fail-percent, when too many pixels
+    /// are) [default: the criterion's default bound: relmse 1e-3, mse 1e-4, rmse 1e-2, smape
+    /// 1e-2, psnr 40, ssim 0.99, flip 0.05; relaxed to 2× the reference's noise floor].
     #[arg(long, value_name = "T", allow_negative_numbers = true)]
     pub fail: Option<f64>,
     /// With --fail: the percentage of pixels allowed above T.
@@ -51,11 +62,41 @@ pub struct DiffArgs {
     /// Warn when the criterion is worse than T.
     #[arg(long, value_name = "T", allow_negative_numbers = true)]
     pub warn: Option<f64>,
+    /// The test image's EXR layer (NAME.R/G/B) [default: the unprefixed R, G, B, or the only
+    /// layer with them].
+    #[arg(long, value_name = "NAME")]
+    pub layer: Option<String>,
+    /// The reference image's EXR layer [default: the unprefixed R, G, B, or the only layer
+    /// with them; --layer does not apply to the reference].
+    #[arg(long, value_name = "NAME")]
+    pub reference_layer: Option<String>,
+    /// PNG/JPEG values are linear already (default: sRGB-decoded).
+    #[arg(long)]
+    pub linear: bool,
+    /// Stops a PNG/JPEG input was exposed with before it was encoded: its values are divided
+    /// by 2^STOPS (OpenEXR and HDR inputs are scene-referred and left as they are).
+    #[arg(
+        long,
+        value_name = "STOPS",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    pub exposure: f32,
+    /// Reverse the test image's rows (a framebuffer read back bottom-up).
+    #[arg(long)]
+    pub flip_y: bool,
+    /// Add a table per object of the reference (object_id.Y, named from its header).
+    #[arg(long)]
+    pub per_object: bool,
+    /// Write every metric, bias, bound and the verdict as JSON to FILE (`-`: standard output,
+    /// instead of the text).
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
 }
 
-/// Reads an EXR; the reader's message already starts with the path.
-fn read(path: &PathBuf) -> Result<LayeredImage, CliError> {
-    LayeredImage::read_exr(path).map_err(|message| CliError {
+/// Reads an image for comparison; the reader's message already starts with the path.
+fn read(path: &Path, options: &ReadOptions, ledger: &Ledger) -> Result<InputImage, CliError> {
+    read_image(path, options, ledger).map_err(|message| CliError {
         failure: Failure::Status(4),
         message,
     })
@@ -132,6 +173,12 @@ fn check_bounds(args: &DiffArgs, criterion: Metric) -> Result<(), CliError> {
     if let Some(t) = args.warn {
         metric_range("--warn", t)?;
     }
+    if !args.exposure.is_finite() {
+        return Err(CliError::input(format!(
+            "--exposure {}: the exposure must be a finite number of stops",
+            args.exposure
+        )));
+    }
     Ok(())
 }
 
@@ -156,9 +203,12 @@ pub fn parse_mask(spec: &str, a: &LayeredImage) -> Result<Mask, String> {
                 "--mask {spec}: expected rect:X0,Y0,X1,Y1 with X0 < X1, Y0 < Y1"
             )),
         },
-        Some(("objects", ids)) => {
-            let ids: Vec<u32> = numbers(ids)?.into_iter().map(|i| i as u32).collect();
-            Mask::object_ids(spec, a, &ids)
+        Some(("objects", list)) => {
+            let patterns: Vec<&str> = list.split(',').map(str::trim).collect();
+            if patterns.iter().any(|p| p.is_empty()) {
+                return Err(format!("--mask {spec}: an empty object name"));
+            }
+            Mask::objects(spec, a, &patterns).map_err(|e| format!("--mask {spec}: {e}"))
         }
         Some(("file", f)) => {
             let img = LayeredImage::read_exr(f).map_err(|e| format!("--mask {spec}: {e}"))?;
@@ -171,17 +221,8 @@ pub fn parse_mask(spec: &str, a: &LayeredImage) -> Result<Mask, String> {
             Mask::from_image(spec, &img)
         }
         _ => Err(format!(
-            "--mask {spec}: expected all, interior, rect:X0,Y0,X1,Y1, objects:ID,… or file:MASK.exr"
+            "--mask {spec}: expected all, interior, rect:X0,Y0,X1,Y1, objects:NAME,… or file:MASK.exr"
         )),
-    }
-}
-
-/// Whether `value` is worse than the bound `t` for `metric`.
-fn worse(metric: Metric, value: f64, t: f64) -> bool {
-    if metric.higher_is_better() {
-        value < t
-    } else {
-        value > t
     }
 }
 
@@ -193,15 +234,32 @@ pub fn run(args: &DiffArgs) -> Result<u8, CliError> {
         args.metrics.clone()
     };
     check_bounds(args, list[0])?;
-    let a_img = read(&args.reference)?;
-    let b_img = read(&args.test)?;
+    let ledger = Ledger::new();
+    let options = |layer: &Option<String>, flip_y: bool| ReadOptions {
+        layer: layer.clone(),
+        linear: args.linear,
+        exposure: args.exposure,
+        flip_y,
+    };
+    let a_in = read(&args.reference, &options(&args.reference_layer, false), &ledger)?;
+    let b_in = read(&args.test, &options(&args.layer, args.flip_y), &ledger)?;
+    if args.exposure != 0.0
+        && ![&a_in, &b_in]
+            .iter()
+            .any(|i| i.format == Format::Raster { ldr: true })
+    {
+        return Err(CliError::input(
+            "--exposure applies to PNG/JPEG inputs; both images are scene-referred (OpenEXR or HDR)",
+        ));
+    }
     let status = |code: u8, message: String| CliError {
         failure: Failure::Status(code),
         message,
     };
-    let a =
-        RgbImage::from_layered(&a_img, &args.reference.display().to_string()).map_err(|e| status(4, e))?;
-    let b = RgbImage::from_layered(&b_img, &args.test.display().to_string()).map_err(|e| status(4, e))?;
+    let rgb = |i: &InputImage, path: &PathBuf| {
+        RgbImage::from_layered(&i.image, &path.display().to_string()).map_err(|e| status(4, e))
+    };
+    let (a, b) = (rgb(&a_in, &args.reference)?, rgb(&b_in, &args.test)?);
     if (a.width, a.height) != (b.width, b.height) {
         return Err(status(
             3,
@@ -216,76 +274,146 @@ pub fn run(args: &DiffArgs) -> Result<u8, CliError> {
             ),
         ));
     }
-    let mask = parse_mask(&args.mask, &a_img).map_err(CliError::input)?;
+    let mask = parse_mask(&args.mask, &a_in.image).map_err(CliError::input)?;
     let values = metrics::evaluate(&a, &b, &mask, &list).map_err(|e| match e {
         MetricError::SizeMismatch(m) => status(3, m),
         // The only bad input left is the reference's (a non-finite pixel, a mask of nothing).
         MetricError::BadInput(m) => CliError::input(format!("{}: {m}", args.reference.display())),
     })?;
+    let objects = if args.per_object {
+        let ids = a_in.image.channel("object_id.Y").ok_or_else(|| {
+            CliError::input(format!(
+                "{}: --per-object needs the reference's object_id.Y channel (a Verity render has it)",
+                args.reference.display()
+            ))
+        })?;
+        let names = a_in
+            .image
+            .object_names()
+            .map_err(|e| CliError::input(format!("{}: {e}", args.reference.display())))?;
+        Some(diff::per_object(&values, (&a, &b), &mask, ids, names.as_deref()))
+    } else {
+        None
+    };
+    let report = report(args, (&a_in, &b_in), &mask, &values, (&a, &b), objects);
+    match args.json.as_deref() {
+        Some(p) if p.as_os_str() == "-" => println!("{}", to_json(&report)),
+        Some(p) => {
+            print_text(&report);
+            scenes::atomic::write_atomic(p, to_json(&report).as_bytes())
+                .map_err(|e| CliError::run(format!("{}: {e}", p.display())))?;
+        }
+        None => print_text(&report),
+    }
+    Ok(report.exit_status)
+}
+
+/// The report of a comparison: values, bias, bounds (the default one, relaxed for a noisy
+/// reference, when --fail is not given) and verdict.
+fn report(
+    args: &DiffArgs,
+    (a_in, b_in): (&InputImage, &InputImage),
+    mask: &Mask,
+    values: &[metrics::MetricValue],
+    (a, b): (&RgbImage, &RgbImage),
+    objects: Option<Vec<diff::ObjectEntry>>,
+) -> DiffReport {
+    let criterion = &values[0];
+    let (fail, fail_source) = match args.fail {
+        Some(t) => (t, "flag".to_string()),
+        None => match diff::default_bound_for(criterion.metric, criterion.noise_floor) {
+            (t, false) => (t, "default".to_string()),
+            (t, true) => (t, "default, relaxed to the reference's noise".to_string()),
+        },
+    };
+    let bounds = Bounds {
+        criterion: criterion.metric.name().into(),
+        fail,
+        fail_source,
+        fail_percent: args.fail_percent,
+        warn: args.warn,
+    };
+    let (verdict, reason, percent_above_fail) = diff::verdict(values, &bounds, mask);
+    let info = |i: &InputImage, path: &PathBuf| ImageInfo {
+        path: path.display().to_string(),
+        format: match i.format {
+            Format::Exr => "exr",
+            Format::Raster { ldr: true } => "ldr",
+            Format::Raster { ldr: false } => "hdr",
+        }
+        .into(),
+        layer: (i.format == Format::Exr).then(|| i.source.clone()),
+        width: i.image.width as usize,
+        height: i.image.height as usize,
+    };
+    DiffReport {
+        schema_version: diff::SCHEMA_VERSION,
+        reference: info(a_in, &args.reference),
+        test: info(b_in, &args.test),
+        mask: MaskInfo {
+            spec: mask.name.clone(),
+            pixels: mask.count(),
+        },
+        metrics: values
+            .iter()
+            .map(|v| MetricEntry {
+                metric: v.metric.name().into(),
+                value: v.value,
+                noise_floor: v.noise_floor,
+                non_finite_pixels: v.non_finite,
+            })
+            .collect(),
+        bias: Bias::of(a, b, mask).into(),
+        objects,
+        bounds,
+        percent_above_fail,
+        verdict,
+        reason,
+        exit_status: verdict.exit_status(),
+    }
+}
+
+fn to_json(report: &DiffReport) -> String {
+    serde_json::to_string_pretty(report).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+}
+
+/// The text report on standard output.
+fn print_text(r: &DiffReport) {
     println!(
         "{} vs {} over `{}` ({} pixels):",
-        args.test.display(),
-        args.reference.display(),
-        mask.name,
-        mask.count()
+        r.test.path, r.reference.path, r.mask.spec, r.mask.pixels
     );
-    for v in &values {
+    for v in &r.metrics {
         println!(
             "  {:<9} {:>12.6e}   (reference noise floor {:.3e})",
-            v.metric.name(),
-            v.value,
-            v.noise_floor
+            v.metric, v.value, v.noise_floor
         );
     }
-    // Any value that cannot be compared fails, criterion or not: a NaN passes no bound.
-    for v in &values {
-        if let Err(why) = v.metric.check_value(v.value) {
-            let cause = if v.non_finite > 0 {
-                format!(" ({} NaN/Inf pixels in {})", v.non_finite, args.test.display())
-            } else {
-                String::new()
-            };
-            println!("FAIL: {why}{cause}");
-            return Ok(2);
-        }
-    }
-    let criterion = &values[0];
-    if let Some(t) = args.fail {
-        let failed = match args.fail_percent {
-            Some(p) => {
-                let map = criterion.map.as_ref().ok_or_else(|| {
-                    CliError::run(format!("{}: no per-pixel map was computed", criterion.metric))
-                })?;
-                // Every map is an error (1 − SSIM for ssim): larger is worse.
-                let over = (0..map.len())
-                    .filter(|&i| mask.selects(i) && map[i] as f64 > t)
-                    .count();
-                let percent = 100.0 * over as f64 / mask.count() as f64;
-                println!(
-                    "  {over} pixels ({percent:.3} %) have a {} error above {t:e} (allowed: {p} %)",
-                    criterion.metric
-                );
-                percent > p
-            }
-            None => worse(criterion.metric, criterion.value, t),
-        };
-        if failed {
-            println!("FAIL");
-            return Ok(2);
-        }
-    }
-    if args
-        .warn
-        .is_some_and(|t| worse(criterion.metric, criterion.value, t))
-    {
+    let (ratio, signed) = (&r.bias.ratio, &r.bias.mean_signed_error);
+    println!(
+        "  bias      test/reference R {:.4} G {:.4} B {:.4} Y {:.4}; mean signed error Y {:+.3e}",
+        ratio.R, ratio.G, ratio.B, ratio.Y, signed.Y
+    );
+    if let Some(objects) = &r.objects {
+        let names: Vec<&str> = r.metrics.iter().map(|m| m.metric.as_str()).collect();
         println!(
-            "WARNING: {} {:.6e} is worse than {:e}",
-            criterion.metric,
-            criterion.value,
-            args.warn.unwrap_or_default()
+            "  {:<24} {:>8}  {}  bias Y",
+            "object",
+            "pixels",
+            names.iter().map(|n| format!("{n:>12}")).collect::<String>()
         );
-        return Ok(1);
+        for o in objects {
+            let values: String = o.values.iter().map(|v| format!("{v:>12.4e}")).collect();
+            println!(
+                "  {:<24} {:>8}  {values}  {:.4}",
+                o.name, o.pixels, o.bias.ratio.Y
+            );
+        }
     }
-    println!("PASS");
-    Ok(0)
+    let word = match r.verdict {
+        Verdict::Pass => "PASS",
+        Verdict::Warn => "WARNING",
+        Verdict::Fail => "FAIL",
+    };
+    println!("{word}: {}", r.reason);
 }

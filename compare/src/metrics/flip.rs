@@ -32,6 +32,10 @@
 //! matched here: the automatic stop exposure is at most 24 stops above the start exposure,
 //! and the median luminance is the upper median (element n/2 of the sorted values).
 //!
+//! **Threads.** The convolutions run row by row and the per-pixel stages pixel by pixel on
+//! rayon's pool; every value is computed by the same operations in the same order as on one
+//! thread, so the maps are bit for bit those of a sequential run.
+//!
 //! **Caveats.**
 //! * The caller checks sizes: both images must have `width * height` pixels (asserted).
 //! * The caller rejects NaN and ±Inf pixels; they are not diagnosed here (a NaN pixel
@@ -44,6 +48,7 @@
 //! * Values above ~1.8e19 overflow the tone mapper's squares and map to black, as in the
 //!   reference tool.
 
+use rayon::prelude::*;
 use std::f32::consts::PI;
 
 /// An RGB image in linear Rec.709, row-major, row 0 at the top.
@@ -358,7 +363,7 @@ fn ldr_flip_of_clamped(
     let color = color_differences(&reference, &test, size, &filters.spatial);
     let feature = feature_differences(&reference.y, &test.y, size, &filters.feature);
     color
-        .iter()
+        .par_iter()
         .zip(&feature)
         .map(|(&c, &f)| c.powf(1.0 - f))
         .collect()
@@ -375,7 +380,10 @@ impl OpponentImage {
     /// Linear RGB → XYZ → YyCxCz (FLIP paper, colour pipeline: the opponent space is the
     /// linearised CIELAB of Flohr et al., without the cube root).
     fn from_linear_rgb(rgb: &[[f32; 3]]) -> OpponentImage {
-        let opponent: Vec<[f32; 3]> = rgb.iter().map(|&c| xyz_to_ycxcz(mat3(&RGB_TO_XYZ, c))).collect();
+        let opponent: Vec<[f32; 3]> = rgb
+            .par_iter()
+            .map(|&c| xyz_to_ycxcz(mat3(&RGB_TO_XYZ, c)))
+            .collect();
         OpponentImage {
             y: opponent.iter().map(|c| c[0]).collect(),
             cx: opponent.iter().map(|c| c[1]).collect(),
@@ -456,6 +464,7 @@ fn color_differences(
     let [ry, rcx, rcz] = csf_filtered(reference, size, k);
     let [ty, tcx, tcz] = csf_filtered(test, size, k);
     (0..size.pixels())
+        .into_par_iter()
         .map(|i| {
             let r = hunt_adjusted_lab(clamp_rgb(opponent_to_linear_rgb([ry[i], rcx[i], rcz[i]])));
             let t = hunt_adjusted_lab(clamp_rgb(opponent_to_linear_rgb([ty[i], tcx[i], tcz[i]])));
@@ -545,7 +554,7 @@ fn feature_differences(reference_y: &[f32], test_y: &[f32], size: Size, k: &Feat
     let test = feature_strengths(test_y, size, k);
     let normalization = 1.0 / 2.0_f32.sqrt();
     reference
-        .iter()
+        .par_iter()
         .zip(&test)
         .map(|(r, t)| {
             let edge = (r.0 - t.0).abs();
@@ -577,6 +586,7 @@ fn feature_strengths(achromatic: &[f32], size: Size, k: &FeatureKernels) -> Vec<
     let dy = convolve_columns(&smooth_x, size, &k.first_derivative);
     let ddy = convolve_columns(&smooth_x, size, &k.second_derivative);
     (0..size.pixels())
+        .into_par_iter()
         .map(|i| {
             (
                 (dx[i] * dx[i] + dy[i] * dy[i]).sqrt(),
@@ -594,17 +604,19 @@ fn feature_strengths(achromatic: &[f32], size: Size, k: &FeatureKernels) -> Vec<
 fn convolve_rows(plane: &[f32], size: Size, kernel: &[f32]) -> Vec<f32> {
     let (w, radius) = (size.width, kernel.len() / 2);
     let mut out = vec![0.0_f32; plane.len()];
-    let mut padded = vec![0.0_f32; w + 2 * radius];
-    for (row_in, row_out) in plane.chunks_exact(w).zip(out.chunks_exact_mut(w)) {
-        for (i, p) in padded.iter_mut().enumerate() {
-            *p = row_in[i.saturating_sub(radius).min(w - 1)];
-        }
-        for (k, &weight) in kernel.iter().enumerate() {
-            for (o, &v) in row_out.iter_mut().zip(&padded[k..k + w]) {
-                *o += weight * v;
+    out.par_chunks_mut(w).zip(plane.par_chunks(w)).for_each_init(
+        || vec![0.0_f32; w + 2 * radius],
+        |padded, (row_out, row_in)| {
+            for (i, p) in padded.iter_mut().enumerate() {
+                *p = row_in[i.saturating_sub(radius).min(w - 1)];
             }
-        }
-    }
+            for (k, &weight) in kernel.iter().enumerate() {
+                for (o, &v) in row_out.iter_mut().zip(&padded[k..k + w]) {
+                    *o += weight * v;
+                }
+            }
+        },
+    );
     out
 }
 
@@ -612,14 +624,14 @@ fn convolve_rows(plane: &[f32], size: Size, kernel: &[f32]) -> Vec<f32> {
 fn convolve_columns(plane: &[f32], size: Size, kernel: &[f32]) -> Vec<f32> {
     let (w, h, radius) = (size.width, size.height, kernel.len() / 2);
     let mut out = vec![0.0_f32; plane.len()];
-    for (y, row_out) in out.chunks_exact_mut(w).enumerate() {
+    out.par_chunks_mut(w).enumerate().for_each(|(y, row_out)| {
         for (k, &weight) in kernel.iter().enumerate() {
             let source = (y + k).saturating_sub(radius).min(h - 1);
             for (o, &v) in row_out.iter_mut().zip(&plane[source * w..(source + 1) * w]) {
                 *o += weight * v;
             }
         }
-    }
+    });
     out
 }
 
@@ -710,7 +722,7 @@ fn exposure_count(start: f32, stop: f32) -> usize {
 /// The image scaled by 2^exposure, ACES tone mapped per channel and clamped to [0, 1].
 fn expose_and_tone_map(rgb: &[[f32; 3]], exposure: f32) -> Vec<[f32; 3]> {
     let scale = 2.0_f32.powf(exposure);
-    rgb.iter()
+    rgb.par_iter()
         .map(|c| clamp_rgb(c.map(|v| aces(v * scale))))
         .collect()
 }

@@ -5,12 +5,38 @@
 //! | [`Mask::all`] | every pixel |
 //! | [`Mask::rectangle`] | pixels with x0 ≤ x < x1, y0 ≤ y < y1 (raster coordinates, row 0 at the top) |
 //! | [`Mask::object_ids`] | pixels whose reference `object_id.Y` (shape index + 1, 0 = background) is listed |
+//! | [`Mask::objects`] | the same by shape name or pattern (`floor`, `sphere_*`), through the reference's object-name table |
 //! | [`Mask::from_image`] | pixels of a custom mask image whose first channel is > 0.5 |
-//! | [`Mask::interior`] | pixels away from geometric edges (object-id and depth discontinuities) |
+//! | [`Mask::interior`] | pixels of a surface away from its edges: no background, no object-id, depth or normal discontinuity |
 //!
 //! Masks combine by intersection ([`Mask::and`]).
 
+use glam::Vec3;
 use scenes::layered::LayeredImage;
+
+/// Largest second difference of the unit normal across an interior pixel ([`Mask::interior`]):
+/// 0.25 is a turn of about 14° concentrated in one pixel (|n₁ + n₂ − 2n| for a crease of angle
+/// θ between two flat faces is 2 sin(θ/2) at its pixel); a sphere of radius r pixels turns by
+/// about 1/r² per pixel², far below it once r > 2.
+pub const NORMAL_KINK: f32 = 0.25;
+
+/// The names of an object-name table for an error message (the first 20, then a count).
+fn list_names(names: &[String]) -> String {
+    const SHOWN: usize = 20;
+    let mut text = names
+        .iter()
+        .take(SHOWN)
+        .map(String::as_str)
+        .collect::<Vec<_>>()
+        .join(", ");
+    if names.len() > SHOWN {
+        text += &format!(" … and {} more", names.len() - SHOWN);
+    }
+    if names.is_empty() {
+        text = "none".into();
+    }
+    text
+}
 
 /// A set of pixels of a width × height image, with a name for reports.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -70,9 +96,57 @@ impl Mask {
         })
     }
 
-    /// Pixels away from geometric edges in `reference`: the 3×3 neighbourhood has one object
-    /// id, and the depth's second difference across the pixel is below 1 % of its depth (no
-    /// silhouette or crease). Without `object_id.Y` and `depth.Z` channels it selects every pixel.
+    /// The pixels of the shapes named by `patterns` in the reference: each pattern is a whole
+    /// number (an object id, as [`Mask::object_ids`]) or a shape name with optional `*` and
+    /// `?` wildcards ([`scenes::glob`]) looked up in the reference's object-name table
+    /// ([`scenes::layered::OBJECT_NAMES_ATTRIBUTE`]). A name or pattern that matches no shape
+    /// is an error listing the names there are.
+    pub fn objects(name: &str, reference: &LayeredImage, patterns: &[&str]) -> Result<Mask, String> {
+        let names = || -> Result<Vec<String>, String> {
+            reference.object_names()?.ok_or_else(|| {
+                format!(
+                    "mask `{name}`: the reference has no object-name table (header attribute `{}`), so objects can only be given by id",
+                    scenes::layered::OBJECT_NAMES_ATTRIBUTE
+                )
+            })
+        };
+        let mut ids = Vec::new();
+        for pattern in patterns {
+            if let Ok(id) = pattern.parse::<u32>() {
+                ids.push(id);
+                continue;
+            }
+            let names = names()?;
+            let before = ids.len();
+            ids.extend(
+                (1..)
+                    .zip(&names)
+                    .filter(|(_, n)| scenes::glob::matches(pattern, n))
+                    .map(|(id, _)| id),
+            );
+            if ids.len() == before {
+                return Err(format!(
+                    "mask `{name}`: `{pattern}` matches no object; objects: {}",
+                    list_names(&names)
+                ));
+            }
+        }
+        Mask::object_ids(name, reference, &ids)
+    }
+
+    /// Pixels of a surface away from its edges in `reference` (the pixels whose metrics do not
+    /// depend on how a renderer anti-aliases geometry):
+    ///
+    /// - not the background (object id 0), and the whole 3×3 neighbourhood has the pixel's id;
+    /// - no depth kink: the second difference of `depth.Z` across the pixel, horizontally and
+    ///   vertically, is within 1 % of its depth (a crease or a step in depth);
+    /// - no normal kink: the second difference of `normal.X/Y/Z` across the pixel is below
+    ///   [`NORMAL_KINK`] in length (a crease the depth hardly shows, e.g. a cube's edge seen
+    ///   head-on; a smooth curve's normals turn evenly and pass);
+    /// - not on the image border.
+    ///
+    /// Without `object_id.Y` and `depth.Z` channels it selects every pixel; without `normal.*`
+    /// the normal test is skipped.
     pub fn interior(reference: &LayeredImage) -> Mask {
         let (w, h) = (reference.width as usize, reference.height as usize);
         let mut mask = Mask::all(w, h);
@@ -80,9 +154,10 @@ impl Mask {
         let (Some(id), Some(depth)) = (reference.channel("object_id.Y"), reference.channel("depth.Z")) else {
             return mask;
         };
+        let normal = reference.xyz("normal");
         for (i, keep) in mask.pixels.iter_mut().enumerate() {
             let (x, y) = (i % w, i / w);
-            if x == 0 || y == 0 || x + 1 == w || y + 1 == h {
+            if x == 0 || y == 0 || x + 1 == w || y + 1 == h || id[i] == 0.0 {
                 *keep = false;
                 continue;
             }
@@ -93,7 +168,11 @@ impl Mask {
             let kink = |a: f32, b: f32| (a + b - 2.0 * d).abs() > 0.01 * d.abs().max(1e-6);
             let smooth =
                 d.is_finite() && !kink(depth[i - 1], depth[i + 1]) && !kink(depth[i - w], depth[i + w]);
-            *keep = same_id && (smooth || id[i] == 0.0);
+            let crease = normal.as_ref().is_some_and(|n| {
+                let bent = |a: Vec3, b: Vec3| (a + b - 2.0 * n[i]).length() > NORMAL_KINK;
+                bent(n[i - 1], n[i + 1]) || bent(n[i - w], n[i + w])
+            });
+            *keep = same_id && smooth && !crease;
         }
         mask
     }
@@ -201,6 +280,74 @@ mod tests {
         assert!(
             !m.selects(0) && !m.selects(w * h - 1),
             "the border is never interior"
+        );
+    }
+
+    #[test]
+    fn interior_drops_the_background_and_normal_creases() {
+        // 8×6: background on the left two columns, one object elsewhere at constant depth,
+        // whose normal turns by 90° between columns 4 and 5 (a cube's edge seen head-on).
+        let (w, h) = (8usize, 6usize);
+        let mut img = LayeredImage::new(w as u32, h as u32);
+        img.push_channel(
+            "object_id.Y",
+            (0..w * h).map(|i| if i % w < 2 { 0.0 } else { 1.0 }).collect(),
+        );
+        img.push_channel("depth.Z", vec![1.0; w * h]);
+        let normals: Vec<Vec3> = (0..w * h)
+            .map(|i| if i % w < 5 { Vec3::Z } else { Vec3::X })
+            .collect();
+        img.push_xyz("normal", &normals);
+        let m = Mask::interior(&img);
+        assert!(
+            (1..5).all(|y| !m.selects(y * w + 1)),
+            "background is never interior"
+        );
+        assert!((1..5).all(|y| m.selects(y * w + 3)), "flat, one id, one normal");
+        assert!(
+            (1..5).all(|y| !m.selects(y * w + 4) && !m.selects(y * w + 5)),
+            "the crease"
+        );
+        assert!((1..5).all(|y| m.selects(y * w + 6)), "past the crease");
+        // A smooth turn (a cylinder of radius 20 pixels) is not a crease.
+        let curved: Vec<Vec3> = (0..w * h)
+            .map(|i| {
+                let a = (i % w) as f32 / 20.0;
+                Vec3::new(a.sin(), 0.0, a.cos())
+            })
+            .collect();
+        img.push_xyz("normal", &curved);
+        let m = Mask::interior(&img);
+        assert!((1..5).all(|y| (3..7).all(|x| m.selects(y * w + x))));
+    }
+
+    #[test]
+    fn object_masks_take_names_patterns_and_ids() {
+        let mut img = LayeredImage::new(4, 1);
+        img.push_channel("object_id.Y", vec![0.0, 1.0, 2.0, 3.0]);
+        let none = Mask::objects("m", &img, &["floor"]).unwrap_err();
+        assert!(none.contains("no object-name table"), "{none}");
+        assert_eq!(
+            Mask::objects("m", &img, &["2"]).unwrap().pixels,
+            [false, false, true, false]
+        );
+        img.set_object_names(["floor", "sphere_m", "sphere_d"]);
+        assert_eq!(
+            Mask::objects("m", &img, &["floor"]).unwrap().pixels,
+            [false, true, false, false]
+        );
+        assert_eq!(
+            Mask::objects("m", &img, &["sphere_*"]).unwrap().pixels,
+            [false, false, true, true]
+        );
+        assert_eq!(
+            Mask::objects("m", &img, &["floor", "?phere_d"]).unwrap().pixels,
+            [false, true, false, true]
+        );
+        let e = Mask::objects("m", &img, &["ball*"]).unwrap_err();
+        assert!(
+            e.contains("`ball*` matches no object") && e.contains("floor, sphere_m, sphere_d"),
+            "{e}"
         );
     }
 }

@@ -27,6 +27,7 @@
 //! never passes a bound ([`Metric::check_value`]). A non-finite reference is an error naming
 //! the pixel.
 
+pub mod bias;
 pub mod flip;
 pub mod mask;
 pub mod noise;
@@ -37,6 +38,7 @@ use std::fmt;
 use glam::Vec3;
 use scenes::layered::LayeredImage;
 
+pub use bias::Bias;
 pub use mask::Mask;
 
 /// ε of relMSE and SMAPE (docs/ARCHITECTURE.md "Comparison"; Rousselle et al. 2011 and Vogels et al.
@@ -224,6 +226,25 @@ impl MetricValue {
     /// False when the test image has NaN/Inf pixels in the mask: always a failure.
     pub fn is_finite(&self) -> bool {
         self.non_finite == 0 && self.value.is_finite()
+    }
+
+    /// The metric over `subset` (pixels of the mask it was computed over, e.g. one object's):
+    /// the mean of its per-pixel map there (1 − the mean error map for SSIM), or for RMSE and
+    /// PSNR the squared error over the subset. The maps are the full-image ones (SSIM and FLIP
+    /// windows see the neighbours outside the subset, as they do over the whole mask). NaN
+    /// when the test image was not finite, or the subset is empty.
+    pub fn over(&self, reference: &RgbImage, test: &RgbImage, subset: &Mask) -> f64 {
+        if self.non_finite > 0 || subset.count() == 0 {
+            return f64::NAN;
+        }
+        let mse = || pixelwise(reference, test, subset, squared_error).0;
+        match (self.metric, &self.map) {
+            (Metric::Rmse, _) => mse().sqrt(),
+            (Metric::Psnr, _) => psnr(mse()),
+            (Metric::Ssim, Some(map)) => 1.0 - subset.mean(map),
+            (_, Some(map)) => subset.mean(map),
+            (_, None) => f64::NAN,
+        }
     }
 }
 

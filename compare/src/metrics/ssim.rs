@@ -16,6 +16,8 @@
 //!
 //! The local statistics are computed in f64: σ² = E[x²] − μ² cancels catastrophically in f32
 //! on bright flat regions; the per-pixel map is stored in f32 (its values are in [−1, 1]).
+//! Rounding can still leave E[x²] − μ² slightly negative: the variances are clamped at 0 and
+//! the covariance to ±σₓσᵧ alike, so an image scores exactly 1 against itself.
 
 use scenes::srgb::linear_to_srgb;
 
@@ -46,7 +48,10 @@ pub fn ssim_map(reference: &RgbImage, test: &RgbImage) -> Vec<f32> {
             let (mx, my) = (mu_x[i], mu_y[i]);
             let sx = (xx[i] - mx * mx).max(0.0);
             let sy = (yy[i] - my * my).max(0.0);
-            let sxy = xy[i] - mx * my;
+            // |σₓᵧ| ≤ σₓσᵧ (Cauchy–Schwarz); clamping it as σₓ², σᵧ² are clamped keeps identical
+            // images at exactly 1 where rounding makes E[x²] − μ² slightly negative.
+            let bound = (sx * sy).sqrt();
+            let sxy = (xy[i] - mx * my).clamp(-bound, bound);
             let ssim =
                 ((2.0 * mx * my + C1) * (2.0 * sxy + C2)) / ((mx * mx + my * my + C1) * (sx + sy + C2));
             ssim as f32
@@ -107,9 +112,14 @@ mod tests {
     #[test]
     fn identical_images_score_one_and_distortions_score_less() {
         let checker = image(32, 32, |x, y| if (x / 4 + y / 4) % 2 == 0 { 0.8 } else { 0.1 });
-        assert!(ssim_map(&checker, &checker)
-            .iter()
-            .all(|&s| (s - 1.0).abs() < 1e-5));
+        assert!(ssim_map(&checker, &checker).iter().all(|&s| s == 1.0));
+        // Constant and smooth images, where E[x²] − μ² rounds below zero: exactly 1 too.
+        for img in [
+            image(33, 17, |_, _| 0.5),
+            image(40, 40, |x, y| 0.3 + 0.01 * ((x * 7 + y * 13) % 11) as f32),
+        ] {
+            assert!(ssim_map(&img, &img).iter().all(|&s| s == 1.0));
+        }
         // A flat image of the same mean loses all structure: SSIM well below 0.1 on average.
         let flat = image(32, 32, |_, _| 0.45);
         let mean = |m: Vec<f32>| m.iter().sum::<f32>() / m.len() as f32;

@@ -200,14 +200,21 @@ fn build_masks(
             } => {
                 let mut ids = Vec::new();
                 for o in objects {
-                    let i = scene.shapes.iter().position(|s| &s.name == o).ok_or_else(|| {
+                    // A name, or a pattern with `*`/`?` (scenes::glob) selecting every match.
+                    let before = ids.len();
+                    ids.extend(
+                        (1..)
+                            .zip(&scene.shapes)
+                            .filter(|(_, s)| scenes::glob::matches(o, &s.name))
+                            .map(|(id, _)| id),
+                    );
+                    if ids.len() == before {
                         let names: Vec<&str> = scene.shapes.iter().map(|s| s.name.as_str()).collect();
-                        input(format!(
+                        return Err(input(format!(
                             "mask `{name}`: the scene has no shape `{o}`; shapes: {}",
                             names.join(", ")
-                        ))
-                    })?;
-                    ids.push(i as u32 + 1);
+                        )));
+                    }
                 }
                 let mask = Mask::object_ids(name, gt, &ids).map_err(input)?;
                 match within {

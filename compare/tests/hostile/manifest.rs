@@ -271,8 +271,12 @@ pub const CASES: &[Case] = &[
             "diff", "ref.exr", "a.exr", "--metric", "relmse", "--metric", "mse", "--metric", "ssim",
             "--metric", "flip_hdr",
         ],
-        status: 0,
-        stdout: &["PASS"],
+        // Every figure finite; relMSE 1/16 fails the default bound (1e-3), as it should.
+        status: 2,
+        stdout: &[
+            "relmse     6.250000e-2",
+            "FAIL: relmse 6.250000e-2 is above the fail bound 1.000e-3 (default)",
+        ],
         absent: &["NaN", "inf"],
         ..BASE
     },
