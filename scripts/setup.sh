@@ -19,6 +19,11 @@ want python3-venv      # the pinned Python tools (Mitsuba, flip-evaluator) live 
 want libllvm19         # Mitsuba's llvm_ad_rgb variant JIT-compiles with LLVM (DRJIT_LIBLLVM_PATH)
 want libvulkan1        # the Vulkan loader wgpu opens (realtime renderer)
 want mesa-vulkan-drivers  # lavapipe: a Vulkan CPU driver, so the realtime tests run without a GPU
+want chromium          # headless browser for the three.js client (examples/threejs, WebGL2 on SwiftShader)
+# Node and npm for examples/threejs; Debian's packages only where none is installed (a
+# NodeSource nodejs ships its own npm and conflicts with Debian's npm package).
+command -v node >/dev/null 2>&1 || want nodejs
+command -v npm >/dev/null 2>&1 || want npm
 
 if [ ${#need_apt[@]} -gt 0 ]; then
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
@@ -43,5 +48,25 @@ install_venv() {
 }
 if [ ! -x .venv/bin/python ] || ! cmp -s "$REQ" "$STAMP"; then
   install_venv || say "WARNING: could not install $REQ into .venv; the Mitsuba cross-check tests will fail" >&2
+fi
+# The three.js client's npm packages (examples/threejs/package-lock.json, pinned). The stamp
+# (inside node_modules, which npm ci recreates) records the lockfile last installed. Unlike
+# the venv, a failure stops setup: the three.js test cannot run without these, and it fails
+# (never skips) when they are missing.
+TJ=examples/threejs
+TJ_STAMP=$TJ/node_modules/.verity-package-lock.json
+for tool in chromium node npm; do
+  command -v "$tool" >/dev/null 2>&1 || {
+    say "ERROR: $tool is not installed (apt-get install chromium nodejs npm); the three.js test will fail" >&2
+    exit 1
+  }
+done
+if [ ! -d "$TJ/node_modules" ] || ! cmp -s "$TJ/package-lock.json" "$TJ_STAMP"; then
+  say "npm ci (in $TJ)"
+  (cd "$TJ" && npm ci --no-audit --no-fund --loglevel=error) || {
+    say "ERROR: npm ci failed in $TJ; the three.js test will fail" >&2
+    exit 1
+  }
+  cp "$TJ/package-lock.json" "$TJ_STAMP"
 fi
 say "ok"
