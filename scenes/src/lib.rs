@@ -16,6 +16,7 @@ pub mod glob;
 pub mod gltf;
 pub mod layered;
 pub mod model;
+pub mod pixel_filter;
 pub mod random;
 pub mod srgb;
 pub mod tangent;
@@ -26,6 +27,7 @@ use std::path::Path;
 
 pub use error::SceneError;
 pub use model::*;
+pub use pixel_filter::PixelFilter;
 
 /// Radiance of the sky a glTF asset loaded on its own is lit by when it brings no light of
 /// its own (no punctual light, no emissive surface): a uniform white environment, so that

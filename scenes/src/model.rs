@@ -10,6 +10,7 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Vec2, Vec3};
 
+use crate::pixel_filter::PixelFilter;
 use crate::texture::Texture;
 pub use crate::texture::WrapMode;
 
@@ -212,6 +213,8 @@ pub struct RenderSettings {
     pub seed: u64,
     /// Random-number generator.
     pub sampler: SamplerKind,
+    /// Where the camera rays cross each pixel: its area (box) or its (sub-)pixel centres.
+    pub pixel_filter: PixelFilter,
 }
 
 impl Default for RenderSettings {
@@ -224,6 +227,7 @@ impl Default for RenderSettings {
             ao_radius: 1.0,
             seed: 0,
             sampler: SamplerKind::Sobol,
+            pixel_filter: PixelFilter::Box,
         }
     }
 }

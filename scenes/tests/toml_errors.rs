@@ -412,6 +412,26 @@ fn render_and_film_ranges() {
     );
 }
 
+/// An unknown pixel filter is one line naming the file, line and field, with the spellings.
+#[test]
+fn unknown_pixel_filter_names_its_line() {
+    let dir = scratch("render-pixel-filter");
+    let e = expect_error(
+        load_text(&dir, &append("[render]\nspp = 4\npixel_filter = \"gauss\"\n")),
+        &[
+            "bad.toml:19:",
+            "`render.pixel_filter`",
+            "unknown value \"gauss\"",
+            "`box`, `centre`, `center`",
+        ],
+    );
+    assert_eq!(e.to_string().lines().count(), 1, "{e}");
+    expect_error(
+        load_text(&dir, &append("[render]\npixel_filter = 1\n")),
+        &["bad.toml:18:", "`render.pixel_filter`", "expected a string"],
+    );
+}
+
 #[test]
 fn light_errors() {
     let dir = scratch("lights");

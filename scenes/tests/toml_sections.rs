@@ -4,7 +4,8 @@ mod toml_support;
 
 use glam::Vec3;
 use scenes::{
-    Environment, Geometry, IntegratorKind, Light, Masking, Material, RenderSettings, SamplerKind, TexRgb,
+    Environment, Geometry, IntegratorKind, Light, Masking, Material, PixelFilter, RenderSettings,
+    SamplerKind, TexRgb,
 };
 use toml_support::{append, load_text, replace_line, scratch, BASE};
 
@@ -67,7 +68,7 @@ fn render_settings_are_read() {
     let dir = scratch("render-ok");
     let text = append(
         "[film]\nwidth = 640\nheight = 360\n\n[render]\nspp = 1024\nintegrator = \"ao\"\nmax_depth = -1\n\
-         rr_depth = 3\nseed = 42\nao_radius = 0.25\nsampler = \"independent\"\n",
+         rr_depth = 3\nseed = 42\nao_radius = 0.25\nsampler = \"independent\"\npixel_filter = \"centre\"\n",
     );
     let s = load_text(&dir, &text).unwrap();
     assert_eq!((s.film.width, s.film.height), (640, 360));
@@ -79,8 +80,26 @@ fn render_settings_are_read() {
         ao_radius: 0.25,
         seed: 42,
         sampler: SamplerKind::Independent,
+        pixel_filter: PixelFilter::Centre { ssaa: 1 },
     };
     assert_eq!(s.render, want);
+}
+
+/// `centre` and `center` read as one filter, printed `centre`; `box` is the default.
+#[test]
+fn pixel_filters_are_read_by_either_spelling_and_printed_by_one() {
+    let dir = scratch("render-pixel-filters");
+    for (spelling, filter) in PixelFilter::SPELLINGS {
+        let text = append(&format!("[render]\npixel_filter = \"{spelling}\"\n"));
+        let s = load_text(&dir, &text).unwrap();
+        assert_eq!(s.render.pixel_filter, filter, "{spelling}");
+    }
+    let centre = load_text(&dir, &append("[render]\npixel_filter = \"center\"\n")).unwrap();
+    assert_eq!(centre.render.pixel_filter.name(), "centre");
+    assert_eq!(
+        load_text(&dir, BASE).unwrap().render.pixel_filter,
+        PixelFilter::Box
+    );
 }
 
 /// One integrator, one printed name; both spellings of `direct-unshadowed` are read.

@@ -5,6 +5,7 @@ use glam::Vec3;
 use super::inputs::{rgb_const, Bound, Textures};
 use super::read::{Field, Table};
 use crate::model::{Camera, Environment, Film, IntegratorKind, RenderSettings, SamplerKind, WrapMode};
+use crate::pixel_filter::PixelFilter;
 use crate::texture::ColorSpace;
 use crate::SceneError;
 
@@ -129,8 +130,8 @@ pub(crate) fn film(t: Option<Table>) -> Result<Film, SceneError> {
     Ok(Film { width, height })
 }
 
-/// `[render]`: spp, integrator, max_depth, rr_depth, seed, ao_radius, sampler (defaults as
-/// [`RenderSettings::default`]).
+/// `[render]`: spp, integrator, max_depth, rr_depth, seed, ao_radius, sampler, pixel_filter
+/// (defaults as [`RenderSettings::default`]).
 pub(crate) fn render(t: Option<Table>) -> Result<RenderSettings, SceneError> {
     let mut r = RenderSettings::default();
     let Some(t) = t else {
@@ -145,6 +146,7 @@ pub(crate) fn render(t: Option<Table>) -> Result<RenderSettings, SceneError> {
             "seed",
             "ao_radius",
             "sampler",
+            "pixel_filter",
         ],
         "the render settings",
     )?;
@@ -177,6 +179,9 @@ pub(crate) fn render(t: Option<Table>) -> Result<RenderSettings, SceneError> {
             "independent" => SamplerKind::Independent,
             _ => SamplerKind::Sobol,
         };
+    }
+    if let Some(f) = t.get("pixel_filter") {
+        r.pixel_filter = f.one_of(&PixelFilter::SPELLINGS)?;
     }
     Ok(r)
 }
