@@ -51,8 +51,9 @@ impl std::fmt::Write for Fnv {
 }
 
 /// Identifies everything that determines the image: the whole scene (geometry, materials,
-/// textures, lights, camera, film), the settings and the oracle version. Not the stopping
-/// rule nor `settings.spp`: a checkpoint may be continued to more samples.
+/// textures, lights, camera, film), the settings (the pixel filter with its sub-pixel grid
+/// among them: a box checkpoint never resumes into a centre render) and the oracle version.
+/// Not the stopping rule nor `settings.spp`: a checkpoint may be continued to more samples.
 pub fn fingerprint(job: &RenderJob) -> u64 {
     let mut h = Fnv(0xcbf2_9ce4_8422_2325);
     let s = job.scene;

@@ -13,6 +13,7 @@ pub mod integrator;
 pub mod job;
 pub mod light;
 pub mod memory;
+pub mod pixel_filter;
 pub mod render;
 pub mod sampler;
 pub mod sampling;

@@ -14,6 +14,7 @@ use crate::geometry::{Accel, Ray};
 use crate::integrator::{self, Context};
 use crate::job::{Progress, RenderError, RenderJob, RenderResult, StopRule};
 use crate::light::LightSet;
+use crate::pixel_filter::{check_spp, film_sample};
 use crate::sampler::PixelSampler;
 
 /// Seconds a pass aims to take: short enough for responsive progress and time budgets.
@@ -78,7 +79,8 @@ pub fn render(
         if finished {
             break;
         }
-        let pass = pass_size(done, job.stop.spp, samples_per_second, width, height);
+        let round = job.settings.pixel_filter.subpixels();
+        let pass = pass_size(done, job.stop.spp, round, samples_per_second, width, height);
         let t = Instant::now();
         run_pass(&ctx, &mut film, done, done + pass);
         let dt = t.elapsed().as_secs_f64().max(1e-6);
@@ -97,9 +99,11 @@ pub fn render(
         let _ = std::fs::remove_file(&cp.path);
     }
     let mut image = film.to_layered(&names, &object_ids);
-    image
-        .attributes
-        .extend(attributes(job, &film, seconds).map(|(k, v)| (k.to_string(), v)));
+    image.attributes.extend(
+        attributes(job, &film, seconds)
+            .into_iter()
+            .map(|(k, v)| (k.to_string(), v)),
+    );
     image.set_object_names(scene.shapes.iter().map(|s| s.name.as_str()));
     Ok(RenderResult {
         image,
@@ -111,9 +115,10 @@ pub fn render(
     })
 }
 
-/// Refuses a job with an empty film or no samples, or one whose buffers exceed the memory
-/// budget, before anything is allocated (callers that loaded the scene with a ledger have
-/// charged the same figures to it already, with the scene's own memory: `memory::charge`).
+/// Refuses a job with an empty film or no samples, a sample count its pixel filter cannot
+/// split evenly ([`check_spp`]), or one whose buffers exceed the memory budget, before
+/// anything is allocated (callers that loaded the scene with a ledger have charged the same
+/// figures to it already, with the scene's own memory: `memory::charge`).
 fn check_job(job: &RenderJob) -> Result<(), RenderError> {
     let scene = job.scene;
     let (width, height) = (scene.film.width, scene.film.height);
@@ -126,14 +131,19 @@ fn check_job(job: &RenderJob) -> Result<(), RenderError> {
     if job.stop.spp == 0 {
         return Err(RenderError::Scene("spp must be at least 1".into()));
     }
+    check_spp(job.settings.pixel_filter, job.stop.spp)
+        .map_err(|e| RenderError::Scene(format!("{}: {e}", scene.source.display())))?;
     crate::memory::charge(scene, job.checkpoint.is_some(), &scenes::budget::Ledger::new())
         .map_err(|over| RenderError::Memory(over.exceeded().clone()))
 }
 
-/// The render's header attributes: what was rendered, how, and what it cost.
-fn attributes(job: &RenderJob, film: &Film, seconds: f64) -> [(&'static str, String); 12] {
+/// The render's header attributes: what was rendered, how, and what it cost. The pixel
+/// filter is `pixel_filter` (`box` or `centre`), with `subpixels` (`KxK`) when a centre
+/// filter averages K×K sub-pixel centres.
+fn attributes(job: &RenderJob, film: &Film, seconds: f64) -> Vec<(&'static str, String)> {
     let scene = job.scene;
-    [
+    let filter = job.settings.pixel_filter;
+    let mut attributes = vec![
         ("scene", scene.source.display().to_string()),
         ("renderer", format!("verity oracle {}", env!("CARGO_PKG_VERSION"))),
         (
@@ -152,7 +162,12 @@ fn attributes(job: &RenderJob, film: &Film, seconds: f64) -> [(&'static str, Str
             "variance",
             "variance of the pixel mean (sample variance / spp)".to_string(),
         ),
-    ]
+        ("pixel_filter", filter.name().to_string()),
+    ];
+    if let scenes::PixelFilter::Centre { ssaa: k @ 2.. } = filter {
+        attributes.push(("subpixels", format!("{k}x{k}")));
+    }
+    attributes
 }
 
 fn stop_now(stop: &StopRule, done: u32, elapsed: f64, rel_err: f32) -> bool {
@@ -161,16 +176,18 @@ fn stop_now(stop: &StopRule, done: u32, elapsed: f64, rel_err: f32) -> bool {
         || stop.target_rel_err.is_some_and(|e| done >= 16 && rel_err <= e)
 }
 
-/// Samples per pixel of the next pass: about [`PASS_TARGET_SECONDS`] of work, at least 1,
-/// never past the target.
-fn pass_size(done: u32, target: u32, samples_per_second: f64, width: u32, height: u32) -> u32 {
+/// Samples per pixel of the next pass: about [`PASS_TARGET_SECONDS`] of work, a whole
+/// multiple of `round` (at least one), never past the target. `round` is the pixel filter's
+/// sub-pixel count, which divides `done` and `target` ([`check_spp`]): every pass, and so
+/// every stop, ends with each sub-pixel centre equally sampled.
+fn pass_size(done: u32, target: u32, round: u32, samples_per_second: f64, width: u32, height: u32) -> u32 {
     let remaining = target - done;
     if samples_per_second <= 0.0 {
-        return 1.min(remaining);
+        return round.min(remaining);
     }
     let pixels = f64::from(width) * f64::from(height);
     let ideal = (samples_per_second * PASS_TARGET_SECONDS / pixels).floor() as u32;
-    ideal.clamp(1, 4096).min(remaining)
+    (ideal.clamp(1, 4096) / round * round).max(round).min(remaining)
 }
 
 /// Samples [first, end) of every pixel, rows in parallel.
@@ -178,7 +195,7 @@ fn run_pass(ctx: &Context, film: &mut Film, first: u32, end: u32) {
     let width = film.width;
     let camera = ctx.scene.camera;
     let origin = camera.position();
-    let (seed, kind) = (ctx.settings.seed, ctx.settings.sampler);
+    let (seed, kind, filter) = (ctx.settings.seed, ctx.settings.sampler, ctx.settings.pixel_filter);
     let (w, h) = (film.width, film.height);
     let nl = film.light_count;
     let (paths, rays, nonfinite) = film
@@ -197,16 +214,22 @@ fn run_pass(ctx: &Context, film: &mut Film, first: u32, end: u32) {
             {
                 let x = x as u32;
                 for s in first..end {
-                    let mut sampler = PixelSampler::of_kind(kind, x, y, s, seed);
+                    let fs = film_sample(filter, x, y, s);
+                    let stream =
+                        |seed| PixelSampler::of_kind(kind, fs.stream_x, fs.stream_y, fs.stream_index, seed);
+                    let mut sampler = stream(seed);
                     let jitter = sampler.next_2d();
-                    let dir = camera.ray_direction(x as f32 + jitter.x, y as f32 + jitter.y, w, h);
+                    let p = fs
+                        .centre
+                        .unwrap_or(glam::Vec2::new(x as f32 + jitter.x, y as f32 + jitter.y));
+                    let dir = camera.ray_direction(p.x, p.y, w, h);
                     let cs = integrator::trace(ctx, Ray { origin, dir }, &mut sampler);
                     let mut rays = u64::from(cs.rays);
                     vis.iter_mut().for_each(|v| *v = 0.0);
                     if let Some(fh) = &cs.first_hit {
                         // A sampler stream of its own, so visibility never shifts the
                         // integrator's dimensions.
-                        let mut vs = PixelSampler::of_kind(kind, x, y, s, seed ^ 0x5649_5349_4249_4c45);
+                        let mut vs = stream(seed ^ 0x5649_5349_4249_4c45);
                         rays += u64::from(integrator::light_visibility(ctx, &fh.hit, &mut vs, &mut vis));
                     }
                     if !PixelStats::add(px, nl, &cs, &vis, &camera) {
