@@ -31,6 +31,7 @@ fn scene(materials: Vec<Material>, shapes: Vec<Shape>) -> Scene {
         shapes,
         lights: vec![],
         environment: None,
+        provenance: Default::default(),
     }
 }
 

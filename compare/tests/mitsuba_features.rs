@@ -32,6 +32,7 @@ fn base(name: &str) -> Scene {
         shapes: vec![],
         lights: vec![],
         environment: None,
+        provenance: Default::default(),
     }
 }
 

@@ -55,6 +55,7 @@ fn patch_scene(height: Texture, scale: f32, eye: Vec3) -> Scene {
             angular_diameter_deg: 0.0,
         }],
         environment: None,
+        provenance: Default::default(),
     }
 }
 

@@ -73,6 +73,7 @@ fn floor_scene(textured: bool) -> Scene {
         ],
         lights: Vec::new(),
         environment: None,
+        provenance: Default::default(),
     }
 }
 

@@ -89,6 +89,7 @@ fn floor_scene(blocker: bool) -> Scene {
         shapes,
         lights: Vec::new(),
         environment: None,
+        provenance: Default::default(),
     }
 }
 

@@ -9,7 +9,11 @@
 //! | mesh primitive (TRIANGLES; indexed or not; sparse accessors; KHR_mesh_quantization) | one [`Shape`] with [`Geometry::Mesh`], named `<node or mesh name>/<primitive>` (the file's name reduced to `[A-Za-z0-9_-]`) | `mesh`, `accessor`, `names` |
 //! | material | [`crate::Material::MetalRough`], normal map, emission | `material` |
 //! | KHR_lights_punctual | [`crate::Light`] (units taken as is) | `light` |
-//! | first perspective camera in the hierarchy | [`crate::Camera`], [`crate::Film`] | `camera` |
+//! | first perspective camera in the hierarchy (every placed one in [`Loaded::cameras`]) | [`crate::Camera`], [`crate::Film`] | `camera` |
+//!
+//! Reading and placing are apart ([`Parsed`]): the bytes, buffers, checks, materials and
+//! decoded textures do not depend on where the asset is placed, so a scene file that includes
+//! one file several times reads it once and places it once per transform.
 //!
 //! Not applied, and said so in the notes ([`Loaded::notes`]): alpha modes (rendered opaque),
 //! vertex colours, morph targets, skins and animations (the static pose is rendered),
@@ -36,7 +40,7 @@ mod names;
 mod source;
 mod uri;
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -46,7 +50,8 @@ use self::names::Names;
 use self::source::Asset;
 use crate::access::Confinement;
 use crate::budget::Ledger;
-use crate::model::{Camera, Film, Geometry, RenderSettings, Scene, Shape};
+use crate::model::{Camera, Film, Geometry, Material, Provenance, RenderSettings, Scene, Shape};
+use crate::texture::Texture;
 use crate::SceneError;
 
 /// A loaded asset with the loader's notes about what it ignored or approximated.
@@ -56,6 +61,38 @@ pub struct Loaded {
     pub scene: Scene,
     /// One line per ignored or approximated feature, each naming its JSON field.
     pub notes: Vec<String>,
+    /// Where each shape of `scene` came from, in the same order (what a scene file's
+    /// `[[include]] materials` matches).
+    pub parts: Vec<Part>,
+    /// Every perspective camera placed in the asset, in walk order; `scene.camera` and
+    /// `scene.film` are the first's, or a framing of the bounds when there is none.
+    pub cameras: Vec<AssetCamera>,
+}
+
+/// The glTF names behind one shape (one mesh primitive), as written in the file: the node
+/// that places it, its mesh and its material; `None` where the file gives no name (and for
+/// the glTF default material).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Part {
+    /// `nodes[i].name` of the node holding the mesh.
+    pub node: Option<String>,
+    /// `meshes[i].name`.
+    pub mesh: Option<String>,
+    /// `materials[i].name` of the primitive's material.
+    pub material: Option<String>,
+}
+
+/// A perspective camera of the asset, placed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AssetCamera {
+    /// `cameras[i].name` and the `name` of the node that places it, where given.
+    pub names: [Option<String>; 2],
+    /// The camera in world space.
+    pub camera: Camera,
+    /// Its film: 512 pixels high, as wide as `aspectRatio` makes it (square without one).
+    pub film: Film,
+    /// `aspectRatio` (width / height), if the file gives one.
+    pub aspect: Option<f32>,
 }
 
 /// Loads a glTF 2.0 asset as a whole scene, printing the loader's notes (ignored features)
@@ -125,67 +162,134 @@ impl<'a> Options<'a> {
 impl Loaded {
     /// Prints the notes to standard error, each prefixed with the asset's file.
     pub fn print_notes(&self) {
+        self.print_new_notes(&mut BTreeSet::new());
+    }
+
+    /// Prints the notes not in `printed` yet and adds them to it (an asset placed several
+    /// times says each thing once).
+    pub fn print_new_notes(&self, printed: &mut BTreeSet<String>) {
         for note in &self.notes {
-            eprintln!("{}: note: {note}", self.scene.source.display());
+            if printed.insert(note.clone()) {
+                eprintln!("{}: note: {note}", self.scene.source.display());
+            }
         }
     }
 }
 
 /// Loads a glTF 2.0 asset as [`load_transformed`] does, with the given [`Options`].
 pub fn load_with_options(path: &Path, options: &Options) -> Result<Loaded, SceneError> {
-    if !options.to_world.is_finite() {
-        return Err(SceneError::new(path, "the placement transform is not finite"));
-    }
-    let mut asset = Asset::read(path, options.ledger, options.confinement(path))?;
-    let mut notes = std::mem::take(&mut asset.notes);
-    if asset.doc.animations().next().is_some() {
-        notes.insert("animations: ignored; the static pose is rendered".to_string());
-    }
-    light::check_all(&asset)?;
-    camera::check_all(&asset)?;
-    let placed = walk(&asset, options.to_world)?;
-    let mut names = Names::default();
-    let mut table = material::Materials::new(&asset);
-    let mut shapes = Vec::new();
-    let mut lights = Vec::new();
-    for p in &placed {
-        shapes.extend(node_shapes(&asset, p, &mut table, &mut names, &mut notes)?);
-        if let Some(light) = p.node.light() {
-            let name = match light.name().or(p.node.name()) {
-                Some(given) => names.named(given),
-                None => names.unique(&format!("light{}", light.index())),
-            };
-            lights.push(light::convert(
-                &asset,
-                &light,
-                p.node.index(),
-                &p.world,
-                name,
-                &mut notes,
-            )?);
+    Parsed::read(path, options)?.place(options.to_world)
+}
+
+/// A glTF asset read once and placed any number of times ([`Parsed::place`]): its bytes and
+/// buffers, the checks of its lights and cameras, and its materials with their decoded
+/// textures (shared by every placement through `Arc`) do not depend on the placement.
+pub struct Parsed<'l> {
+    asset: Asset<'l>,
+    /// Notes of the reading (ignored extensions, animations, material features).
+    notes: BTreeSet<String>,
+    textures: Vec<Arc<Texture>>,
+    materials: Vec<Material>,
+    /// The conversion of each glTF material a placed primitive uses.
+    resolved: HashMap<Option<usize>, material::Resolved>,
+}
+
+impl<'l> Parsed<'l> {
+    /// Reads, parses and checks the asset at `path` (charging `options.ledger`, reading only
+    /// where `options` allows) and converts the materials of every primitive the default scene
+    /// places; `options.to_world` is not used here.
+    pub fn read(path: &Path, options: &Options<'l>) -> Result<Parsed<'l>, SceneError> {
+        let mut asset = Asset::read(path, options.ledger, options.confinement(path))?;
+        let mut notes = std::mem::take(&mut asset.notes);
+        if asset.doc.animations().next().is_some() {
+            notes.insert("animations: ignored; the static pose is rendered".to_string());
         }
+        light::check_all(&asset)?;
+        camera::check_all(&asset)?;
+        let mut table = material::Materials::new(&asset);
+        for p in walk(&asset, Mat4::IDENTITY)? {
+            for prim in p.node.mesh().iter().flat_map(|m| m.primitives()) {
+                table.resolve(&prim.material(), &mut notes)?;
+            }
+        }
+        let material::Materials {
+            textures,
+            materials,
+            resolved,
+            ..
+        } = table;
+        Ok(Parsed {
+            asset,
+            notes,
+            textures,
+            materials,
+            resolved,
+        })
     }
-    notes.extend(names.note());
-    let mut scene = Scene {
-        source: path.to_path_buf(),
-        // Replaced by `place_camera` once the shapes (and so the bounds) are known.
-        camera: Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, camera::DEFAULT_FOV_DEG),
-        film: Film {
-            width: camera::FILM_HEIGHT,
-            height: camera::FILM_HEIGHT,
-        },
-        render: RenderSettings::default(),
-        textures: table.textures,
-        materials: table.materials,
-        shapes,
-        lights,
-        environment: None,
-    };
-    place_camera(&asset, &placed, &mut scene, &mut notes)?;
-    Ok(Loaded {
-        scene,
-        notes: notes.into_iter().collect(),
-    })
+
+    /// The asset placed by `to_world` (applied above its root nodes): its meshes built in
+    /// world space, its lights and cameras placed. Every placement shares the textures.
+    pub fn place(&self, to_world: Mat4) -> Result<Loaded, SceneError> {
+        let asset = &self.asset;
+        if !to_world.is_finite() {
+            return Err(SceneError::new(
+                &asset.file,
+                "the placement transform is not finite",
+            ));
+        }
+        let mut notes = self.notes.clone();
+        let placed = walk(asset, to_world)?;
+        let mut names = Names::default();
+        let (mut shapes, mut parts, mut lights) = (Vec::new(), Vec::new(), Vec::new());
+        for p in &placed {
+            for (shape, part) in node_shapes(asset, p, &self.resolved, &mut names, &mut notes)? {
+                shapes.push(shape);
+                parts.push(part);
+            }
+            if let Some(light) = p.node.light() {
+                let name = match light.name().or(p.node.name()) {
+                    Some(given) => names.named(given),
+                    None => names.unique(&format!("light{}", light.index())),
+                };
+                lights.push(light::convert(
+                    asset,
+                    &light,
+                    p.node.index(),
+                    &p.world,
+                    name,
+                    &mut notes,
+                )?);
+            }
+        }
+        notes.extend(names.note());
+        let cameras = find_cameras(asset, &placed, &mut notes)?;
+        let mut scene = Scene {
+            source: asset.file.clone(),
+            // Replaced by `place_camera` once the shapes (and so the bounds) are known.
+            camera: Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, camera::DEFAULT_FOV_DEG),
+            film: Film {
+                width: camera::FILM_HEIGHT,
+                height: camera::FILM_HEIGHT,
+            },
+            render: RenderSettings::default(),
+            textures: self.textures.clone(),
+            materials: self.materials.clone(),
+            shapes,
+            lights,
+            environment: None,
+            provenance: Provenance {
+                camera_aspect: cameras.first().and_then(|c| c.aspect),
+                ..Provenance::default()
+            },
+        };
+        place_camera(asset, cameras.first(), &mut scene)?;
+        Ok(Loaded {
+            scene,
+            notes: notes.into_iter().collect(),
+            parts,
+            cameras,
+        })
+    }
 }
 
 /// A node with its world matrix, in depth-first document order.
@@ -286,14 +390,15 @@ fn local_matrix(asset: &Asset, node: &::gltf::Node) -> Result<Mat4, SceneError> 
     }
 }
 
-/// The shapes of the mesh placed at `p` (none if it has no mesh or a singular transform).
+/// The shapes of the mesh placed at `p` with the glTF names behind each (none if it has no
+/// mesh or a singular transform); `resolved` holds the conversion of every material they use.
 fn node_shapes(
     asset: &Asset,
     p: &Placed,
-    table: &mut material::Materials,
+    resolved: &HashMap<Option<usize>, material::Resolved>,
     names: &mut Names,
     notes: &mut BTreeSet<String>,
-) -> Result<Vec<Shape>, SceneError> {
+) -> Result<Vec<(Shape, Part)>, SceneError> {
     let Some(gmesh) = p.node.mesh() else {
         return Ok(Vec::new());
     };
@@ -316,7 +421,13 @@ fn node_shapes(
     };
     let mut shapes = Vec::new();
     for prim in gmesh.primitives() {
-        let r = table.resolve(&prim.material(), notes)?;
+        let gmaterial = prim.material();
+        let r = resolved.get(&gmaterial.index()).ok_or_else(|| {
+            asset.err(
+                format!("meshes[{}].primitives[{}].material", gmesh.index(), prim.index()),
+                "the material was not converted when the asset was read (a loader bug; please report the file)",
+            )
+        })?;
         let needs = mesh::Needs {
             uv_set: r.uv_set,
             normal_map: r.normal_map.is_some(),
@@ -350,28 +461,29 @@ fn node_shapes(
             notes.insert(format!("{field}: every triangle has zero area; skipped"));
             continue;
         }
-        shapes.push(Shape {
+        let shape = Shape {
             name: names.unique(&format!("{base}/{}", prim.index())),
             geometry,
             material: r.material,
-            emission: r.emission,
-            normal_map: r.normal_map,
+            emission: r.emission.clone(),
+            normal_map: r.normal_map.clone(),
             displacement: None,
-        });
+        };
+        let part = Part {
+            node: p.node.name().map(str::to_string),
+            mesh: gmesh.name().map(str::to_string),
+            material: gmaterial.name().map(str::to_string),
+        };
+        shapes.push((shape, part));
     }
     Ok(shapes)
 }
 
 /// Sets the scene's camera and film: the file's first perspective camera, else a framing
 /// of the scene's bounds.
-fn place_camera(
-    asset: &Asset,
-    placed: &[Placed],
-    scene: &mut Scene,
-    notes: &mut BTreeSet<String>,
-) -> Result<(), SceneError> {
-    let (cam, film) = match find_camera(asset, placed, notes)? {
-        Some(found) => found,
+fn place_camera(asset: &Asset, first: Option<&AssetCamera>, scene: &mut Scene) -> Result<(), SceneError> {
+    let (cam, film) = match first {
+        Some(c) => (c.camera, c.film),
         None => {
             let (center, radius) = scene.bounding_sphere();
             if !(center.is_finite() && radius.is_finite()) {
@@ -387,13 +499,15 @@ fn place_camera(
     Ok(())
 }
 
-/// The first perspective camera in walk order; an error if only orthographic ones are placed.
-fn find_camera(
+/// Every placed perspective camera in walk order; an error if only orthographic ones are
+/// placed.
+fn find_cameras(
     asset: &Asset,
     placed: &[Placed],
     notes: &mut BTreeSet<String>,
-) -> Result<Option<(Camera, Film)>, SceneError> {
+) -> Result<Vec<AssetCamera>, SceneError> {
     let mut orthographic = None;
+    let mut found = Vec::new();
     for p in placed {
         let Some(cam) = p.node.camera() else { continue };
         match cam.projection() {
@@ -404,7 +518,13 @@ fn find_camera(
                         p.node.index()
                     ));
                 }
-                return camera::from_node(asset, &persp, cam.index(), p.node.index(), &p.world).map(Some);
+                let (camera, film) = camera::from_node(asset, &persp, cam.index(), p.node.index(), &p.world)?;
+                found.push(AssetCamera {
+                    names: [cam.name(), p.node.name()].map(|n| n.map(str::to_string)),
+                    camera,
+                    film,
+                    aspect: persp.aspect_ratio(),
+                });
             }
             ::gltf::camera::Projection::Orthographic(_) => {
                 orthographic.get_or_insert(cam.index());
@@ -412,12 +532,12 @@ fn find_camera(
         }
     }
     match orthographic {
-        Some(i) => Err(asset
+        Some(i) if found.is_empty() => Err(asset
             .err(
                 format!("cameras[{i}].orthographic"),
                 "orthographic cameras are not supported",
             )
             .hint("add a perspective camera, or remove the camera to get the default framing")),
-        None => Ok(None),
+        _ => Ok(found),
     }
 }

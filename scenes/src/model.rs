@@ -88,6 +88,21 @@ pub struct Scene {
     pub lights: Vec<Light>,
     /// Distant environment, if any.
     pub environment: Option<Environment>,
+    /// What loading took from the files beyond the model, or changed in them.
+    pub provenance: Provenance,
+}
+
+/// What loading took from a scene's files beyond the model, or changed in them, for the
+/// command line's notes and the renderers' EXR headers.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Provenance {
+    /// The aspect ratio (width / height) the camera was made for: a glTF camera's
+    /// `aspectRatio`. A film of another shape keeps the vertical field of view.
+    pub camera_aspect: Option<f32>,
+    /// Environment-map texels whose negative components were set to 0
+    /// (`[environment] negative = "clamp"`); the EXR headers of both renderers carry it as
+    /// `environment_clamped_texels` when it is not 0.
+    pub clamped_environment_texels: u64,
 }
 
 /// Pinhole camera (docs/ARCHITECTURE.md "Camera"): `to_world` maps the camera frame (looking down −Z,
@@ -143,6 +158,16 @@ pub struct Film {
     pub width: u32,
     /// Height in pixels (1..=16384).
     pub height: u32,
+}
+
+impl Film {
+    /// Whether the film has the shape `aspect` (width / height) up to the rounding of one
+    /// side to whole pixels: width = round(height·aspect), or height = round(width / aspect).
+    pub fn fits_aspect(&self, aspect: f32) -> bool {
+        let (w, h) = (f64::from(self.width), f64::from(self.height));
+        let a = f64::from(aspect);
+        (w - h * a).abs() <= 0.5 || (h - w / a).abs() <= 0.5
+    }
 }
 
 /// Which light-transport quantity the oracle computes (docs/ARCHITECTURE.md "Ground truth").
@@ -488,6 +513,13 @@ impl Light {
             Light::Point { name, .. } | Light::Spot { name, .. } | Light::Directional { name, .. } => name,
         }
     }
+
+    /// The light's name, to change it.
+    pub fn name_mut(&mut self) -> &mut String {
+        match self {
+            Light::Point { name, .. } | Light::Spot { name, .. } | Light::Directional { name, .. } => name,
+        }
+    }
 }
 
 /// Distant environment (docs/ARCHITECTURE.md "Environment map"): equirectangular, Mitsuba's `envmap`
@@ -564,21 +596,34 @@ pub fn equirect_direction(uv: Vec2) -> Vec3 {
 impl Scene {
     /// Appends another scene's textures, materials, shapes and lights, re-indexing its
     /// references; keeps this scene's camera, film, settings and environment (a TOML file
-    /// that includes a glTF file adds camera, lights and environment around it).
+    /// that includes a glTF file adds camera, lights and environment around it). A texture
+    /// both scenes hold (the same `Arc`: an asset included twice) is kept once.
     pub fn merge(&mut self, other: Scene) {
-        let tex_off = self.textures.len();
         let mat_off = self.materials.len();
+        let held: std::collections::HashMap<*const Texture, usize> = self
+            .textures
+            .iter()
+            .enumerate()
+            .map(|(i, t)| (Arc::as_ptr(t), i))
+            .collect();
+        let mut tex_index = Vec::with_capacity(other.textures.len());
+        for t in other.textures {
+            tex_index.push(held.get(&Arc::as_ptr(&t)).copied().unwrap_or_else(|| {
+                self.textures.push(t);
+                self.textures.len() - 1
+            }));
+        }
+        let fix = |texture: &mut usize| *texture = tex_index[*texture];
         let fix_rgb = |t: &mut TexRgb| {
             if let TexRgb::Image { texture, .. } = t {
-                *texture += tex_off;
+                fix(texture);
             }
         };
         let fix_scalar = |t: &mut TexScalar| {
             if let TexScalar::Image { texture, .. } = t {
-                *texture += tex_off;
+                fix(texture);
             }
         };
-        self.textures.extend(other.textures);
         for mut m in other.materials {
             match &mut m {
                 Material::Diffuse { albedo } => fix_rgb(albedo),
@@ -610,10 +655,10 @@ impl Scene {
                 fix_rgb(&mut e.radiance);
             }
             if let Some(n) = &mut s.normal_map {
-                n.texture += tex_off;
+                fix(&mut n.texture);
             }
             if let Some(d) = &mut s.displacement {
-                d.texture += tex_off;
+                fix(&mut d.texture);
             }
             self.shapes.push(s);
         }
@@ -621,7 +666,7 @@ impl Scene {
         if self.environment.is_none() {
             if let Some(mut env) = other.environment {
                 if let Environment::Map { texture, .. } = &mut env {
-                    *texture += tex_off;
+                    fix(texture);
                 }
                 self.environment = Some(env);
             }

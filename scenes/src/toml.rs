@@ -24,7 +24,7 @@ use std::path::Path;
 use read::{Ctx, Field, Table};
 
 use crate::budget::Ledger;
-use crate::{Scene, SceneError};
+use crate::{Provenance, Scene, SceneError};
 
 /// Top-level sections of a scene file.
 const SECTIONS: &[&str] = &[
@@ -174,6 +174,7 @@ fn from_tree(ctx: &Ctx, root: &tree::Node, ledger: &Ledger) -> Result<Scene, Sce
         shapes,
         lights: lights.into_iter().map(|(l, _)| l).collect(),
         environment,
+        provenance: Provenance::default(),
     };
     if let Some(list) = doc.get("include") {
         for t in list.tables()? {

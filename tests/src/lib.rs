@@ -25,6 +25,7 @@ pub fn empty_scene(camera: Camera, width: u32, height: u32) -> Scene {
         shapes: Vec::new(),
         lights: Vec::new(),
         environment: None,
+        provenance: Default::default(),
     }
 }
 

@@ -273,6 +273,7 @@ mod tests {
             shapes,
             lights,
             environment,
+            provenance: Default::default(),
         }
     }
 

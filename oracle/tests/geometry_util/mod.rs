@@ -86,6 +86,7 @@ pub fn scene(shapes: Vec<Shape>) -> Scene {
         shapes,
         lights: Vec::new(),
         environment: None,
+        provenance: Default::default(),
     }
 }
 

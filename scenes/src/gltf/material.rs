@@ -56,7 +56,8 @@ pub(super) struct Materials<'a> {
     pub textures: Vec<Arc<Texture>>,
     /// Scene materials built so far.
     pub materials: Vec<Material>,
-    resolved: HashMap<Option<usize>, Resolved>,
+    /// How each glTF material (`None`: the default material) converted.
+    pub resolved: HashMap<Option<usize>, Resolved>,
     /// (glTF texture index, is sRGB) → scene texture index.
     slots: HashMap<(usize, bool), usize>,
     /// Decoded images by glTF image index.

@@ -618,6 +618,7 @@ pub(in crate::technique::shadow) mod tests {
                 .collect(),
             lights,
             environment: None,
+            provenance: Default::default(),
         }
     }
 
