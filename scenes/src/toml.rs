@@ -8,6 +8,8 @@
 //! material names and missing or unreadable files are all errors; nothing panics.
 
 mod displacement;
+mod glob;
+mod include;
 mod inputs;
 mod lights;
 mod materials;
@@ -18,13 +20,14 @@ mod shapes;
 mod transform;
 pub mod tree;
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
-use read::{Ctx, Field, Table};
+use glam::Vec3;
+use read::{Ctx, Field};
 
 use crate::budget::Ledger;
-use crate::{Provenance, Scene, SceneError};
+use crate::{Camera, Provenance, Scene, SceneError};
 
 /// Top-level sections of a scene file.
 const SECTIONS: &[&str] = &[
@@ -150,7 +153,13 @@ fn from_tree(ctx: &Ctx, root: &tree::Node, ledger: &Ledger) -> Result<Scene, Sce
     doc.only(SECTIONS, "a scene file")?;
     let section = |key: &str| doc.get(key).map(|f| f.table()).transpose();
 
-    let camera = settings::camera(&doc.req("camera")?.table()?)?;
+    let camera_table = section("camera")?;
+    let camera = match &camera_table {
+        Some(t) => Some(settings::camera(t)?),
+        // An include may give the camera (`camera = true`); else the table is missing.
+        None if include::asks_for_camera(&doc)? => None,
+        None => Some(settings::camera(&doc.req("camera")?.table()?)?),
+    };
     let film = settings::film(section("film")?)?;
     let render = settings::render(section("render")?)?;
     let mut textures = inputs::Textures::new(ledger);
@@ -166,8 +175,9 @@ fn from_tree(ctx: &Ctx, root: &tree::Node, ledger: &Ledger) -> Result<Scene, Sce
     let shapes = names.assign(ctx, drafts, &lights)?;
     let mut scene = Scene {
         source: path.to_path_buf(),
-        camera,
-        film,
+        // Until an include gives the camera (`camera` is `None` only when one asks to).
+        camera: camera.unwrap_or(Camera::look_at(Vec3::Z, Vec3::ZERO, Vec3::Y, 45.0)),
+        film: film.resolve(None)?,
         render,
         textures: textures.list,
         materials,
@@ -176,10 +186,19 @@ fn from_tree(ctx: &Ctx, root: &tree::Node, ledger: &Ledger) -> Result<Scene, Sce
         environment,
         provenance: Provenance::default(),
     };
+    let mut includes = include::Includes::new(ledger, &material_names, camera_table.as_ref());
     if let Some(list) = doc.get("include") {
         for t in list.tables()? {
-            include(&t, &mut scene, &mut names, ledger)?;
+            includes.include(&t, &mut scene, &mut names)?;
         }
+    }
+    if let Some(asset) = includes.camera() {
+        scene.camera = asset.camera;
+        scene.film = film.resolve(Some(asset))?;
+        scene.provenance.camera_aspect = asset.aspect;
+    } else if camera.is_none() {
+        // Every include that asked for the camera is disabled or says `camera = false`.
+        doc.req("camera")?;
     }
     Ok(scene)
 }
@@ -189,6 +208,11 @@ fn from_tree(ctx: &Ctx, root: &tree::Node, ledger: &Ledger) -> Result<Scene, Sce
 struct Names {
     /// Name → where it was defined ("shape on line 12").
     used: HashMap<String, String>,
+    /// The names included assets brought, which a later include may share (see
+    /// [`Names::included`]).
+    included: HashSet<String>,
+    /// Per included name, the next `#k` suffix to try.
+    next: HashMap<String, u64>,
 }
 
 impl Names {
@@ -255,69 +279,28 @@ impl Names {
         }
         Ok(())
     }
-}
 
-/// `[[include]] file = "model.glb"`: loads a glTF asset and appends its materials, shapes
-/// and lights; the scene file's camera, film, render settings and environment win. With
-/// `displacement = { … }` every mesh of the asset is displaced (each needs uvs and normals).
-/// The asset reads files inside its own folder or the scene file's
-/// ([`crate::access`]), anywhere with `allow_paths_outside = true`; its allocations are
-/// charged to `ledger`.
-fn include(t: &Table, scene: &mut Scene, names: &mut Names, ledger: &Ledger) -> Result<(), SceneError> {
-    t.only(
-        &["file", "displacement", "enabled", "allow_paths_outside"],
-        "an include",
-    )?;
-    if !t.bool_or("enabled", true)? {
-        return Ok(());
-    }
-    let file = t.req("file")?;
-    let path = file.ctx.resolve(file.str()?);
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    if !matches!(ext.as_deref(), Some("gltf" | "glb")) {
-        return Err(file
-            .err(format!("cannot include {}", path.display()))
-            .hint("includes are glTF 2.0 assets (.gltf or .glb)"));
-    }
-    file.input_file(&path)?;
-    let options = crate::gltf::Options {
-        also_inside: file.ctx.file.parent().map(Path::to_path_buf),
-        allow_paths_outside: t.bool_or("allow_paths_outside", false)?,
-        ..crate::gltf::Options::new(ledger)
-    };
-    let loaded = crate::gltf::load_with_options(&path, &options).map_err(|e| {
-        if e.hint.is_some() {
-            e
-        } else {
-            let line = file.line.map(|l| format!(":{l}")).unwrap_or_default();
-            let origin = format!("included from {}{line} ({})", file.ctx.file.display(), file.path);
-            e.hint(origin)
-        }
-    })?;
-    loaded.print_notes();
-    let included = loaded.scene;
-    let added = included
-        .shapes
-        .iter()
-        .map(|s| ("shape", s.name.as_str()))
-        .chain(included.lights.iter().map(|l| ("light", l.name())));
-    for (what, name) in added {
-        let here = format!("{what} from {}", path.display());
-        if let Some(first) = names.used.insert(name.to_string(), here) {
-            return Err(file
-                .err(format!(
+    /// Claims the name of a shape or light (`what`) an included asset brings, described by
+    /// `here` ("shape from model.glb"): the name itself or, when an earlier include brought it
+    /// (the same asset included twice), `name#2`, `name#3`, … as the glTF loader makes names
+    /// unique within one file. A name the scene file itself gives is not shared: the message
+    /// says whose it is.
+    fn included(&mut self, what: &str, name: &str, here: String) -> Result<String, String> {
+        let mut unique = name.to_string();
+        if let Some(first) = self.used.get(name) {
+            if !self.included.contains(name) {
+                return Err(format!(
                     "the included {what} \"{name}\" has the same name as {first}"
-                ))
-                .hint("shapes and lights share one namespace; rename one of them"));
+                ));
+            }
+            let next = self.next.entry(name.to_string()).or_insert(2);
+            while self.used.contains_key(&unique) {
+                unique = format!("{name}#{next}");
+                *next += 1;
+            }
         }
+        self.used.insert(unique.clone(), here);
+        self.included.insert(unique.clone());
+        Ok(unique)
     }
-    let first_new = scene.shapes.len();
-    scene.merge(included);
-    if let Some(d) = t.get("displacement") {
-        displacement::include(&d, scene, first_new, ledger)?;
-    }
-    Ok(())
 }

@@ -4,6 +4,7 @@ use glam::Vec3;
 
 use super::inputs::{rgb_const, Bound, Textures};
 use super::read::{Field, Table};
+use crate::gltf::AssetCamera;
 use crate::model::{Camera, Environment, Film, IntegratorKind, RenderSettings, SamplerKind, WrapMode};
 use crate::pixel_filter::PixelFilter;
 use crate::texture::ColorSpace;
@@ -99,35 +100,94 @@ pub(crate) fn camera(t: &Table) -> Result<Camera, SceneError> {
     Ok(Camera::look_at(eye, target, up, fov))
 }
 
-/// `[film]`: width, height (pixels, default 256 each).
-pub(crate) fn film(t: Option<Table>) -> Result<Film, SceneError> {
+/// `[film]` as written: the sides it gives, each checked, with its field;
+/// [`FilmSides::resolve`] makes the film once the camera is known.
+pub(crate) struct FilmSides<'a> {
+    width: Option<(u32, Field<'a>)>,
+    height: Option<(u32, Field<'a>)>,
+}
+
+/// `[film]`: width, height (pixels, default 256 each; see [`FilmSides::resolve`]).
+pub(crate) fn film(t: Option<Table>) -> Result<FilmSides, SceneError> {
     let Some(t) = t else {
-        return Ok(Film {
-            width: DEFAULT_SIDE,
-            height: DEFAULT_SIDE,
+        return Ok(FilmSides {
+            width: None,
+            height: None,
         });
     };
     t.only(&["width", "height"], "the film")?;
-    let side = |key: &str| -> Result<u32, SceneError> {
-        match t.get(key) {
-            Some(f) => {
-                let v = f.i64()?;
-                if (1..=MAX_SIDE).contains(&v) {
-                    Ok(v as u32)
-                } else {
-                    Err(f
-                        .err(format!("must be in 1..={MAX_SIDE} pixels, got {v}"))
-                        .hint("render large images in tiles or lower the resolution"))
-                }
-            }
-            None => Ok(DEFAULT_SIDE),
+    let side = |key: &str| -> Result<Option<(u32, Field)>, SceneError> {
+        let Some(f) = t.get(key) else { return Ok(None) };
+        let v = f.i64()?;
+        if (1..=MAX_SIDE).contains(&v) {
+            Ok(Some((v as u32, f)))
+        } else {
+            Err(f
+                .err(format!("must be in 1..={MAX_SIDE} pixels, got {v}"))
+                .hint("render large images in tiles or lower the resolution"))
         }
     };
     let (width, height) = (side("width")?, side("height")?);
-    if u64::from(width) * u64::from(height) > MAX_PIXELS {
-        return Err(t.err(format!("{width}×{height} pixels is more than 2^28")));
+    // Only two given sides can exceed it: one side and the default (or an aspect) stay within
+    // 16384² = 2^28.
+    if let (Some((w, _)), Some((h, _))) = (&width, &height) {
+        if u64::from(*w) * u64::from(*h) > MAX_PIXELS {
+            return Err(t.err(format!("{w}×{h} pixels is more than 2^28")));
+        }
     }
-    Ok(Film { width, height })
+    Ok(FilmSides { width, height })
+}
+
+impl FilmSides<'_> {
+    /// The film. Under the scene file's own camera: the sides given, 256 for each left out.
+    /// Under an included asset's camera (`[[include]] camera`) with an `aspectRatio` a:
+    /// without `[film]` sides, the asset's own film (512 high, width round(512·a)); with one
+    /// side, the other is round(width / a) or round(height·a); with both, they must have the
+    /// aspect a up to rounding ([`Film::fits_aspect`]) or it is an error. An asset camera
+    /// without `aspectRatio` (glTF: the viewport's aspect is used) takes the sides given, or
+    /// the asset's square film when none are.
+    pub fn resolve(&self, asset: Option<&AssetCamera>) -> Result<Film, SceneError> {
+        let given = |s: &Option<(u32, Field)>| s.as_ref().map(|(v, _)| *v);
+        let (w, h) = (given(&self.width), given(&self.height));
+        let aspect = asset.and_then(|c| c.aspect);
+        let (width, height) = match (asset, aspect, &self.width, &self.height) {
+            (Some(c), _, None, None) => (c.film.width, c.film.height),
+            (_, Some(a), Some((w, f)), None) => (*w, follow(f, "height", f64::from(*w) / f64::from(a), a)?),
+            (_, Some(a), None, Some((h, f))) => (follow(f, "width", f64::from(*h) * f64::from(a), a)?, *h),
+            (_, Some(a), Some((w, _)), Some((h, f))) => {
+                if !(Film {
+                    width: *w,
+                    height: *h,
+                })
+                .fits_aspect(a)
+                {
+                    return Err(f
+                        .err(format!(
+                            "{w}×{h} pixels has the aspect ratio {:.4}, but the included camera's aspectRatio is {a}",
+                            f64::from(*w) / f64::from(*h)
+                        ))
+                        .hint("give only `width` (the height follows the camera's aspect ratio) or only `height`"));
+                }
+                (*w, *h)
+            }
+            _ => (w.unwrap_or(DEFAULT_SIDE), h.unwrap_or(DEFAULT_SIDE)),
+        };
+        Ok(Film { width, height })
+    }
+}
+
+/// The film side `key` that the camera's aspect ratio `a` makes from the side `given`:
+/// round(`exact`), which must lie in 1..=16384.
+fn follow(given: &Field, key: &str, exact: f64, a: f32) -> Result<u32, SceneError> {
+    let side = exact.round();
+    if (1.0..=MAX_SIDE as f64).contains(&side) {
+        return Ok(side as u32);
+    }
+    Err(given
+        .err(format!(
+            "with the included camera's aspectRatio {a}, it makes the film {key} {side}, outside 1..={MAX_SIDE}"
+        ))
+        .hint("give the other side instead"))
 }
 
 /// `[render]`: spp, integrator, max_depth, rr_depth, seed, ao_radius, sampler, pixel_filter

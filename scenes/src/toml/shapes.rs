@@ -166,7 +166,7 @@ fn displaced(
 }
 
 /// `material = "name"` → index.
-fn material_index(f: &Field, materials: &HashMap<String, usize>) -> Result<usize, SceneError> {
+pub(crate) fn material_index(f: &Field, materials: &HashMap<String, usize>) -> Result<usize, SceneError> {
     let name = f.str()?;
     if let Some(&i) = materials.get(name) {
         return Ok(i);
