@@ -140,6 +140,126 @@ fn cli_render_tiny_cornell_box() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// `--pixel-filter box` renders exactly what the default renders (the box filter, unchanged);
+/// `centre` (or `center`) with `--ssaa K` is recorded in the header, and its coverage takes
+/// only the K² + 1 levels of K×K sub-pixel centres.
+#[test]
+fn cli_render_pixel_filter_flags() {
+    let dir = test_dir("pixel-filter");
+    let scene = cornell_box();
+    let render = |name: &str, extra: &[&str]| {
+        let out_arg = dir.join(name).display().to_string();
+        let mut args = vec!["render", &scene, "--resolution", "12x10", "--spp", "8", "-q"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--out", &out_arg]);
+        let out = verity_in(&dir, &args);
+        assert_success(&out, name);
+        (LayeredImage::read_exr(dir.join(name)).unwrap(), text(&out.stderr))
+    };
+    let (default, _) = render("default.exr", &[]);
+    let (boxed, _) = render("box.exr", &["--pixel-filter", "box"]);
+    assert_eq!(
+        default.channels, boxed.channels,
+        "--pixel-filter box is the default"
+    );
+    for img in [&default, &boxed] {
+        assert_eq!(img.attribute("pixel_filter"), Some("box"));
+        assert_eq!(img.attribute("subpixels"), None);
+    }
+    let (centre, _) = render("centre.exr", &["--pixel-filter", "center"]);
+    assert_eq!(centre.attribute("pixel_filter"), Some("centre"));
+    assert_eq!(centre.attribute("subpixels"), None);
+    let coverage = centre.channel("coverage.Y").unwrap();
+    assert!(coverage.iter().all(|c| *c == 0.0 || *c == 1.0), "{coverage:?}");
+
+    let out_arg = dir.join("k2.exr").display().to_string();
+    let out = verity_in(
+        &dir,
+        &[
+            "render",
+            &scene,
+            "--resolution",
+            "12x10",
+            "--spp",
+            "8",
+            "--pixel-filter",
+            "centre",
+            "--ssaa",
+            "2",
+            "--out",
+            &out_arg,
+        ],
+    );
+    assert_success(&out, "centre 2x2");
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr
+            .lines()
+            .next()
+            .unwrap()
+            .contains(", 8 spp, pixel filter centre 2x2 -> "),
+        "{stderr}"
+    );
+    let k2 = LayeredImage::read_exr(dir.join("k2.exr")).unwrap();
+    assert_eq!(
+        (k2.attribute("pixel_filter"), k2.attribute("subpixels")),
+        (Some("centre"), Some("2x2"))
+    );
+    let coverage = k2.channel("coverage.Y").unwrap();
+    assert!(coverage.iter().all(|c| (c * 4.0).fract() == 0.0), "{coverage:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A bad `--pixel-filter` is clap's usage error; `--ssaa` without the centre filter and a
+/// sample count the K×K centres cannot share are one-line input errors (exit 2) that write
+/// nothing.
+#[test]
+fn cli_render_refuses_bad_pixel_filter_input() {
+    let dir = test_dir("pixel-filter-bad");
+    let scene = cornell_box();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["render", &scene, "--resolution", "8x8", "--out", "x.exr"];
+        args.extend_from_slice(extra);
+        verity_in(&dir, &args)
+    };
+    let out = run(&["--pixel-filter", "gauss"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains("invalid value 'gauss' for '--pixel-filter <FILTER>'")
+            && stderr.contains("box, centre"),
+        "{stderr}"
+    );
+    for (extra, expected) in [
+        (
+            &["--spp", "4", "--ssaa", "2"][..],
+            "error: --ssaa 2: sub-pixel centres need the centre pixel filter, and this render's is box",
+        ),
+        (
+            &["--spp", "6", "--pixel-filter", "centre", "--ssaa", "2"][..],
+            "error: --spp: 6 spp is not a multiple of 4, the centre pixel filter's 2x2 sub-pixel centres \
+             (each takes the same number of samples); use 4 or 8 spp",
+        ),
+        (
+            // The scene's own spp (64) is not a multiple of 9.
+            &["--pixel-filter", "centre", "--ssaa", "3"][..],
+            "the scene's spp: 64 spp is not a multiple of 9",
+        ),
+    ] {
+        let out = run(extra);
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert!(stderr.contains(expected), "{extra:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{extra:?}: one line: {stderr}");
+    }
+    assert!(
+        entries(&dir).is_empty(),
+        "nothing is written: {:?}",
+        entries(&dir)
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn cli_render_default_output_and_overrides() {
     let dir = test_dir("default-out");

@@ -302,6 +302,69 @@ fn study_files_are_checked_whole_with_located_errors() {
     }
 }
 
+/// `[ground_truth] pixel_filter`: `box` by default and never the scene file's; `centre` (or
+/// `center`) takes the study's `[raster] ssaa` K; an unknown value, and a sample count the K×K
+/// centres cannot share evenly, are errors at their fields.
+#[test]
+fn ground_truth_pixel_filter_is_read_and_checked() {
+    use scenes::PixelFilter;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/studies/test-bad.toml");
+    let with = |filter: &str, spp: u32, rest: &str| {
+        GOOD.replace("spp = 16", &format!("spp = {spp}\npixel_filter = \"{filter}\""))
+            .replacen("[[method]]", &format!("{rest}[[method]]"), 1)
+    };
+    let plain = compare::study::load_str(GOOD, &path).unwrap();
+    assert_eq!(plain.ground_truth_filter(), PixelFilter::Box);
+    // The scene file's own filter does not change the study's ground truth.
+    let scene_centre = GOOD.replacen(
+        "[ground_truth]",
+        "[scene_set]\n\"render.pixel_filter\" = \"centre\"\n[ground_truth]",
+        1,
+    );
+    let s = compare::study::load_str(&scene_centre, &path).unwrap();
+    let (scene, settings) = compare::study::setup::prepare(&s, true, &s.scene_points()[0].overrides).unwrap();
+    assert_eq!(scene.render.pixel_filter, PixelFilter::Centre { ssaa: 1 });
+    assert_eq!(settings.pixel_filter, PixelFilter::Box);
+
+    let k1 = compare::study::load_str(&with("center", 10, ""), &path).unwrap();
+    assert_eq!(k1.ground_truth.pixel_filter, PixelFilter::Centre { ssaa: 1 });
+    assert_eq!(k1.ground_truth_filter(), PixelFilter::Centre { ssaa: 1 });
+    let k2 = compare::study::load_str(
+        &with("centre", 16, "[raster]\nssaa = 2\n[quick]\nspp = 4\n"),
+        &path,
+    )
+    .unwrap();
+    assert_eq!(k2.ground_truth_filter(), PixelFilter::Centre { ssaa: 2 });
+    let (_, settings) = compare::study::setup::prepare(&k2, true, &[]).unwrap();
+    assert_eq!(
+        (settings.pixel_filter, settings.spp),
+        (PixelFilter::Centre { ssaa: 2 }, 4)
+    );
+    // The box filter needs no split.
+    compare::study::load_str(&with("box", 10, "[raster]\nssaa = 2\n"), &path).unwrap();
+
+    let cases = [
+        (
+            with("gauss", 16, ""),
+            "test-bad.toml:5: field `ground_truth.pixel_filter`: unknown value \"gauss\" (hint: use one of `box`, `centre`, `center`",
+        ),
+        (
+            with("centre", 10, "[raster]\nssaa = 2\n"),
+            "test-bad.toml:4: field `ground_truth.spp`: 10 spp is not a multiple of 4, the centre pixel filter's 2x2 \
+             sub-pixel centres (each takes the same number of samples); use 8 or 12 spp (hint: [raster] ssaa",
+        ),
+        (
+            with("centre", 16, "[raster]\nssaa = 2\n[quick]\nresolution = [8, 8]\nspp = 6\n"),
+            "test-bad.toml:10: field `quick.spp`: 6 spp is not a multiple of 4",
+        ),
+    ];
+    for (text, want) in cases {
+        let e = study_error(&text);
+        assert!(e.contains(want), "expected `{want}` in: {e}");
+        assert_eq!(e.lines().count(), 1, "{e}");
+    }
+}
+
 /// A study over the soft-shadow scene with a scene sweep of its light's size.
 const SWEPT: &str = r#"scene = "../soft-shadow.toml"
 [scene_sweep]

@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 
 use compare::progress::ProgressMode;
 use compare::study::cache::{corrupt_note, Entry, Lookup};
-use compare::study::run::{ground_truth, RunOptions};
+use compare::study::run::{ground_truth, ground_truth_hash, RunOptions};
 use scenes::layered::LayeredImage;
-use scenes::{Film, RenderSettings, Scene};
+use scenes::{Film, PixelFilter, RenderSettings, Scene};
 use sha2::{Digest, Sha256};
 
 fn test_dir(name: &str) -> PathBuf {
@@ -144,4 +144,47 @@ fn ground_truth_cache_note_names_the_entry_and_the_reason() {
          rendering the ground truth again"
     );
     assert!(matches!(entry.read(), Lookup::Missing));
+}
+
+/// The pixel filter and its sub-pixel grid are part of the cache key: a box ground truth is
+/// never reused for a centre one, nor a centre one for another K; each is rendered with its own
+/// filter (the EXR header says which) and found again under its own key.
+#[test]
+fn ground_truth_cache_keys_the_pixel_filter() {
+    let dir = test_dir("pixel-filter");
+    let (scene, settings) = tiny_scene();
+    let opts = options(&dir);
+    let filters = [
+        PixelFilter::Box,
+        PixelFilter::Centre { ssaa: 1 },
+        PixelFilter::Centre { ssaa: 2 },
+    ];
+    let mut hashes = Vec::new();
+    for filter in filters {
+        let s = RenderSettings {
+            spp: 4,
+            pixel_filter: filter,
+            ..settings
+        };
+        let (img, info) = ground_truth(&scene, s, &opts, "ground_truth").unwrap();
+        assert!(!info.cached, "{filter:?} was served another filter's entry");
+        assert_eq!(info.hash, ground_truth_hash(&scene, &s));
+        assert_eq!(info.pixel_filter, filter.describe());
+        assert_eq!(img.attribute("pixel_filter"), Some(filter.name()));
+        hashes.push(info.hash);
+    }
+    assert_eq!(filters.map(|f| f.describe()), ["box", "centre", "centre 2x2"]);
+    for filter in filters {
+        let s = RenderSettings {
+            spp: 4,
+            pixel_filter: filter,
+            ..settings
+        };
+        let (_, info) = ground_truth(&scene, s, &opts, "ground_truth").unwrap();
+        assert!(info.cached, "{filter:?} is found again");
+    }
+    hashes.sort();
+    hashes.dedup();
+    assert_eq!(hashes.len(), 3, "one key per filter");
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -8,7 +8,7 @@ use glam::{Vec2, Vec3, Vec4};
 use scenes::texture::Texture;
 use scenes::{
     Camera, Displacement, Emission, Environment, Film, Geometry, IntegratorKind, Light, Masking, Material,
-    Mesh, NormalMap, RenderSettings, Scene, Shape, TexRgb, TexScalar, WrapMode,
+    Mesh, NormalMap, PixelFilter, RenderSettings, Scene, Shape, TexRgb, TexScalar, WrapMode,
 };
 
 fn scene(materials: Vec<Material>, shapes: Vec<Shape>) -> Scene {
@@ -491,6 +491,10 @@ fn refusals_of_shapes_lights_textures_and_integrators() {
         reflectance: Vec3::ONE,
     };
     assert!(refusal(&s).contains("integrator `direct`: ours follows perfect-specular chains"));
+
+    let mut s = base();
+    s.render.pixel_filter = PixelFilter::Centre { ssaa: 2 };
+    assert!(refusal(&s).contains("pixel_filter `centre`: only the box pixel filter is exported"));
 }
 
 #[test]

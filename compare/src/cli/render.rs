@@ -5,6 +5,9 @@
 //! and no `--spp`, the scene's spp no longer bounds it (only [`SPP_CAP`] does).
 //! Checkpoints go to `<out>.checkpoint` every 60 s by default (so renders shorter than a
 //! minute never write one); the oracle removes it when the render finishes.
+//! `--pixel-filter centre` sends every sample through the pixel centre, or with `--ssaa K`
+//! through the K×K sub-pixel centres a rasteriser samples (oracle/src/pixel_filter.rs); the
+//! sample count must then be a multiple of K².
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -12,7 +15,7 @@ use std::time::Duration;
 use clap::{Args, ValueEnum};
 use oracle::{CheckpointConfig, Progress, RenderJob, RenderResult, StopRule};
 use scenes::budget::Ledger;
-use scenes::{Film, IntegratorKind, RenderSettings, SamplerKind, Scene};
+use scenes::{Film, IntegratorKind, PixelFilter, RenderSettings, SamplerKind, Scene};
 
 use super::args::{
     exr_output, load_scene_in, over_budget, parse_exposure, parse_max_depth, parse_resolution, parse_spp,
@@ -64,6 +67,17 @@ pub struct RenderArgs {
     /// [default: the scene's].
     #[arg(long, value_enum)]
     pub sampler: Option<SamplerArg>,
+
+    /// Where each sample's ray crosses its pixel: anywhere in the pixel square (box, the
+    /// pixel-area integral), or through the pixel centre as a rasteriser samples (centre)
+    /// [default: the scene's].
+    #[arg(long, value_enum, value_name = "FILTER")]
+    pub pixel_filter: Option<PixelFilterArg>,
+
+    /// With the centre pixel filter: average the K×K sub-pixel centres that `verity raster
+    /// --ssaa K` samples, K in 1..=16 (the sample count must be a multiple of K²).
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(1..=i64::from(realtime::settings::MAX_SSAA)))]
+    pub ssaa: Option<u32>,
 
     /// Image size, e.g. 640x480, each side in 1..=16384 [default: the scene's].
     #[arg(long, value_name = "WxH", value_parser = parse_resolution)]
@@ -140,13 +154,32 @@ impl From<SamplerArg> for SamplerKind {
     }
 }
 
+/// `--pixel-filter` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum PixelFilterArg {
+    /// Jittered over the pixel square: the pixel-area integral.
+    Box,
+    /// Through the pixel centre (with --ssaa K, the K×K sub-pixel centres).
+    #[value(alias = "center")]
+    Centre,
+}
+
+impl From<PixelFilterArg> for PixelFilter {
+    fn from(a: PixelFilterArg) -> Self {
+        match a {
+            PixelFilterArg::Box => PixelFilter::Box,
+            PixelFilterArg::Centre => PixelFilter::Centre { ssaa: 1 },
+        }
+    }
+}
+
 /// Runs `verity render`; `command_line` goes into the EXR header.
 pub fn run(args: &RenderArgs, command_line: &str) -> Result<(), CliError> {
     let out = output_path(args)?;
     let checkpoint = checkpoint_config(args, &out)?;
     let ledger = Ledger::new();
     let mut scene = load_scene_in(&args.scene, &ledger)?;
-    let (stop, spp_is_cap) = apply_overrides(args, &mut scene);
+    let (stop, spp_is_cap) = apply_overrides(args, &mut scene)?;
     oracle::memory::charge(&scene, checkpoint.is_some(), &ledger)
         .map_err(|e| over_budget(&args.scene, args.resolution.is_some(), &e))?;
 
@@ -238,8 +271,10 @@ fn checkpoint_config(args: &RenderArgs, out: &Path) -> Result<Option<CheckpointC
 }
 
 /// Applies the flags to the scene's film and render settings; returns the stopping rule and
-/// whether its spp is only the [`SPP_CAP`] safety bound.
-fn apply_overrides(args: &RenderArgs, scene: &mut Scene) -> (StopRule, bool) {
+/// whether its spp is only the [`SPP_CAP`] safety bound. Refuses `--ssaa` under the box
+/// filter and a sample count the centre filter's K×K sub-pixels cannot share evenly (bad
+/// input, exit 2).
+fn apply_overrides(args: &RenderArgs, scene: &mut Scene) -> Result<(StopRule, bool), CliError> {
     if let Some(film) = args.resolution {
         scene.film = film;
     }
@@ -259,20 +294,39 @@ fn apply_overrides(args: &RenderArgs, scene: &mut Scene) -> (StopRule, bool) {
     if let Some(r) = args.ao_radius {
         s.ao_radius = r;
     }
+    if let Some(f) = args.pixel_filter {
+        s.pixel_filter = f.into();
+    }
+    if let Some(k) = args.ssaa {
+        if s.pixel_filter == PixelFilter::Box {
+            return Err(CliError::input(format!(
+                "--ssaa {k}: sub-pixel centres need the centre pixel filter, and this render's is box \
+                 (the box filter integrates the whole pixel); add --pixel-filter centre"
+            )));
+        }
+        s.pixel_filter = s.pixel_filter.with_ssaa(k);
+    }
     // `settings.spp` keeps the scene's value: the checkpoint fingerprint covers the settings,
     // and a checkpoint may be continued to a different spp.
     let budget_only = args.spp.is_none() && (args.time.is_some() || args.target_error.is_some());
     let spp = match args.spp {
         Some(n) => n,
-        None if budget_only => SPP_CAP,
+        // The cap rounded down to whole rounds of the sub-pixel centres.
+        None if budget_only => SPP_CAP / s.pixel_filter.subpixels() * s.pixel_filter.subpixels(),
         None => s.spp,
     };
+    oracle::pixel_filter::check_spp(s.pixel_filter, spp).map_err(|e| {
+        CliError::input(match args.spp {
+            Some(_) => format!("--spp: {e}"),
+            None => format!("{}: the scene's spp: {e}; give --spp", args.scene.display()),
+        })
+    })?;
     let stop = StopRule {
         spp,
         time: args.time,
         target_rel_err: args.target_error,
     };
-    (stop, budget_only)
+    Ok((stop, budget_only))
 }
 
 /// `render SCENE: 640x480, path (max depth 6, seed 0), 256 spp -> OUT`
@@ -291,6 +345,9 @@ fn start_line(args: &RenderArgs, scene: &Scene, stop: &StopRule, spp_is_cap: boo
     };
     if !spp_is_cap {
         line += &format!(", {} spp", stop.spp);
+    }
+    if s.pixel_filter != PixelFilter::Box {
+        line += &format!(", pixel filter {}", s.pixel_filter.describe());
     }
     if let Some(t) = stop.time {
         line += &format!(", at most {}", format_duration(t.as_secs_f64()));

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use realtime::{Method, PipelineKind};
 use scenes::toml::overrides::{Edit, Override};
-use scenes::IntegratorKind;
+use scenes::{IntegratorKind, PixelFilter};
 
 use crate::metrics::Metric;
 
@@ -146,6 +146,13 @@ impl Study {
             .collect()
     }
 
+    /// The ground truth's pixel filter: `box`, or `centre` with the K×K sub-pixel centres of
+    /// the study's `[raster] ssaa` K, the positions every variant's raster samples (K is
+    /// shared by every method, so one ground truth serves them all).
+    pub fn ground_truth_filter(&self) -> PixelFilter {
+        self.ground_truth.pixel_filter.with_ssaa(self.raster.ssaa)
+    }
+
     /// Every variant the study measures: the methods' grids at each scene point.
     pub fn variants(&self) -> Vec<Variant> {
         self.scene_points()
@@ -164,6 +171,10 @@ pub struct GroundTruth {
     pub max_depth: Option<i32>,
     /// Sampler seed.
     pub seed: u64,
+    /// Where the oracle's rays cross each pixel (`box` unless the study says `centre`; never
+    /// the scene file's): read with K = 1, the study's `[raster] ssaa` K applies to `centre`
+    /// ([`Study::ground_truth_filter`]).
+    pub pixel_filter: PixelFilter,
 }
 
 /// Resolution and ground-truth sample count of one run mode.

@@ -7,7 +7,7 @@ use std::path::Path;
 use realtime::{Method, PipelineKind};
 use scenes::toml::overrides::{Edit, Override};
 use scenes::toml::read::{Ctx, Field, Table};
-use scenes::{IntegratorKind, SceneError};
+use scenes::{IntegratorKind, PixelFilter, SceneError};
 
 use crate::metrics::Metric;
 
@@ -110,6 +110,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
         thresholds,
         stability,
     };
+    check_subpixel_spp(&study, &doc)?;
     // The grid's size first, from the sweep lengths: everything after builds variants.
     plan::check_count(&study)?;
     // Every grid point's method, each combination of the sweeps checked (each value alone was
@@ -126,6 +127,31 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
     check_unique_labels(&study, &doc)?;
     check_references(&study, &doc)?;
     Ok(study)
+}
+
+/// Refuses a `centre` ground truth whose sample counts (full and quick) the K×K sub-pixel
+/// centres of `[raster] ssaa` cannot share evenly (oracle/src/pixel_filter.rs), naming the
+/// `spp` field that sets each.
+fn check_subpixel_spp(study: &Study, doc: &Table) -> Result<(), SceneError> {
+    let filter = study.ground_truth_filter();
+    for (table, q) in [("ground_truth", study.full), ("quick", study.quick)] {
+        let Err(e) = oracle::pixel_filter::check_spp(filter, q.spp) else {
+            continue;
+        };
+        let field = match doc
+            .get(table)
+            .map(|f| f.table())
+            .transpose()?
+            .and_then(|t| t.get("spp"))
+        {
+            Some(f) => f,
+            None => doc.req("ground_truth")?.table()?.req("spp")?,
+        };
+        return Err(field
+            .err(e)
+            .hint("[raster] ssaa sets the sub-pixel grid of a `centre` ground truth"));
+    }
+    Ok(())
 }
 
 /// Longest study name: it names the report folder (`out/<name>`, `out/<name>-quick`).
@@ -215,6 +241,7 @@ fn ground_truth(t: &Table) -> Result<(GroundTruth, Quality), SceneError> {
             "max_depth",
             "seed",
             "visibility_of",
+            "pixel_filter",
         ],
         "[ground_truth]",
     )?;
@@ -229,6 +256,11 @@ fn ground_truth(t: &Table) -> Result<(GroundTruth, Quality), SceneError> {
         .map(|f| f.int_in(0, i64::MAX))
         .transpose()?
         .unwrap_or(0) as u64;
+    let pixel_filter = t
+        .get("pixel_filter")
+        .map(|f| f.one_of(&PixelFilter::SPELLINGS))
+        .transpose()?
+        .unwrap_or_default();
     let full = Quality {
         resolution: t.get("resolution").map(|f| resolution(&f)).transpose()?,
         spp: t.req("spp")?.int_in(1, 1 << 24)? as u32,
@@ -240,6 +272,7 @@ fn ground_truth(t: &Table) -> Result<(GroundTruth, Quality), SceneError> {
             integrator,
             max_depth,
             seed,
+            pixel_filter,
         },
         full,
     ))

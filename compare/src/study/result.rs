@@ -94,6 +94,8 @@ pub struct RunInfo {
 pub struct GroundTruthInfo {
     /// Oracle integrator name.
     pub integrator: String,
+    /// The pixel filter: `box`, `centre`, or `centre KxK` (sub-pixel centres).
+    pub pixel_filter: String,
     /// Samples per pixel.
     pub spp: u32,
     /// Render seconds (of the run that made the cached file).

@@ -85,13 +85,15 @@ pub fn prepare(
         integrator: gt.integrator,
         max_depth: gt.max_depth.unwrap_or(scene.render.max_depth),
         seed: gt.seed,
+        pixel_filter: study.ground_truth_filter(),
         ..scene.render
     };
     Ok((scene, settings))
 }
 
 /// The cache key of a ground truth: SHA-256 of the scene as loaded (geometry, materials,
-/// textures, camera, film), the oracle settings, the oracle's version and a fingerprint of
+/// textures, camera, film), the oracle settings (the pixel filter and its sub-pixel grid
+/// among them: a box ground truth is never reused for a centre one), the oracle's version and a fingerprint of
 /// the oracle's and scene model's sources (compare/build.rs), so a code change never reuses a
 /// stale ground truth.
 pub fn ground_truth_hash(scene: &Scene, settings: &RenderSettings) -> String {
@@ -171,6 +173,7 @@ pub fn ground_truth(
         .map_err(io_err(&opts.out_dir))?;
     let info = GroundTruthInfo {
         integrator: settings.integrator.name().into(),
+        pixel_filter: settings.pixel_filter.describe(),
         spp: settings.spp,
         seconds: image
             .attribute("seconds")

@@ -8,7 +8,7 @@
 //! | Verity | Mitsuba 3 |
 //! |---|---|
 //! | camera (pinhole, vertical fov, rigid `to_world`) | `perspective`, `fov_axis="y"`, `to_world` = `lookat(eye, eye + forward, up)` |
-//! | film W×H, box pixel filter | `hdrfilm` rgb float32, `rfilter` `box` |
+//! | film W×H, box pixel filter | `hdrfilm` rgb float32, `rfilter` `box` (the `centre` pixel filter is refused: the cross-check compares box-filtered pixels) |
 //! | `path` (max_depth, rr_depth) | `path` (same semantics), `independent` sampler |
 //! | `direct` without mirror/dielectric surfaces | `path` with max_depth 2 (or 1/0 when lower) |
 //! | diffuse, mirror, GGX (f0 = 1, separable masking) | `twosided` `diffuse`, `conductor`, `roughconductor` (`material="none"`) |
@@ -30,7 +30,7 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 use scenes::layered::{write_atomic, LayeredImage};
-use scenes::{IntegratorKind, Material, Scene};
+use scenes::{IntegratorKind, Material, PixelFilter, Scene};
 
 use super::xml::Element;
 
@@ -216,6 +216,12 @@ impl<'a> Exporter<'a> {
 
     /// `perspective` sensor with the `hdrfilm` and `independent` sampler.
     fn sensor(&mut self) -> Element {
+        if self.scene.render.pixel_filter != PixelFilter::Box {
+            self.refuse(format!(
+                "pixel_filter `{}`: only the box pixel filter is exported (Mitsuba's `rfilter` `box`)",
+                self.scene.render.pixel_filter.name()
+            ));
+        }
         let cam = &self.scene.camera;
         let eye = cam.position();
         let forward = cam.forward();
