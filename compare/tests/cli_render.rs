@@ -752,3 +752,90 @@ fn cli_render_gltf_refuses_a_fifo_an_escape_and_a_device() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--resolution` of another shape than the glTF camera's `aspectRatio` (the scene takes the
+/// asset's camera: `[[include]] camera = true`) renders as asked, with a one-line note on
+/// standard error; a resolution of the camera's shape gets none.
+#[test]
+fn cli_render_notes_a_resolution_of_another_aspect_than_the_camera() {
+    let dir = test_dir("aspect");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/include-asset.toml");
+    let scene = scene.display().to_string();
+    let render = |resolution: &str| {
+        let out = dir.join(format!("{resolution}.exr")).display().to_string();
+        let o = verity_in(
+            &dir,
+            &[
+                "render",
+                &scene,
+                "--resolution",
+                resolution,
+                "--spp",
+                "1",
+                "--out",
+                &out,
+            ],
+        );
+        assert_success(&o, resolution);
+        let img = LayeredImage::read_exr(&out).unwrap();
+        (img.width, img.height, text(&o.stderr))
+    };
+    let (w, h, stderr) = render("16x16");
+    assert_eq!((w, h), (16, 16));
+    let note: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.contains("note: --resolution"))
+        .collect();
+    assert_eq!(note.len(), 1, "one note line expected in:\n{stderr}");
+    assert!(
+        note[0].ends_with(
+            "include-asset.toml: note: --resolution 16x16 has the aspect ratio 1.0000, not the glTF camera's \
+             aspectRatio 1.5; rendering at 1.0000 with the camera's vertical field of view"
+        ),
+        "{}",
+        note[0]
+    );
+    let (w, h, stderr) = render("24x16");
+    assert_eq!((w, h), (24, 16));
+    assert!(!stderr.contains("note: --resolution"), "{stderr}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `[environment] negative = "clamp"`: the oracle's EXR header says how many texels were
+/// clamped.
+#[test]
+fn cli_render_header_counts_clamped_environment_texels() {
+    let dir = test_dir("clamped");
+    let texels = [
+        (0.5f32, 0.5f32, 0.5f32),
+        (-0.25, 0.5, 0.5),
+        (0.5, -1.0, -2.0),
+        (1.0, 1.0, 1.0),
+    ];
+    exr::prelude::write_rgb_file(dir.join("sky.exr"), 4, 1, |x, _| texels[x]).unwrap();
+    let scene = dir.join("sky.toml");
+    std::fs::write(
+        &scene,
+        "[camera]\neye = [0, 0, 0]\ntarget = [0, 0, -1]\nfov = 60\n\n\
+         [environment]\nfile = \"sky.exr\"\nnegative = \"clamp\"\n",
+    )
+    .unwrap();
+    let out = dir.join("sky.exr.out.exr").display().to_string();
+    let o = verity_in(
+        &dir,
+        &[
+            "render",
+            &scene.display().to_string(),
+            "--resolution",
+            "4x4",
+            "--spp",
+            "1",
+            "--out",
+            &out,
+        ],
+    );
+    assert_success(&o, "clamped sky");
+    let img = LayeredImage::read_exr(&out).unwrap();
+    assert_eq!(img.attribute("environment_clamped_texels"), Some("2"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -15,6 +15,7 @@ use mitsuba_support::{at, builtin, check};
 /// Built-in scenes cross-checked below.
 const CROSSCHECKED: &[&str] = &[
     "cornell-box",
+    "include-asset",
     "mirror-sphere",
     "soft-shadow",
     "studies/scenes/contact-hardening",
@@ -51,13 +52,20 @@ const NOT_EXPRESSIBLE: &[(&str, &str)] = &[
 ];
 
 fn agrees(name: &str, variant: Variant, size: u32, spp: u32) {
-    agrees_at_depth(name, None, variant, size, spp);
+    agrees_at_depth(name, None, variant, (size, size), spp);
 }
 
-/// As [`agrees`], with the scene's `max_depth` replaced when `max_depth` is given (the same
-/// value reaches the oracle and, through the export, Mitsuba's `path` integrator).
-fn agrees_at_depth(name: &str, max_depth: Option<i32>, variant: Variant, size: u32, spp: u32) {
-    let mut scene = at(builtin(name), size, size);
+/// As [`agrees`] on a `width`×`height` film, with the scene's `max_depth` replaced when
+/// `max_depth` is given (the same value reaches the oracle and, through the export, Mitsuba's
+/// `path` integrator).
+fn agrees_at_depth(
+    name: &str,
+    max_depth: Option<i32>,
+    variant: Variant,
+    (width, height): (u32, u32),
+    spp: u32,
+) {
+    let mut scene = at(builtin(name), width, height);
     let mut tag = format!("{name}-{}", variant.name());
     if let Some(d) = max_depth {
         scene.render.max_depth = d;
@@ -87,13 +95,21 @@ fn cornell_box_agrees() {
 /// visible light sources. 2 will lead to single-bounce (direct-only) illumination").
 #[test]
 fn cornell_box_agrees_at_depth_2() {
-    agrees_at_depth("cornell-box", Some(2), Variant::LlvmAdRgb, 64, 256);
+    agrees_at_depth("cornell-box", Some(2), Variant::LlvmAdRgb, (64, 64), 256);
 }
 
 /// `max_depth` 3: direct illumination plus one bounce of indirect light.
 #[test]
 fn cornell_box_agrees_at_depth_3() {
-    agrees_at_depth("cornell-box", Some(3), Variant::LlvmAdRgb, 64, 256);
+    agrees_at_depth("cornell-box", Some(3), Variant::LlvmAdRgb, (64, 64), 256);
+}
+
+/// A CC0 mesh included from a glTF file with the scene's own material in place of the
+/// asset's, a transform, and the asset's camera (scenes/include-asset.toml), on a film of the
+/// camera's aspect ratio: what loading resolved is what both renderers see.
+#[test]
+fn include_asset_agrees() {
+    agrees_at_depth("include-asset", None, Variant::LlvmAdRgb, (72, 48), 256);
 }
 
 #[test]

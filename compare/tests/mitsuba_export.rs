@@ -510,3 +510,94 @@ fn every_problem_is_reported_at_once() {
     let e = export(&s).expect_err("two problems");
     assert_eq!(e.problems.len(), 2, "{:?}", e.problems);
 }
+
+/// A scene that includes a glTF asset with `materials`, `transform` and `camera`
+/// (scenes/include-asset.toml) exports what loading resolved: the asset's metal-rough
+/// material (which Mitsuba cannot express) is replaced by the scene's clay, the PLY holds the
+/// vertices placed by the include's transform, and the sensor is the asset's camera moved by
+/// the same transform.
+#[test]
+fn an_included_asset_exports_with_its_replaced_material_transform_and_camera() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let s = scenes::load(&root.join("include-asset.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let (index, suzanne) = s
+        .shapes
+        .iter()
+        .enumerate()
+        .find(|(_, sh)| sh.name == "suzanne/0")
+        .expect("the included mesh");
+    assert_eq!(
+        s.materials[suzanne.material],
+        Material::Diffuse {
+            albedo: TexRgb::Constant(Vec3::new(0.7, 0.55, 0.45))
+        }
+    );
+    let e = ok(&s);
+    let x = e.xml.split_whitespace().collect::<Vec<_>>().join(" ");
+    let shape = x
+        .split(&format!(r#"<shape type="ply" id="shape-{index}-suzanne_0">"#))
+        .nth(1)
+        .and_then(|rest| rest.split("</shape>").next())
+        .unwrap_or_else(|| panic!("no ply shape for suzanne/0 in\n{x}"));
+    let bsdf = format!("bsdf-{}", suzanne.material);
+    assert_has(shape, &format!(r#"<ref id="{bsdf}"/>"#));
+    assert_has(
+        &x,
+        &format!(
+            r#"<bsdf type="twosided" id="{bsdf}"> <bsdf type="diffuse"> <rgb name="reflectance" value="0.7, 0.55, 0.45"/>"#
+        ),
+    );
+
+    // The PLY's vertices are the asset's own turned 25° about +Y and lifted by 0.67 m.
+    let alone = scenes::gltf::load(&root.join("assets/suzanne.glb")).unwrap();
+    let Geometry::Mesh(own) = &alone.shapes[0].geometry else {
+        panic!("suzanne.glb holds a mesh")
+    };
+    let file = format!("meshes/{index}-suzanne_0.ply");
+    let Some((_, Asset::Ply(ply))) = e.assets.iter().find(|(n, _)| *n == file) else {
+        panic!(
+            "no {file} among {:?}",
+            e.assets.iter().map(|(n, _)| n).collect::<Vec<_>>()
+        )
+    };
+    let body = ply
+        .windows(11)
+        .position(|w| w == b"end_header\n")
+        .map(|at| &ply[at + 11..])
+        .expect("a PLY header");
+    let place = glam::Affine3A::from_translation(Vec3::new(0.0, 0.67, 0.0))
+        * glam::Affine3A::from_rotation_y(25f32.to_radians());
+    // x y z nx ny nz per vertex, little-endian f32 (compare/src/mitsuba/ply.rs).
+    let stride = 24;
+    for (i, p) in own.positions.iter().enumerate().step_by(500) {
+        let f = |k: usize| {
+            let at = i * stride + 4 * k;
+            f32::from_le_bytes(body[at..at + 4].try_into().unwrap())
+        };
+        let got = Vec3::new(f(0), f(1), f(2));
+        let want = place.transform_point3(*p);
+        assert!(
+            (got - want).abs().max_element() < 1e-5,
+            "vertex {i}: {got} vs {want}"
+        );
+    }
+
+    // The sensor: the asset camera at (0, 0.35, 3.1), placed by the same transform.
+    let eye = place.transform_point3(Vec3::new(0.0, 0.35, 3.1));
+    assert!(
+        (s.camera.position() - eye).abs().max_element() < 1e-5,
+        "{}",
+        s.camera.position()
+    );
+    assert_has(
+        &x,
+        &format!(
+            r#"<lookat origin="{}""#,
+            compare::mitsuba::xml::triple(s.camera.position())
+        ),
+    );
+    assert_has(
+        &x,
+        r#"<integer name="width" value="240"/> <integer name="height" value="160"/>"#,
+    );
+}

@@ -105,6 +105,10 @@ pub fn render(
             .map(|(k, v)| (k.to_string(), v)),
     );
     image.set_object_names(scene.shapes.iter().map(|s| s.name.as_str()));
+    let clamped = job.scene.provenance.clamped_environment_texels;
+    if clamped > 0 {
+        image.set_attribute("environment_clamped_texels", clamped.to_string());
+    }
     Ok(RenderResult {
         image,
         spp: film.spp,

@@ -489,7 +489,8 @@ impl Renderer {
 }
 
 /// Header attributes: renderer, adapter, backend, method, parameters, timing, counters, the
-/// shadow maps' projections, the object-id names (`scenes::layered::OBJECT_NAMES_ATTRIBUTE`).
+/// shadow maps' projections, the object-id names (`scenes::layered::OBJECT_NAMES_ATTRIBUTE`),
+/// the environment texels the scene's loading clamped.
 #[allow(clippy::too_many_arguments)]
 fn add_header(
     image: &mut LayeredImage,
@@ -561,6 +562,10 @@ fn add_header(
                 sg.unlit_emitters.join(", ")
             ),
         ));
+    }
+    let clamped = scene.provenance.clamped_environment_texels;
+    if clamped > 0 {
+        attrs.push(("environment_clamped_texels", clamped.to_string()));
     }
     for (k, v) in attrs {
         image.set_attribute(k, v);

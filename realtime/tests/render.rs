@@ -170,6 +170,23 @@ fn image_has_the_oracle_layout_and_a_descriptive_header() {
         .all(|&y| (y - 1.0).abs() < 1e-6));
 }
 
+/// Environment texels the scene's loading clamped (`[environment] negative = "clamp"`) are
+/// counted in the header; none clamped, no attribute.
+#[test]
+fn clamped_environment_texels_reach_the_header() {
+    let mut scene = floor_scene(false);
+    let settings = RasterSettings::new(8, 4).frames(0, 1).counters(false);
+    let plain = renderer()
+        .render(&scene, &settings)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(plain.image.attribute("environment_clamped_texels"), None);
+    scene.provenance.clamped_environment_texels = 7;
+    let clamped = renderer()
+        .render(&scene, &settings)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(clamped.image.attribute("environment_clamped_texels"), Some("7"));
+}
+
 /// Even k has no subsample at the pixel centre: ids come from a 1× pass and equal k = 1's.
 #[test]
 fn supersampled_object_ids_are_taken_at_pixel_centres() {

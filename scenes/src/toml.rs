@@ -8,7 +8,6 @@
 //! material names and missing or unreadable files are all errors; nothing panics.
 
 mod displacement;
-mod glob;
 mod include;
 mod inputs;
 mod lights;
@@ -166,9 +165,12 @@ fn from_tree(ctx: &Ctx, root: &tree::Node, ledger: &Ledger) -> Result<Scene, Sce
     let (materials, material_names) = materials::read_all(&doc, &mut textures)?;
     let drafts = shapes::read_all(&doc, &material_names, &mut textures)?;
     let lights = lights::read_all(&doc)?;
-    let environment = match section("environment")? {
-        Some(t) => Some(settings::environment(&t, &mut textures)?),
-        None => None,
+    let (environment, clamped) = match section("environment")? {
+        Some(t) => {
+            let (environment, clamped) = settings::environment(&t, &mut textures)?;
+            (Some(environment), clamped)
+        }
+        None => (None, 0),
     };
 
     let mut names = Names::default();
@@ -184,7 +186,10 @@ fn from_tree(ctx: &Ctx, root: &tree::Node, ledger: &Ledger) -> Result<Scene, Sce
         shapes,
         lights: lights.into_iter().map(|(l, _)| l).collect(),
         environment,
-        provenance: Provenance::default(),
+        provenance: Provenance {
+            clamped_environment_texels: clamped,
+            ..Provenance::default()
+        },
     };
     let mut includes = include::Includes::new(ledger, &material_names, camera_table.as_ref());
     if let Some(list) = doc.get("include") {

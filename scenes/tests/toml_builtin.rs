@@ -226,3 +226,29 @@ fn vendored_environment_maps() {
         assert_eq!(at, brightest, "{file}: brightest texel (row, column)");
     }
 }
+
+/// The worked example of `[[include]]` with `materials`, `transform` and `camera`: Suzanne in
+/// the scene's clay, turned 25° about +Y and stood on the floor, seen through the asset's
+/// camera (moved with it) on a film of its aspect ratio.
+#[test]
+fn include_asset() {
+    let s = builtin("include-asset.toml");
+    assert_eq!((s.film.width, s.film.height), (240, 160));
+    assert_eq!(s.provenance.camera_aspect, Some(1.5));
+    let suzanne = s
+        .shapes
+        .iter()
+        .find(|sh| sh.name == "suzanne/0")
+        .expect("the included mesh");
+    assert_eq!(suzanne.material, 0, "the scene's clay");
+    assert!(suzanne.emission.is_none() && suzanne.normal_map.is_none());
+    let (lo, _) = suzanne.bounds(&s.textures);
+    assert!(lo.y.abs() < 1e-3, "stands on the floor: lowest point {lo}");
+    let (sin, cos) = 25f32.to_radians().sin_cos();
+    assert_close(
+        "eye",
+        s.camera.position(),
+        Vec3::new(3.1 * sin, 0.35 + 0.67, 3.1 * cos),
+    );
+    assert!((s.camera.fov_y_deg - 0.7f32.to_degrees()).abs() < 1e-4);
+}

@@ -537,3 +537,99 @@ fn texture_inputs_check_their_fields() {
         &["`material \"m\".albedo.wrap`", "expected 2 wrap modes"],
     );
 }
+
+/// `[environment] negative = "clamp"` sets negative components to 0 and counts the texels it
+/// changed, exactly; the default (`"error"`) refuses them in one line; non-finite texels are
+/// an error either way.
+#[test]
+fn environment_negative_texels_are_clamped_and_counted() {
+    let dir = scratch("env-negative");
+    // 3×2 texels; three have a negative component (one has two, one only just below 0).
+    let texels = [
+        (0.5f32, 0.5f32, 0.5f32),
+        (-0.25, 0.5, 0.5),
+        (0.5, -1.0, -2.0),
+        (1.0, 1.0, 1.0),
+        (0.0, 0.0, -0.001),
+        (2.0, 3.0, 4.0),
+    ];
+    exr::prelude::write_rgb_file(dir.join("neg.exr"), 3, 2, |x, y| texels[3 * y + x]).unwrap();
+    let env = |extra: &str| format!("{BASE}\n[environment]\nfile = \"neg.exr\"\n{extra}\n");
+    let load = |text: &str| scenes::toml::load_str(text, &dir.join("bad.toml"));
+
+    let s = load(&env("negative = \"clamp\"")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.provenance.clamped_environment_texels, 3);
+    let Some(scenes::Environment::Map { texture, .. }) = &s.environment else {
+        panic!("{:?}", s.environment)
+    };
+    let got: Vec<Vec3> = s.textures[*texture].texels.iter().map(|t| t.truncate()).collect();
+    let want = [
+        Vec3::splat(0.5),
+        Vec3::new(0.0, 0.5, 0.5),
+        Vec3::new(0.5, 0.0, 0.0),
+        Vec3::ONE,
+        Vec3::ZERO,
+        Vec3::new(2.0, 3.0, 4.0),
+    ];
+    assert_eq!(got, want);
+
+    for mode in ["", "negative = \"error\""] {
+        let e = expect_error(
+            load(&env(mode)),
+            &[
+                "bad.toml:18:",
+                "`environment.file`",
+                "negative radiance (first at texel (1, 0))",
+                "negative = \"clamp\"",
+            ],
+        );
+        assert!(!e.to_string().contains('\n'), "{e}");
+    }
+    expect_error(
+        load(&env("negative = \"zero\"")),
+        &["bad.toml:19:", "`environment.negative`", "unknown value \"zero\""],
+    );
+    expect_error(
+        load(&format!(
+            "{BASE}\n[environment]\nradiance = 1\nnegative = \"clamp\"\n"
+        )),
+        &["`environment.negative`", "applies to an environment `file`"],
+    );
+
+    // A texture a material also reads (same file, colour space and wrap) is copied before
+    // clamping: the material keeps the file's texels.
+    let shared = format!(
+        "{}\nnegative = \"clamp\"\n\n[[material]]\nname = \"sky\"\ntype = \"diffuse\"\n\
+         albedo = {{ texture = \"neg.exr\", wrap = [\"repeat\", \"clamp\"] }}\n",
+        env("").trim_end()
+    );
+    let s = load(&shared).unwrap_or_else(|e| panic!("{e}\n{shared}"));
+    let Some(Material::Diffuse {
+        albedo: TexRgb::Image { texture: albedo, .. },
+    }) = s.materials.last()
+    else {
+        panic!("{:?}", s.materials)
+    };
+    let Some(scenes::Environment::Map { texture, .. }) = &s.environment else {
+        panic!("{:?}", s.environment)
+    };
+    assert_ne!(albedo, texture);
+    assert_eq!(
+        s.textures[*albedo].texels[1].x, -0.25,
+        "the material's texels are the file's"
+    );
+    assert_eq!(s.textures[*texture].texels[1].x, 0.0);
+    assert_eq!(s.provenance.clamped_environment_texels, 3);
+
+    // NaN stays an error with clamping.
+    exr::prelude::write_rgb_file(dir.join("nan.exr"), 2, 1, |x, _| {
+        [(0.5, 0.5, 0.5), (f32::NAN, -1.0, 0.5)][x]
+    })
+    .unwrap();
+    expect_error(
+        load(&format!(
+            "{BASE}\n[environment]\nfile = \"nan.exr\"\nnegative = \"clamp\"\n"
+        )),
+        &["`environment.file`", "NaN or infinite"],
+    );
+}

@@ -53,6 +53,35 @@ pub fn parse_resolution(s: &str) -> Result<Film, String> {
     }
 }
 
+/// The film of a render: `--resolution` (`flag`) when given, else the scene's. A
+/// `--resolution` whose aspect ratio is not the one the scene's camera was made for (a glTF
+/// camera's `aspectRatio`) is rendered as asked, and a note on standard error says so.
+pub fn film_from_flag(scene: &Scene, flag: Option<Film>) -> Film {
+    let Some(film) = flag else {
+        return scene.film;
+    };
+    if let Some(note) = aspect_note(scene, film) {
+        eprintln!("{note}");
+    }
+    film
+}
+
+/// The one-line note for a `film` whose aspect ratio differs from the camera's
+/// ([`scenes::Provenance::camera_aspect`], up to rounding: [`Film::fits_aspect`]), or `None`.
+pub fn aspect_note(scene: &Scene, film: Film) -> Option<String> {
+    let camera = scene.provenance.camera_aspect?;
+    let used = f64::from(film.width) / f64::from(film.height);
+    (!film.fits_aspect(camera)).then(|| {
+        format!(
+            "{}: note: --resolution {}x{} has the aspect ratio {used:.4}, not the glTF camera's aspectRatio {camera}; \
+             rendering at {used:.4} with the camera's vertical field of view",
+            scene.source.display(),
+            film.width,
+            film.height,
+        )
+    })
+}
+
 /// Checks an `--out` EXR path (a `.exr` file, not a directory), creates its directory, and
 /// checks that both outputs, the EXR and the PNG preview beside it, can be written
 /// ([`writable_output`]), so that a command never renders only to fail at the end or leaves
@@ -133,6 +162,29 @@ mod tests {
         assert!(parse_max_depth("-2").is_err());
         assert!(parse_exposure("nan").is_err() && parse_exposure("-2.5") == Ok(-2.5));
         assert!(parse_exposure("65").is_err());
+    }
+
+    /// A `--resolution` of another shape than the glTF camera's `aspectRatio` is noted in one
+    /// line naming the scene and the aspect used; one that rounds to it, or a scene whose
+    /// camera has no aspect ratio, is not.
+    #[test]
+    fn a_resolution_of_another_aspect_than_the_camera_is_noted() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+        let asset = scenes::load(&root.join("include-asset.toml")).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(asset.provenance.camera_aspect, Some(1.5));
+        let film = |width, height| Film { width, height };
+        assert_eq!(aspect_note(&asset, film(240, 160)), None);
+        assert_eq!(aspect_note(&asset, film(25, 17)), None, "25 = round(17 × 1.5)");
+        let note = aspect_note(&asset, film(64, 64)).expect("a note");
+        assert!(
+            note.contains(
+                "include-asset.toml: note: --resolution 64x64 has the aspect ratio 1.0000, not the glTF \
+                 camera's aspectRatio 1.5; rendering at 1.0000 with the camera's vertical field of view"
+            ) && !note.contains('\n'),
+            "{note}"
+        );
+        let plain = scenes::load(&root.join("cornell-box.toml")).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(aspect_note(&plain, film(64, 32)), None);
     }
 
     #[test]

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use scenes::{Film, Scene};
 
-use super::args::{load_scene, parse_max_depth, parse_resolution, parse_spp};
+use super::args::{film_from_flag, load_scene, parse_max_depth, parse_resolution, parse_spp};
 use super::CliError;
 use crate::mitsuba::export::{self, Export};
 
@@ -33,9 +33,7 @@ impl SceneArgs {
     /// Loads the scene and applies `--resolution` and `--max-depth`.
     pub fn load(&self) -> Result<Scene, CliError> {
         let mut scene = load_scene(&self.scene)?;
-        if let Some(film) = self.resolution {
-            scene.film = film;
-        }
+        scene.film = film_from_flag(&scene, self.resolution);
         if let Some(d) = self.max_depth {
             scene.render.max_depth = d;
         }

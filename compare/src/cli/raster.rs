@@ -13,7 +13,7 @@ use clap::{Args, ValueEnum};
 use realtime::{Method, PipelineKind, RasterError, RasterOutput, RasterSettings, Renderer};
 use scenes::Film;
 
-use super::args::{exr_output, load_scene, parse_exposure, parse_resolution};
+use super::args::{exr_output, film_from_flag, load_scene, parse_exposure, parse_resolution};
 use super::CliError;
 
 /// Flags of `verity raster`.
@@ -90,7 +90,7 @@ pub fn run(args: &RasterArgs, command_line: &str) -> Result<(), CliError> {
         Method::parse(&args.method, &args.params).map_err(|e| CliError::input(format!("--method: {e}")))?;
     let scene = load_scene(&args.scene)?;
     let out = output_path(args)?;
-    let Film { width, height } = args.resolution.unwrap_or(scene.film);
+    let Film { width, height } = film_from_flag(&scene, args.resolution);
     let settings = RasterSettings::new(width, height)
         .method(method)
         .pipeline(args.pipeline.into())

@@ -18,8 +18,8 @@ use scenes::budget::Ledger;
 use scenes::{Film, IntegratorKind, PixelFilter, RenderSettings, SamplerKind, Scene};
 
 use super::args::{
-    exr_output, load_scene_in, over_budget, parse_exposure, parse_max_depth, parse_resolution, parse_spp,
-    writable_output,
+    exr_output, film_from_flag, load_scene_in, over_budget, parse_exposure, parse_max_depth,
+    parse_resolution, parse_spp, writable_output,
 };
 use super::CliError;
 use crate::progress::{format_duration, format_sig3, rate, ProgressMode, ProgressReporter};
@@ -275,9 +275,7 @@ fn checkpoint_config(args: &RenderArgs, out: &Path) -> Result<Option<CheckpointC
 /// filter and a sample count the centre filter's K×K sub-pixels cannot share evenly (bad
 /// input, exit 2).
 fn apply_overrides(args: &RenderArgs, scene: &mut Scene) -> Result<(StopRule, bool), CliError> {
-    if let Some(film) = args.resolution {
-        scene.film = film;
-    }
+    scene.film = film_from_flag(scene, args.resolution);
     let s = &mut scene.render;
     if let Some(i) = args.integrator {
         s.integrator = i.into();

@@ -21,9 +21,10 @@ use std::path::{Path, PathBuf};
 use glam::Mat4;
 
 use super::read::{Field, Table};
-use super::{displacement, glob, shapes, transform, Names};
+use super::{displacement, shapes, transform, Names};
 use crate::budget::Ledger;
 use crate::error::echo;
+use crate::glob;
 use crate::gltf::{AssetCamera, Loaded, Options, Parsed, Part};
 use crate::{Scene, SceneError, Shape};
 

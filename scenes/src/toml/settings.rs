@@ -246,34 +246,71 @@ pub(crate) fn render(t: Option<Table>) -> Result<RenderSettings, SceneError> {
     Ok(r)
 }
 
-/// `[environment]`: `radiance = [r, g, b]`, or `file = "…"` with `scale` (default 1).
-pub(crate) fn environment(t: &Table, textures: &mut Textures) -> Result<Environment, SceneError> {
-    t.only(&["radiance", "file", "scale"], "the environment")?;
+/// `[environment]`: `radiance = [r, g, b]`, or `file = "…"` with `scale` (default 1) and
+/// `negative` (what to do with negative texels: `"error"`, the default, or `"clamp"` them to
+/// 0). Returns the environment and how many texels were clamped.
+pub(crate) fn environment(t: &Table, textures: &mut Textures) -> Result<(Environment, u64), SceneError> {
+    t.only(&["radiance", "file", "scale", "negative"], "the environment")?;
     match t.one_of(&["radiance", "file"])? {
         Some("radiance") => {
-            if let Some(f) = t.get("scale") {
-                return Err(f.err("`scale` applies to an environment `file`, not to `radiance`"));
+            for key in ["scale", "negative"] {
+                if let Some(f) = t.get(key) {
+                    return Err(f.err(format!(
+                        "`{key}` applies to an environment `file`, not to `radiance`"
+                    )));
+                }
             }
             let radiance = rgb_const(t.get("radiance"), Bound::NonNegative, Vec3::ZERO)?;
-            Ok(Environment::Constant { radiance })
+            Ok((Environment::Constant { radiance }, 0))
         }
         Some(_) => {
             let scale = match t.get("scale") {
                 Some(f) => f.non_negative()?,
                 None => 1.0,
             };
+            let clamp = match t.get("negative") {
+                Some(f) => f.keyword(&["error", "clamp"])? == "clamp",
+                None => false,
+            };
             let file = t.req("file")?;
+            let first_new = textures.list.len();
             let texture = textures.load(&file, ColorSpace::Srgb, [WrapMode::Repeat, WrapMode::Clamp])?;
             let tex = &textures.list[texture];
-            if let Some(i) = tex.texels.iter().position(|t| t.truncate().min_element() < 0.0) {
+            let negative = |t: &glam::Vec4| t.truncate().min_element() < 0.0;
+            let Some(i) = tex.texels.iter().position(negative) else {
+                return Ok((Environment::Map { texture, scale }, 0));
+            };
+            if !clamp {
                 let (x, y) = (i % tex.width as usize, i / tex.width as usize);
                 return Err(file
                     .err(format!(
                         "the environment map has negative radiance (first at texel ({x}, {y}))"
                     ))
-                    .hint("clamp the image to >= 0; lossy EXR compression can leave negative ringing"));
+                    .hint("add `negative = \"clamp\"` to set negative components to 0, or clamp the image; lossy EXR compression can leave negative ringing"));
             }
-            Ok(Environment::Map { texture, scale })
+            // A texture an earlier input shares (same file, colour space and wrap) is copied,
+            // so that only the environment sees the clamped texels.
+            let texture = if texture < first_new {
+                let copy = (**tex).clone();
+                textures
+                    .ledger
+                    .charge(
+                        crate::budget::bytes_of(copy.texels.len() as u64, 16),
+                        format!("a clamped copy of {}", copy.source.display()),
+                    )
+                    .map_err(|e| file.err(e.to_string()))?;
+                textures.list.push(std::sync::Arc::new(copy));
+                textures.list.len() - 1
+            } else {
+                texture
+            };
+            let texels = &mut std::sync::Arc::make_mut(&mut textures.list[texture]).texels;
+            let mut clamped = 0;
+            for t in texels.iter_mut().filter(|t| negative(t)) {
+                *t = t.truncate().max(Vec3::ZERO).extend(t.w);
+                clamped += 1;
+            }
+            Ok((Environment::Map { texture, scale }, clamped))
         }
         None => Err(t
             .err("the environment needs `radiance` or `file`")
