@@ -1,12 +1,15 @@
 //! Verity's LDR-FLIP and HDR-FLIP (compare::metrics::flip) agree with NVIDIA's reference
-//! implementation, the pip package flip-evaluator 1.7, run by compare/python/flip_reference.py
-//! in the project's venv (`$VERITY_PYTHON` if set, else `.venv/bin/python` at the workspace
+//! implementation, the pip package flip-evaluator 1.7, and its SSIM (compare::metrics::ssim)
+//! with scikit-image 0.26's `structural_similarity` under the same settings, each run by
+//! compare/python/metric_reference.py in the project's venv (`$VERITY_PYTHON` if set, else `.venv/bin/python` at the workspace
 //! root; ./scripts/setup.sh installs it). No fixture files: every pair is built here, from the
 //! HDR environment map scenes/assets/potsdamer_platz_512.exr and from a synthetic LDR chart,
 //! written to EXR and handed to both implementations.
 //!
 //! Tolerances: the mean FLIP within 1e-3 and every pixel within 1e-2 of the reference, for
-//! LDR-FLIP (linear input clamped to [0, 1]) and HDR-FLIP (same exposure range and count).
+//! LDR-FLIP (linear input clamped to [0, 1]) and HDR-FLIP (same exposure range and count);
+//! SSIM within 1e-4, mean and every pixel, over the pixels at least 5 from the border (where
+//! skimage reflects the image and Verity truncates the window).
 //! A missing Python or package fails the test (it never skips).
 
 use std::path::{Path, PathBuf};
@@ -14,13 +17,17 @@ use std::process::Command;
 use std::sync::OnceLock;
 
 use compare::metrics::flip::{self, FlipInput};
+use compare::metrics::ssim;
 
 /// Largest allowed |mean(Verity) − mean(reference)|.
 const MEAN_TOLERANCE: f64 = 1e-3;
 /// Largest allowed per-pixel |Verity − reference|.
 const PIXEL_TOLERANCE: f32 = 1e-2;
-/// The reference package version checked against.
+/// Largest allowed |Verity − scikit-image| of SSIM, mean and per pixel.
+const SSIM_TOLERANCE: f64 = 1e-4;
+/// The reference package versions checked against.
 const FLIP_EVALUATOR_VERSION: &str = "1.7";
+const SCIKIT_IMAGE_VERSION: &str = "0.26.0";
 
 /// A linear RGB image, row-major, row 0 at the top.
 #[derive(Clone)]
@@ -58,7 +65,7 @@ struct Options {
     exposures: Option<(f32, f32)>,
 }
 
-/// What flip_reference.py reports.
+/// What metric_reference.py reports.
 struct Reference {
     map: Vec<f32>,
     mean: f64,
@@ -71,7 +78,8 @@ fn workspace_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-/// The venv Python, checked once to exist and to have flip-evaluator 1.7, OpenEXR and numpy.
+/// The venv Python, checked once to exist and to have flip-evaluator 1.7, scikit-image 0.26.0,
+/// OpenEXR and numpy.
 fn python() -> &'static Path {
     static PYTHON: OnceLock<PathBuf> = OnceLock::new();
     PYTHON.get_or_init(|| {
@@ -80,15 +88,16 @@ fn python() -> &'static Path {
             .unwrap_or_else(|| workspace_root().join(".venv/bin/python"));
         let setup = "run ./scripts/setup.sh (it installs compare/python/requirements.txt into .venv)";
         assert!(python.exists(), "no Python at {}: {setup}", python.display());
-        let probe = "import importlib.metadata as m, numpy, OpenEXR, flip_evaluator; \
-                     print(m.version('flip-evaluator'))";
+        let probe = "import importlib.metadata as m, numpy, OpenEXR, flip_evaluator, skimage; \
+                     print(m.version('flip-evaluator'), m.version('scikit-image'))";
         let out = Command::new(&python).args(["-c", probe]).output().unwrap_or_else(|e| {
             panic!("cannot run {}: {e}; {setup}", python.display());
         });
         let version = String::from_utf8_lossy(&out.stdout).trim().to_string();
         assert!(
-            out.status.success() && version == FLIP_EVALUATOR_VERSION,
-            "{} lacks flip-evaluator=={FLIP_EVALUATOR_VERSION}, OpenEXR or numpy (found `{version}`; {}): {setup}",
+            out.status.success() && version == format!("{FLIP_EVALUATOR_VERSION} {SCIKIT_IMAGE_VERSION}"),
+            "{} lacks flip-evaluator=={FLIP_EVALUATOR_VERSION}, scikit-image=={SCIKIT_IMAGE_VERSION}, OpenEXR or \
+             numpy (found `{version}`; {}): {setup}",
             python.display(),
             String::from_utf8_lossy(&out.stderr).trim()
         );
@@ -135,12 +144,12 @@ fn json_number(json: &str, key: &str) -> Option<f64> {
 fn run_reference(dir: &Path, mode: &str, options: Options) -> Reference {
     let out = dir.join(format!("reference-{mode}.exr"));
     let mut cmd = Command::new(python());
-    cmd.arg(workspace_root().join("compare/python/flip_reference.py"))
+    cmd.arg(workspace_root().join("compare/python/metric_reference.py"))
         .arg(dir.join("reference.exr"))
         .arg(dir.join("test.exr"))
         .args(["--mode", mode, "--out"])
         .arg(&out);
-    if let Some(ppd) = options.ppd {
+    if let (Some(ppd), "ldr" | "hdr") = (options.ppd, mode) {
         cmd.args(["--ppd", &ppd.to_string()]);
     }
     if let (Some((start, stop)), "hdr") = (options.exposures, mode) {
@@ -151,11 +160,11 @@ fn run_reference(dir: &Path, mode: &str, options: Options) -> Reference {
             &stop.to_string(),
         ]);
     }
-    let result = cmd.output().expect("run flip_reference.py");
+    let result = cmd.output().expect("run metric_reference.py");
     let stdout = String::from_utf8_lossy(&result.stdout);
     assert!(
         result.status.success(),
-        "flip_reference.py failed ({}): {}{}; run ./scripts/setup.sh if a package is missing",
+        "metric_reference.py failed ({}): {}{}; run ./scripts/setup.sh if a package is missing",
         result.status,
         stdout,
         String::from_utf8_lossy(&result.stderr)
@@ -206,10 +215,11 @@ fn assert_maps_agree(what: &str, ours: &[f32], reference: &Reference, width: usi
     );
 }
 
-/// Runs LDR-FLIP and HDR-FLIP on one pair in both implementations and checks agreement.
+/// Runs LDR-FLIP, HDR-FLIP and SSIM on one pair in Verity and the reference implementations
+/// and checks agreement.
 fn check_pair(name: &str, reference: &Image, test: &Image, options: Options) {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("flip-reference")
+        .join("metric-reference")
         .join(name);
     std::fs::create_dir_all(&dir).expect("create the pair's directory");
     write_exr(&dir.join("reference.exr"), reference);
@@ -240,6 +250,44 @@ fn check_pair(name: &str, reference: &Image, test: &Image, options: Options) {
         expected.exposures
     );
     assert_maps_agree(&format!("{name} HDR"), &hdr.map, &expected, reference.width);
+
+    check_ssim(name, reference, test, &run_reference(&dir, "ssim", options));
+}
+
+/// Verity's SSIM map against scikit-image's over the pixels at least the window radius (5)
+/// from the border, and the mean over them against skimage's own mean.
+fn check_ssim(name: &str, reference: &Image, test: &Image, expected: &Reference) {
+    let rgb = |img: &Image| {
+        let pixels = img.rgb.iter().map(|&c| glam::Vec3::from_array(c)).collect();
+        compare::metrics::RgbImage::new(img.width, img.height, pixels)
+    };
+    let ours = ssim::ssim_map(&rgb(reference), &rgb(test));
+    let (w, h) = (reference.width, reference.height);
+    const BORDER: usize = 5;
+    let inner: Vec<usize> = (BORDER..h - BORDER)
+        .flat_map(|y| (BORDER..w - BORDER).map(move |x| y * w + x))
+        .collect();
+    let mean = inner.iter().map(|&i| f64::from(ours[i])).sum::<f64>() / inner.len() as f64;
+    let (worst, at) = inner
+        .iter()
+        .map(|&i| (f64::from((ours[i] - expected.map[i]).abs()), i))
+        .fold((0.0, 0), |best, d| if d.0 > best.0 { d } else { best });
+    println!(
+        "{name} SSIM: mean {mean:.7} vs scikit-image {:.7} (|Δ| {:.2e}); max |Δpixel| {worst:.2e} at ({}, {})",
+        expected.mean,
+        (mean - expected.mean).abs(),
+        at % w,
+        at / w
+    );
+    assert!(
+        (mean - expected.mean).abs() <= SSIM_TOLERANCE && worst <= SSIM_TOLERANCE,
+        "{name}: SSIM mean {mean:.7} vs scikit-image's {:.7}, pixel ({}, {}) {} vs {} (tolerance {SSIM_TOLERANCE})",
+        expected.mean,
+        at % w,
+        at / w,
+        ours[at],
+        expected.map[at]
+    );
 }
 
 // ----------------------------------------------------------------------------------------
