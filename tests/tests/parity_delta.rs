@@ -8,6 +8,8 @@
 //!   mean (second order in the pixel size) plus the reference's noise;
 //! - whole image, SSAA 8×8 vs the box-filtered oracle: relMSE < 1e-3 — edges included,
 //!   the 64 subsamples estimate the same box filter;
+//! - whole image against the pixel-centre oracle (1 sample; SSAA 2×2 against 2×2 centres):
+//!   relMSE < 1e-3, edges included, and at least 10× below the box oracle's or a wrong K's;
 //! - forward vs deferred: |a − b| ≤ 1e-5·max(1, |b|) per channel (same functions, same f32
 //!   inputs; only instruction scheduling may differ).
 
@@ -134,6 +136,66 @@ fn parity_delta_lights_ssaa_whole_image() {
     assert!(
         e < 0.5 * e1,
         "SSAA 8×8 relMSE {e:.3e} is not below half of 1 sample's {e1:.3e}"
+    );
+}
+
+/// The oracle's pixel-centre filter samples exactly where the rasteriser shades: under delta
+/// lights the whole image agrees, edges included, with one raster sample per pixel against
+/// `centre` and with 2×2 SSAA against `centre` with 2×2 sub-pixel centres. Lower bounds: the
+/// box-filtered oracle differs from the same raster images far more (their edges), and a
+/// centre truth of the wrong K does too, so a filter that ignored its setting cannot pass.
+/// Measured on lavapipe: 1.0e-4 (box: 1.3e-2) and 3.8e-4 (centre 1×1: 2.8e-2), all of it the
+/// reference's light-selection noise (its estimate: 4.5e-3); no object id differs.
+#[test]
+fn parity_delta_lights_pixel_centre_whole_image() {
+    let scene = zoo_with_delta_lights();
+    let oracle = |filter: scenes::PixelFilter| {
+        let s = scenes::RenderSettings {
+            pixel_filter: filter,
+            ..verity_tests::settings(scenes::IntegratorKind::DirectUnshadowed, -1, 7)
+        };
+        verity_tests::render(&scene, s, SPP).image
+    };
+    let centre = oracle(scenes::PixelFilter::Centre { ssaa: 1 });
+    let centre_2x2 = oracle(scenes::PixelFilter::Centre { ssaa: 2 });
+    let boxed = oracle(scenes::PixelFilter::Box);
+    let a1 = raster(&scene, RasterSettings::new(SIZE, SIZE)).image;
+    let a2 = raster(&scene, RasterSettings::new(SIZE, SIZE).ssaa(2)).image;
+
+    // The same surface at every pixel centre: object ids agree but for centres that fall on
+    // an edge shared by two triangles' rasterisation rules (none are expected, a few allowed).
+    let differing_ids = ch(&a1, "object_id.Y")
+        .iter()
+        .zip(ch(&centre, "object_id.Y"))
+        .filter(|(a, b)| a != b)
+        .count();
+    let (e1, noise) = rel_mse(&a1, &centre, None);
+    let (e2, _) = rel_mse(&a2, &centre_2x2, None);
+    let (e1_box, _) = rel_mse(&a1, &boxed, None);
+    let (e2_wrong_k, _) = rel_mse(&a2, &centre, None);
+    println!(
+        "whole-image relMSE: 1 sample vs centre {e1:.3e} (box {e1_box:.3e}), SSAA 2×2 vs centre 2×2 \
+         {e2:.3e} (vs centre 1×1 {e2_wrong_k:.3e}); reference noise {noise:.1e}; {differing_ids} object ids differ"
+    );
+    assert!(
+        differing_ids <= 4,
+        "{differing_ids} pixel centres see another object"
+    );
+    for (what, e, a, r) in [("1 sample", e1, &a1, &centre), ("SSAA 2×2", e2, &a2, &centre_2x2)] {
+        if e >= 1e-3 {
+            let dir = write_failure_images(&format!("zoo-delta-centre-{}", what.replace(' ', "")), a, r);
+            panic!(
+                "{what}: whole-image relMSE {e:.3e} ≥ 1e-3 against the pixel-centre oracle (images in {dir})"
+            );
+        }
+    }
+    assert!(
+        e1_box > 10.0 * e1,
+        "box {e1_box:.3e} vs centre {e1:.3e}: the edges must show"
+    );
+    assert!(
+        e2_wrong_k > 10.0 * e2,
+        "centre 1×1 {e2_wrong_k:.3e} vs 2×2 {e2:.3e}"
     );
 }
 
