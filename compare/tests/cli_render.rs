@@ -839,3 +839,182 @@ fn cli_render_header_counts_clamped_environment_texels() {
     assert_eq!(img.attribute("environment_clamped_texels"), Some("2"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `verity render --part K/N` + `verity merge` give the EXR one `verity render` writes: every
+/// channel bit for bit and every header attribute but `seconds` and `command_line`, for
+/// N = 1, 2, 3, 7 (7 does not divide the 20 rows), in any order of the parts, with the box and
+/// the centre (2×2) pixel filters and with light-visibility channels.
+#[test]
+fn cli_render_parts_merge_into_the_single_render_bit_for_bit() {
+    let dir = test_dir("parts");
+    let soft_shadow = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenes/soft-shadow.toml")
+        .display()
+        .to_string();
+    let cases: [(&str, &[&str]); 3] = [
+        (&cornell_box(), &["--spp", "8"]),
+        (
+            &cornell_box(),
+            &["--spp", "8", "--pixel-filter", "centre", "--ssaa", "2"],
+        ),
+        (
+            &soft_shadow,
+            &["--spp", "4", "--integrator", "direct", "--seed", "3"],
+        ),
+    ];
+    for (case, (scene, flags)) in cases.iter().enumerate() {
+        let render = |extra: &[&str]| {
+            let mut args = vec!["render", scene, "--resolution", "24x20", "-q"];
+            args.extend_from_slice(flags);
+            args.extend_from_slice(extra);
+            let out = verity_in(&dir, &args);
+            assert_success(&out, &format!("{args:?}"));
+        };
+        render(&["--out", "whole.exr"]);
+        let whole = LayeredImage::read_exr(dir.join("whole.exr")).unwrap();
+        for n in [1u32, 2, 3, 7] {
+            let mut parts = Vec::new();
+            for k in 1..=n {
+                let name = format!("case{case}-{k}-of-{n}.vpart");
+                render(&["--part", &format!("{k}/{n}"), "--out", &name]);
+                parts.push(name);
+            }
+            parts.reverse();
+            let mut args = vec!["merge"];
+            args.extend(parts.iter().map(String::as_str));
+            args.extend_from_slice(&["--out", "merged.exr"]);
+            let out = verity_in(&dir, &args);
+            assert_success(&out, &format!("merge of {n} parts"));
+            let merged = LayeredImage::read_exr(dir.join("merged.exr")).unwrap();
+            let what = format!("{scene} {flags:?}, {n} parts");
+            assert_eq!(whole.channels.len(), merged.channels.len(), "{what}");
+            for ((name, a), (name_b, b)) in whole.channels.iter().zip(&merged.channels) {
+                assert_eq!(name, name_b, "{what}");
+                let same = a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+                assert!(same, "{what}: channel {name} differs");
+            }
+            let header = |img: &LayeredImage| -> Vec<(String, String)> {
+                let mut h: Vec<_> = img
+                    .attributes
+                    .iter()
+                    .filter(|(k, _)| k != "seconds" && k != "command_line")
+                    .cloned()
+                    .collect();
+                h.sort();
+                h
+            };
+            assert_eq!(header(&whole), header(&merged), "{what}: header");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Merging refuses parts of another scene or settings, of another split, a missing or repeated
+/// share, a truncated or foreign file; `--part` refuses a time or error target and a bad K/N.
+/// Each is one line naming the file, exit 2, and no EXR is written.
+#[test]
+fn cli_merge_refuses_parts_that_do_not_make_one_render() {
+    let dir = test_dir("merge-bad");
+    let scene = cornell_box();
+    // `--spp 4` unless `extra` gives it.
+    let part = |name: &str, share: &str, extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            &scene,
+            "--resolution",
+            "12x10",
+            "-q",
+            "--part",
+            share,
+            "--out",
+            name,
+        ];
+        if !extra.contains(&"--spp") {
+            args.extend_from_slice(&["--spp", "4"]);
+        }
+        args.extend_from_slice(extra);
+        verity_in(&dir, &args)
+    };
+    for (name, share, extra) in [
+        ("a1.vpart", "1/2", &[][..]),
+        ("a2.vpart", "2/2", &[]),
+        ("seed.vpart", "2/2", &["--seed", "9"]),
+        ("b1.vpart", "1/3", &[]),
+        ("spp.vpart", "2/2", &["--spp", "8"]),
+    ] {
+        assert_success(&part(name, share, extra), name);
+    }
+    let bytes = std::fs::read(dir.join("a2.vpart")).unwrap();
+    std::fs::write(dir.join("cut.vpart"), &bytes[..bytes.len() - 100]).unwrap();
+    let mut flipped = bytes.clone();
+    flipped[200] ^= 1;
+    std::fs::write(dir.join("flipped.vpart"), flipped).unwrap();
+    std::fs::write(dir.join("foreign.vpart"), b"not a part at all, just some bytes").unwrap();
+    let merge = |parts: &[&str]| {
+        let mut args = vec!["merge"];
+        args.extend_from_slice(parts);
+        args.extend_from_slice(&["--out", "m.exr"]);
+        verity_in(&dir, &args)
+    };
+    for (parts, expected) in [
+        (
+            &["a1.vpart", "seed.vpart"][..],
+            "seed.vpart: the scene, settings or oracle version differs from a1.vpart's",
+        ),
+        (
+            &["a1.vpart", "b1.vpart"],
+            "b1.vpart: the share count (3 against 2) differs",
+        ),
+        (
+            &["a1.vpart", "spp.vpart"],
+            "spp.vpart: the sample count (8 against 4 spp) differs",
+        ),
+        (&["a1.vpart"], "a1.vpart: the parts miss share 2/2 of this render"),
+        (
+            &["a1.vpart", "a2.vpart", "a1.vpart"],
+            "a1.vpart: is share 1/2 again (also a1.vpart)",
+        ),
+        (&["a1.vpart", "cut.vpart"], "cut.vpart: is damaged or truncated"),
+        (
+            &["a1.vpart", "flipped.vpart"],
+            "flipped.vpart: is damaged or truncated",
+        ),
+        (
+            &["foreign.vpart", "a2.vpart"],
+            "foreign.vpart: is not a Verity part (bad magic)",
+        ),
+        (&["a1.vpart", "missing.vpart"], "missing.vpart: cannot be read"),
+    ] {
+        let out = merge(parts);
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{parts:?}: {stderr}");
+        assert!(
+            stderr.contains(expected),
+            "{parts:?}: expected `{expected}` in: {stderr}"
+        );
+        assert_eq!(stderr.lines().count(), 1, "{parts:?}: one line: {stderr}");
+    }
+    assert!(!dir.join("m.exr").exists(), "a refused merge writes nothing");
+    assert_success(&merge(&["a2.vpart", "a1.vpart"]), "the good pair");
+
+    for (extra, expected) in [
+        (
+            &["--time", "5"][..],
+            "--part: a part renders a fixed sample count and is not resumed; drop --time",
+        ),
+        (&["--target-error", "0.1"], "drop --target-error"),
+    ] {
+        let out = part("x.vpart", "1/2", extra);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}");
+        assert!(text(&out.stderr).contains(expected), "{}", text(&out.stderr));
+    }
+    for bad in ["0/2", "3/2", "1/0", "half"] {
+        let out = part("x.vpart", bad, &[]);
+        assert_eq!(out.status.code(), Some(2), "--part {bad}");
+        assert!(text(&out.stderr).contains("is not K/N"), "{}", text(&out.stderr));
+    }
+    let out = part("x.exr", "1/2", &[]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("a part is written to a .vpart file"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -2,8 +2,9 @@
 //!
 //! Each pixel accumulates its samples in index order (Welford's running mean and variance in
 //! f64), one thread per pixel at a time. A pixel's result therefore depends only on the
-//! scene, the seed and the sample count — not on the thread count, the pass sizes or whether
-//! the render was interrupted and resumed from a checkpoint: the bits are identical.
+//! scene, the seed and the sample count — not on the thread count, the pass sizes, whether
+//! the render was interrupted and resumed from a checkpoint, or which process rendered its
+//! row ([`render_part`], [`crate::part`]): the bits are identical.
 
 use std::time::{Duration, Instant};
 
@@ -14,6 +15,7 @@ use crate::geometry::{Accel, Ray};
 use crate::integrator::{self, Context};
 use crate::job::{Progress, RenderError, RenderJob, RenderResult, StopRule};
 use crate::light::LightSet;
+use crate::part::{Part, RowShare};
 use crate::pixel_filter::{check_spp, film_sample};
 use crate::sampler::PixelSampler;
 
@@ -26,6 +28,81 @@ pub fn render(
     job: &RenderJob,
     progress: &mut dyn FnMut(&Progress) -> bool,
 ) -> Result<RenderResult, RenderError> {
+    let done = accumulate(job, RowShare::WHOLE, progress)?;
+    let (film, seconds) = (done.film, done.seconds);
+    let mut image = film.to_layered(&done.light_names, &done.object_ids);
+    image.attributes = header(job, &film, seconds);
+    Ok(RenderResult {
+        image,
+        spp: film.spp,
+        seconds,
+        paths: film.paths,
+        rays: film.rays,
+        nonfinite_samples: film.nonfinite,
+    })
+}
+
+/// Renders the rows of `share` only (a share of the image for another process or machine;
+/// [`crate::part`] says why rows and not samples), with the same passes, sampler streams and
+/// accumulation order as [`render`], so that merging every share gives [`render`]'s bits.
+/// A part renders a fixed sample count: `job.stop` must have no time or error target (the
+/// parts would stop at different counts), and `job.checkpoint` must be `None`.
+pub fn render_part(
+    job: &RenderJob,
+    share: RowShare,
+    progress: &mut dyn FnMut(&Progress) -> bool,
+) -> Result<Part, RenderError> {
+    if job.stop.time.is_some() || job.stop.target_rel_err.is_some() {
+        return Err(RenderError::Scene(
+            "a part renders a fixed sample count: give spp, not a time or an error target".into(),
+        ));
+    }
+    if job.checkpoint.is_some() {
+        return Err(RenderError::Scene(
+            "a part is not checkpointed: it is itself the saved state".into(),
+        ));
+    }
+    let done = accumulate(job, share, progress)?;
+    let mut film = done.film;
+    let width = film.width as usize;
+    let row_values = width * PixelStats::stride(film.light_count);
+    let mine = || share.rows(film.height).map(|y| y as usize);
+    let rows = mine()
+        .flat_map(|y| film.data[y * row_values..][..row_values].iter().copied())
+        .collect();
+    let object_ids = mine()
+        .flat_map(|y| done.object_ids[y * width..][..width].iter().copied())
+        .collect();
+    let header = header(job, &film, done.seconds);
+    film.data = Vec::new();
+    Ok(Part {
+        share,
+        fingerprint: crate::checkpoint::fingerprint(job),
+        header,
+        film,
+        rows,
+        object_ids,
+        light_names: done.light_names,
+        seconds: done.seconds,
+    })
+}
+
+/// What [`accumulate`] leaves: the film (the share's rows filled), object ids, light names
+/// and the render time.
+struct Accumulated {
+    film: Film,
+    object_ids: Vec<f32>,
+    light_names: Vec<String>,
+    seconds: f64,
+}
+
+/// The render loop over the rows of `share`: passes until the stopping rule, progress after
+/// each, checkpoints.
+fn accumulate(
+    job: &RenderJob,
+    share: RowShare,
+    progress: &mut dyn FnMut(&Progress) -> bool,
+) -> Result<Accumulated, RenderError> {
     let scene = job.scene;
     let (width, height) = (scene.film.width, scene.film.height);
     check_job(job)?;
@@ -82,7 +159,7 @@ pub fn render(
         let round = job.settings.pixel_filter.subpixels();
         let pass = pass_size(done, job.stop.spp, round, samples_per_second, width, height);
         let t = Instant::now();
-        run_pass(&ctx, &mut film, done, done + pass);
+        run_pass(&ctx, &mut film, share, done, done + pass);
         let dt = t.elapsed().as_secs_f64().max(1e-6);
         samples_per_second = f64::from(pass) * f64::from(width) * f64::from(height) / dt;
         if let Some(cp) = &job.checkpoint {
@@ -98,25 +175,30 @@ pub fn render(
         // The render finished: a stale checkpoint must not be resumed into a later job.
         let _ = std::fs::remove_file(&cp.path);
     }
-    let mut image = film.to_layered(&names, &object_ids);
-    image.attributes.extend(
-        attributes(job, &film, seconds)
+    Ok(Accumulated {
+        film,
+        object_ids,
+        light_names: names,
+        seconds,
+    })
+}
+
+/// The header of the render's EXR: [`attributes`], the object names and the clamped
+/// environment texels.
+fn header(job: &RenderJob, film: &Film, seconds: f64) -> Vec<(String, String)> {
+    let mut image = scenes::layered::LayeredImage {
+        attributes: attributes(job, film, seconds)
             .into_iter()
-            .map(|(k, v)| (k.to_string(), v)),
-    );
-    image.set_object_names(scene.shapes.iter().map(|s| s.name.as_str()));
+            .map(|(k, v)| (k.to_string(), v))
+            .collect(),
+        ..Default::default()
+    };
+    image.set_object_names(job.scene.shapes.iter().map(|s| s.name.as_str()));
     let clamped = job.scene.provenance.clamped_environment_texels;
     if clamped > 0 {
         image.set_attribute("environment_clamped_texels", clamped.to_string());
     }
-    Ok(RenderResult {
-        image,
-        spp: film.spp,
-        seconds,
-        paths: film.paths,
-        rays: film.rays,
-        nonfinite_samples: film.nonfinite,
-    })
+    image.attributes
 }
 
 /// Refuses a job with an empty film or no samples, a sample count its pixel filter cannot
@@ -194,8 +276,8 @@ fn pass_size(done: u32, target: u32, round: u32, samples_per_second: f64, width:
     (ideal.clamp(1, 4096) / round * round).max(round).min(remaining)
 }
 
-/// Samples [first, end) of every pixel, rows in parallel.
-fn run_pass(ctx: &Context, film: &mut Film, first: u32, end: u32) {
+/// Samples [first, end) of every pixel of the rows of `share`, rows in parallel.
+fn run_pass(ctx: &Context, film: &mut Film, share: RowShare, first: u32, end: u32) {
     let width = film.width;
     let camera = ctx.scene.camera;
     let origin = camera.position();
@@ -206,6 +288,7 @@ fn run_pass(ctx: &Context, film: &mut Film, first: u32, end: u32) {
         .rows_mut()
         .enumerate()
         .map(|(y, row)| (y as u32, row))
+        .filter(|(y, _)| share.owns(*y))
         .collect::<Vec<_>>()
         .into_par_iter()
         .map(|(y, row)| {

@@ -18,6 +18,7 @@ pub mod bench;
 pub mod crosscheck;
 pub mod diff;
 pub mod export_mitsuba;
+pub mod merge;
 pub mod raster;
 pub mod render;
 pub mod report;
@@ -66,6 +67,8 @@ pub enum Command {
     Report(report::ReportArgs),
     /// Compare two EXRs, idiff-like (exit 0 pass, 1 warn, 2 fail, 3 size mismatch, 4 file error).
     Diff(diff::DiffArgs),
+    /// Assemble the parts of one render (`verity render --part K/N`) into the EXR one render writes.
+    Merge(merge::MergeArgs),
 }
 
 /// Why a command failed, which decides the exit status.
@@ -187,6 +190,7 @@ fn dispatch(cli: Cli, command_line: &str) -> Result<u8, CliError> {
         Command::Raster(args) => raster::run(&args, command_line).map(|()| 0),
         Command::Report(args) => report::run(&args),
         Command::Diff(args) => diff::run(&args),
+        Command::Merge(args) => merge::run(&args, command_line).map(|()| 0),
     }
 }
 

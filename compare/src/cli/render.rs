@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use clap::{Args, ValueEnum};
+use oracle::part::RowShare;
 use oracle::{CheckpointConfig, Progress, RenderJob, RenderResult, StopRule};
 use scenes::budget::Ledger;
 use scenes::{Film, IntegratorKind, PixelFilter, RenderSettings, SamplerKind, Scene};
@@ -109,6 +110,13 @@ pub struct RenderArgs {
     /// Show no progress (errors and the final summary line are still printed).
     #[arg(long, short)]
     pub quiet: bool,
+
+    /// Render only share K of N (1 ≤ K ≤ N), the image rows y with y mod N = K − 1, and write
+    /// its exact accumulators to a part file (--out FILE.vpart) for `verity merge`, which
+    /// assembles the N parts into the EXR one render writes. Needs a fixed sample count: not
+    /// with --time, --target-error or --resume.
+    #[arg(long, value_name = "K/N", value_parser = RowShare::parse)]
+    pub part: Option<RowShare>,
 }
 
 /// `--integrator` values.
@@ -175,6 +183,9 @@ impl From<PixelFilterArg> for PixelFilter {
 
 /// Runs `verity render`; `command_line` goes into the EXR header.
 pub fn run(args: &RenderArgs, command_line: &str) -> Result<(), CliError> {
+    if let Some(share) = args.part {
+        return run_part(args, share, command_line);
+    }
     let out = output_path(args)?;
     let checkpoint = checkpoint_config(args, &out)?;
     let ledger = Ledger::new();
@@ -232,6 +243,118 @@ pub fn run(args: &RenderArgs, command_line: &str) -> Result<(), CliError> {
         .map_err(|e| CliError::run(e.to_string()))?;
     println!("{}", final_line(&args.scene, &image, &result, &out));
     Ok(())
+}
+
+/// `verity render --part K/N`: renders the share's rows and writes the part file, whose header
+/// is the EXR header the whole render would carry.
+fn run_part(args: &RenderArgs, share: RowShare, command_line: &str) -> Result<(), CliError> {
+    for (given, flag) in [
+        (args.time.is_some(), "--time"),
+        (args.target_error.is_some(), "--target-error"),
+        (args.resume, "--resume"),
+        (args.checkpoint_every.is_some(), "--checkpoint-every"),
+    ] {
+        if given {
+            return Err(CliError::input(format!(
+                "--part: a part renders a fixed sample count and is not resumed; drop {flag}"
+            )));
+        }
+    }
+    let out = part_output_path(args, share)?;
+    let ledger = Ledger::new();
+    let mut scene = load_scene_in(&args.scene, &ledger)?;
+    let (stop, _) = apply_overrides(args, &mut scene)?;
+    oracle::memory::charge(&scene, false, &ledger)
+        .map_err(|e| over_budget(&args.scene, args.resolution.is_some(), &e))?;
+    let mut reporter = ProgressReporter::new(ProgressMode::detect(args.quiet), stop, false);
+    reporter.note(&format!(
+        "{} (part {})",
+        start_line(args, &scene, &stop, false, &out),
+        share.label()
+    ));
+    let job = RenderJob {
+        scene: &scene,
+        settings: scene.render,
+        stop,
+        checkpoint: None,
+    };
+    let mut last: Option<Progress> = None;
+    let part = oracle::render_part(&job, share, &mut |p| {
+        reporter.update(p);
+        last = Some(*p);
+        true
+    });
+    reporter.finish();
+    let mut part = part.map_err(|e| CliError::run(format!("rendering {}: {e}", args.scene.display())))?;
+    // The header the whole render's EXR would carry; merging recomputes its per-part figures.
+    let mut header = scenes::layered::LayeredImage {
+        attributes: std::mem::take(&mut part.header),
+        ..Default::default()
+    };
+    let result = RenderResult {
+        image: scenes::layered::LayeredImage::default(),
+        spp: part.film.spp,
+        seconds: part.seconds,
+        paths: part.film.paths,
+        rays: part.film.rays,
+        nonfinite_samples: part.film.nonfinite,
+    };
+    add_header(
+        &mut header,
+        args,
+        &scene.render,
+        &result,
+        last.as_ref(),
+        command_line,
+    );
+    part.header = header.attributes;
+    oracle::part::save(&out, &part).map_err(|e| CliError::run(e.to_string()))?;
+    println!(
+        "rendered part {} of {}: rows {} of {}, {} spp, {:.2} s -> {}",
+        share.label(),
+        args.scene.display(),
+        share.rows(scene.film.height).count(),
+        scene.film.height,
+        part.film.spp,
+        part.seconds,
+        out.display()
+    );
+    Ok(())
+}
+
+/// `--out` of a part (a `.vpart` file), or `out/<scene stem>.part-K-of-N.vpart`; its directory
+/// is created now.
+fn part_output_path(args: &RenderArgs, share: RowShare) -> Result<PathBuf, CliError> {
+    let out = match &args.out {
+        Some(out) => out.clone(),
+        None => {
+            let stem = args.scene.file_stem().unwrap_or_else(|| "render".as_ref());
+            let name = format!(
+                "{}.part-{}-of-{}.vpart",
+                stem.to_string_lossy(),
+                share.index + 1,
+                share.count
+            );
+            Path::new("out").join(name)
+        }
+    };
+    if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("vpart")) || out.is_dir() {
+        return Err(CliError::input(format!(
+            "--out {}: a part is written to a .vpart file (verity merge makes the EXR)",
+            out.display()
+        )));
+    }
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            CliError::input(format!(
+                "--out {}: cannot create directory {}: {e}",
+                out.display(),
+                dir.display()
+            ))
+        })?;
+    }
+    writable_output(&out, &format!("--out {}", out.display()))?;
+    Ok(out)
 }
 
 /// `--out`, or `out/<scene stem>.exr`; must end in `.exr`; its directory is created now so
