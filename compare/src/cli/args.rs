@@ -82,18 +82,9 @@ pub fn aspect_note(scene: &Scene, film: Film) -> Option<String> {
     })
 }
 
-/// Checks an `--out` EXR path (a `.exr` file, not a directory), creates its directory, and
-/// checks that both outputs, the EXR and the PNG preview beside it, can be written
-/// ([`writable_output`]), so that a command never renders only to fail at the end or leaves
-/// one of them replaced and the other not.
-pub fn exr_output(out: PathBuf) -> Result<PathBuf, CliError> {
-    let is_exr = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-    if !is_exr || out.file_stem().is_none() {
-        return Err(CliError::input(format!(
-            "--out {}: the output must be a .exr file (the PNG preview is written beside it)",
-            out.display()
-        )));
-    }
+/// Checks that `--out` `out` is not a directory, creates its directory, and checks that it
+/// can be written ([`writable_output`]).
+pub fn output_file(out: &Path) -> Result<(), CliError> {
     if out.is_dir() {
         return Err(CliError::input(format!(
             "--out {}: is a directory",
@@ -109,7 +100,22 @@ pub fn exr_output(out: PathBuf) -> Result<PathBuf, CliError> {
             ))
         })?;
     }
-    writable_output(&out, &format!("--out {}", out.display()))?;
+    writable_output(out, &format!("--out {}", out.display()))
+}
+
+/// Checks an `--out` EXR path (a `.exr` file, not a directory), creates its directory, and
+/// checks that both outputs, the EXR and the PNG preview beside it, can be written
+/// ([`writable_output`]), so that a command never renders only to fail at the end or leaves
+/// one of them replaced and the other not.
+pub fn exr_output(out: PathBuf) -> Result<PathBuf, CliError> {
+    let is_exr = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    if !is_exr || out.file_stem().is_none() {
+        return Err(CliError::input(format!(
+            "--out {}: the output must be a .exr file (the PNG preview is written beside it)",
+            out.display()
+        )));
+    }
+    output_file(&out)?;
     writable_output(
         &out.with_extension("png"),
         &format!("the PNG preview beside --out {}", out.display()),

@@ -19,7 +19,7 @@ use scenes::budget::Ledger;
 use scenes::{Film, IntegratorKind, PixelFilter, RenderSettings, SamplerKind, Scene};
 
 use super::args::{
-    exr_output, film_from_flag, load_scene_in, over_budget, parse_exposure, parse_max_depth,
+    exr_output, film_from_flag, load_scene_in, output_file, over_budget, parse_exposure, parse_max_depth,
     parse_resolution, parse_spp, writable_output,
 };
 use super::CliError;
@@ -338,22 +338,13 @@ fn part_output_path(args: &RenderArgs, share: RowShare) -> Result<PathBuf, CliEr
             Path::new("out").join(name)
         }
     };
-    if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("vpart")) || out.is_dir() {
+    if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("vpart")) {
         return Err(CliError::input(format!(
             "--out {}: a part is written to a .vpart file (verity merge makes the EXR)",
             out.display()
         )));
     }
-    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| {
-            CliError::input(format!(
-                "--out {}: cannot create directory {}: {e}",
-                out.display(),
-                dir.display()
-            ))
-        })?;
-    }
-    writable_output(&out, &format!("--out {}", out.display()))?;
+    output_file(&out)?;
     Ok(out)
 }
 
