@@ -1,5 +1,5 @@
 //! Hostile input (issue 19): the `verity` binary against the checked-in reproducers and
-//! against seeded mutations of every built-in scene, asset, EXR and study — each run as its
+//! against seeded mutations of every built-in scene, asset, EXR, study and of render parts — each run as its
 //! own process under a memory budget, an address-space cap and a timeout, and each answer
 //! judged: exit 0, or the documented failure status with exactly one `error:` line naming
 //! the file at fault; never a signal, a hang, a panic, or a comparison that passes on NaN.
@@ -249,4 +249,73 @@ fn hostile_mutations_study() {
         &dry_run,
         &no_extra,
     );
+}
+
+/// `verity merge MUTATED PARTNER`: a mutated part with the other, unmutated share.
+fn merge(mutated: &Path, worker: &Path) -> Plan {
+    let name = mutated
+        .file_name()
+        .unwrap_or_default()
+        .to_string_lossy()
+        .into_owned();
+    let partner = if name.ends_with("p1.vpart") {
+        "p2.vpart"
+    } else {
+        "p1.vpart"
+    };
+    Plan {
+        dir: mutated.parent().unwrap_or(Path::new(".")).to_path_buf(),
+        args: vec![
+            "merge".into(),
+            name.into(),
+            partner.into(),
+            "--out".into(),
+            worker.join("x.exr").into_os_string(),
+        ],
+    }
+}
+
+#[test]
+fn hostile_mutations_part() {
+    let dir = family::fresh_dir(&["hostile", "part", "parts"]);
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell-box.toml");
+    let ledger = scenes::budget::Ledger::new();
+    let mut originals = Vec::new();
+    for k in [1, 2] {
+        let file = dir.join(format!("p{k}.vpart"));
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_verity"))
+            .arg("render")
+            .arg(&scene)
+            .args([
+                "--resolution",
+                "8x6",
+                "--spp",
+                "2",
+                "-q",
+                "--part",
+                &format!("{k}/2"),
+                "--out",
+            ])
+            .arg(&file)
+            .output()
+            .unwrap_or_else(|e| panic!("verity render: {e}"));
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        // Case N must be the same bytes on every run: drop the header attributes that record
+        // this run's time and paths.
+        let mut part = oracle::part::load(&file, &ledger).unwrap_or_else(|e| panic!("{e}"));
+        part.header
+            .retain(|(k, _)| !["seconds", "command_line", "scene", "rel_err"].contains(&k.as_str()));
+        part.seconds = 0.0;
+        oracle::part::save(&file, &part).unwrap_or_else(|e| panic!("{e}"));
+        originals.push(file);
+    }
+    let family = Family {
+        name: "render part",
+        tag: "part",
+        seed: 0x9A27_E019_0000_0005,
+        cases: CASES,
+        kind: Kind::Binary,
+        statuses: Statuses::Cli,
+    };
+    family::run(&family, &originals, &family::file_names(&dir), &merge, &no_extra);
 }

@@ -252,16 +252,18 @@ pub fn load(path: &Path, ledger: &scenes::budget::Ledger) -> Result<Part, PartEr
     }
     let stride = PixelStats::stride(lights as usize) as u64;
     let rows = RowShare { index, count }.rows(height).count() as u64;
-    let row_bytes = u64::from(width) * (stride * 8 + 4);
+    let row_bytes = u64::from(width).saturating_mul(stride * 8 + 4);
     // The strings come before the rows: the file must hold at least the rows and checksum.
-    let least = FIXED_HEADER as u64 + 8 + rows * row_bytes + CHECKSUM as u64;
+    let least = rows
+        .saturating_mul(row_bytes)
+        .saturating_add(FIXED_HEADER as u64 + 8 + CHECKSUM as u64);
     if len < least {
         return Err(error(
             path,
             format!("is truncated: {len} bytes, a part of this shape holds at least {least}"),
         ));
     }
-    if len > least + MAX_STRINGS_BYTES {
+    if len > least.saturating_add(MAX_STRINGS_BYTES) {
         return Err(error(
             path,
             format!("holds {len} bytes, more than a part of this shape ({least} and at most {MAX_STRINGS_BYTES} of names)"),
@@ -414,7 +416,7 @@ pub fn merge(parts: &[(PathBuf, Part)], ledger: &scenes::budget::Ledger) -> Resu
     let row_values = width as usize * PixelStats::stride(first.film.light_count);
     // The film, its image (channels of f32) and the object ids.
     let pixels = u64::from(width) * u64::from(height);
-    let bytes = pixels * (row_values as u64 / u64::from(width) * 12 + 8);
+    let bytes = pixels.saturating_mul(row_values as u64 / u64::from(width) * 12 + 8);
     ledger
         .charge(bytes, "the merged film and image")
         .map_err(|e| error(first_path, e.to_string()))?;

@@ -40,6 +40,8 @@ pub enum Kind {
     Gltf,
     /// OpenEXR.
     Exr,
+    /// A binary file of Verity's own (a part): byte-level mutations.
+    Binary,
 }
 
 /// A family of mutation cases.
