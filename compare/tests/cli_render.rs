@@ -1018,3 +1018,70 @@ fn cli_merge_refuses_parts_that_do_not_make_one_render() {
     assert!(text(&out.stderr).contains("a part is written to a .vpart file"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// scripts/slurm/render-parts.sbatch, run as Slurm runs an array's tasks (the SLURM_ARRAY_*
+/// variables of an array numbered 0-2), writes the three parts, whose merge is the single
+/// render bit for bit.
+#[test]
+fn slurm_array_script_renders_the_parts_of_one_render() {
+    let dir = test_dir("slurm");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/slurm/render-parts.sbatch");
+    let scene = cornell_box();
+    let flags = ["--resolution", "16x12", "--spp", "4"];
+    for id in 0..3 {
+        let out = Command::new("bash")
+            .arg(&script)
+            .args([scene.as_str(), "parts"])
+            .args(flags)
+            .current_dir(&dir)
+            .env("VERITY", env!("CARGO_BIN_EXE_verity"))
+            .env("SLURM_ARRAY_TASK_ID", id.to_string())
+            .env("SLURM_ARRAY_TASK_COUNT", "3")
+            .env("SLURM_ARRAY_TASK_MIN", "0")
+            .output()
+            .unwrap();
+        assert_success(&out, &format!("array task {id}"));
+    }
+    let out = Command::new("bash")
+        .arg(&script)
+        .args([scene.as_str(), "parts"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "outside an array: {}",
+        text(&out.stderr)
+    );
+    assert!(
+        text(&out.stderr).contains("not an array task"),
+        "{}",
+        text(&out.stderr)
+    );
+
+    let mut args = vec!["render", &scene, "--out", "whole.exr", "-q"];
+    args.extend_from_slice(&flags);
+    assert_success(&verity_in(&dir, &args), "the single render");
+    let parts: Vec<String> = (1..=3).map(|k| format!("parts/part-{k}-of-3.vpart")).collect();
+    let mut args = vec!["merge"];
+    args.extend(parts.iter().map(String::as_str));
+    args.extend_from_slice(&["--out", "merged.exr"]);
+    assert_success(&verity_in(&dir, &args), "the merge");
+    let (whole, merged) = (
+        LayeredImage::read_exr(dir.join("whole.exr")).unwrap(),
+        LayeredImage::read_exr(dir.join("merged.exr")).unwrap(),
+    );
+    let bits = |img: &LayeredImage| -> Vec<u32> {
+        img.channels
+            .iter()
+            .flat_map(|(_, v)| v.iter().map(|x| x.to_bits()))
+            .collect()
+    };
+    assert_eq!(
+        bits(&whole),
+        bits(&merged),
+        "the merged parts are the single render"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
