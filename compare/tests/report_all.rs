@@ -1,6 +1,7 @@
 //! `verity report --all`: every study of a folder in full mode, one summary, and each study's
 //! full-mode record written into its file (`--record`), then read back by `--stale`, which
-//! re-runs only the studies whose record is missing, out of date or failed (issue 20).
+//! re-runs only the studies whose record is missing, out of date or failed (issue 20). And a
+//! study run as a job graph (`--plan`, `run-job`, `--from`; issue 27).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -160,4 +161,132 @@ fn all_studies_in_full_mode_are_summarized_and_recorded_and_stale_reruns_only_wh
     assert_eq!(code, 2, "{stderr}");
     let (code, _, stderr) = verity(&["report", "--stale"]);
     assert_eq!(code, 2, "{stderr}");
+}
+
+/// A study as a job graph: `--plan` lists one job per ground truth (the scene point and each
+/// flicker frame but the first, which is the point's) and the report; `run-job` renders each
+/// into the cache, once (a second run says it is done); `--from` refuses to run before they
+/// are done and then gives the single-process report: every metric, threshold and flicker
+/// value equal.
+#[test]
+fn a_study_run_as_a_job_graph_gives_the_single_process_report() {
+    let dir = tmp("job-graph");
+    let study = dir.join("graph.toml");
+    let text = tiny_study("max = 10.0")
+        + "[stability]\nmetric = \"relmse\"\nflicker = { frames = 3, orbit_degrees = 0.5, orbit_distance = 1.0 }\n";
+    std::fs::write(&study, text).unwrap();
+    let path = |p: &Path| p.display().to_string();
+    let (single, graph, plan) = (dir.join("single"), dir.join("graph"), dir.join("plan.json"));
+    let (code, _, err) = verity(&[
+        "report",
+        &path(&study),
+        "-q",
+        "--out",
+        &path(&single),
+        "--cache",
+        &path(&dir.join("cache-single")),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = verity(&[
+        "report",
+        &path(&study),
+        "--plan",
+        &path(&plan),
+        "--out",
+        &path(&graph),
+        "--cache",
+        &path(&dir.join("cache-graph")),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("plan graph: 4 jobs"), "{out}");
+    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&plan).unwrap()).unwrap();
+    let ids: Vec<String> = json["jobs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|j| j["id"].as_str().unwrap().to_string())
+        .collect();
+    assert_eq!(
+        ids,
+        ["ground_truth", "flicker-frame-1", "flicker-frame-2", "report"]
+    );
+
+    let (code, _, err) = verity(&["report", "--from", &path(&plan), "-q"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("ground-truth jobs not done yet: ground_truth, flicker-frame-1, flicker-frame-2"),
+        "{err}"
+    );
+    // The first job by hand, the others as scripts/slurm/study-jobs.sbatch runs them (tasks
+    // 2 and 3 of an array numbered 1-3).
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/slurm/study-jobs.sbatch");
+    for (i, id) in ids[..3].iter().enumerate() {
+        let (code, out, err) = if i == 0 {
+            verity(&["run-job", &path(&plan), id, "-q"])
+        } else {
+            let out = Command::new("bash")
+                .arg(&script)
+                .arg(&plan)
+                .env("VERITY", env!("CARGO_BIN_EXE_verity"))
+                .env("SLURM_ARRAY_TASK_ID", (i + 1).to_string())
+                .env("SLURM_ARRAY_TASK_MIN", "1")
+                .output()
+                .unwrap();
+            (
+                out.status.code().unwrap_or(-1),
+                String::from_utf8_lossy(&out.stdout).to_string(),
+                String::from_utf8_lossy(&out.stderr).to_string(),
+            )
+        };
+        assert_eq!(code, 0, "{id}: {err}");
+        assert!(
+            out.contains(&format!("job {id} of")) && out.contains("rendered"),
+            "{out}"
+        );
+    }
+    let (code, out, _) = verity(&["run-job", &path(&plan), "flicker-frame-1", "-q"]);
+    assert!(code == 0 && out.contains("already done"), "{out}");
+    for (job, expected) in [
+        ("report", "job `report` is the report"),
+        ("nope", "no job `nope` in the plan"),
+    ] {
+        let (code, _, err) = verity(&["run-job", &path(&plan), job]);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains(expected), "{err}");
+    }
+    let (code, _, err) = verity(&["report", "--from", &path(&plan), "-q"]);
+    assert_eq!(code, 0, "{err}");
+
+    let metrics = |d: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(d.join("metrics.json")).unwrap()).unwrap()
+    };
+    let (a, b) = (metrics(&single), metrics(&graph));
+    let values = |m: &serde_json::Value| {
+        (
+            m["variants"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v["metrics"].clone())
+                .collect::<Vec<_>>(),
+            m["thresholds"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|t| t["value"].clone())
+                .collect::<Vec<_>>(),
+            m["flicker"].clone(),
+            m["ground_truth"]["hash"].clone(),
+        )
+    };
+    assert_eq!(
+        values(&a),
+        values(&b),
+        "the job graph's report is the single run's"
+    );
+    assert_eq!(
+        b["ground_truth"]["cached"], true,
+        "the report job found its ground truth in the cache"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -23,6 +23,7 @@ pub mod raster;
 pub mod render;
 pub mod report;
 pub mod report_all;
+pub mod run_job;
 
 /// Verity tells a real-time renderer how wrong it is.
 #[derive(Debug, Parser)]
@@ -69,6 +70,8 @@ pub enum Command {
     Diff(diff::DiffArgs),
     /// Assemble the parts of one render (`verity render --part K/N`) into the EXR one render writes.
     Merge(merge::MergeArgs),
+    /// Run one ground-truth job of a study's job graph (`verity report STUDY --plan PLAN`).
+    RunJob(run_job::RunJobArgs),
 }
 
 /// Why a command failed, which decides the exit status.
@@ -191,6 +194,7 @@ fn dispatch(cli: Cli, command_line: &str) -> Result<u8, CliError> {
         Command::Report(args) => report::run(&args),
         Command::Diff(args) => diff::run(&args),
         Command::Merge(args) => merge::run(&args, command_line).map(|()| 0),
+        Command::RunJob(args) => run_job::run(&args).map(|()| 0),
     }
 }
 

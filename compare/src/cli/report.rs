@@ -68,6 +68,17 @@ pub struct ReportArgs {
     /// studies, scenes/studies].
     #[arg(long, value_name = "FOLDER", requires = "all")]
     pub studies: Option<PathBuf>,
+
+    /// Write the study's job graph to FILE (JSON) instead of running it: one job per ground
+    /// truth (run each with `verity run-job FILE JOB`, on any machine that shares the cache)
+    /// and the report job (`verity report --from FILE`).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["all", "dry_run", "from"])]
+    pub plan: Option<PathBuf>,
+
+    /// Run the report job of a plan written by --plan: the study, mode, report folder and
+    /// cache are the plan's; every ground-truth job must be done (found in the cache).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["all", "dry_run", "quick", "out", "cache", "study"])]
+    pub from: Option<PathBuf>,
 }
 
 /// The default study: relative to the current directory, else to the workspace the binary
@@ -102,13 +113,11 @@ pub fn run(args: &ReportArgs) -> Result<u8, CliError> {
         };
         return super::report_all::run(&all, &dir);
     }
+    if let Some(file) = &args.from {
+        return run_from_plan(file, args);
+    }
     let path = args.study.clone().unwrap_or_else(default_study);
     let study = study::load(&path).map_err(|e| CliError::input(e.to_string()))?;
-    let cli_error = |e: StudyError| match e {
-        StudyError::Input(m) => CliError::input(m),
-        StudyError::Run(m) => CliError::run(m),
-        StudyError::Unavailable(m) => CliError::unavailable(m),
-    };
     // Size and memory before the GPU is touched (run_study checks them again).
     let plan = plan::plan(&study, args.quick).map_err(cli_error)?;
     if args.dry_run {
@@ -129,9 +138,64 @@ pub fn run(args: &ReportArgs) -> Result<u8, CliError> {
         cache_dir: args.cache.clone().unwrap_or_else(|| PathBuf::from("out/cache")),
         progress: ProgressMode::detect(args.quiet),
     };
+    if let Some(file) = &args.plan {
+        return write_plan(&study, &opts, file);
+    }
+    run_and_report(&study, &opts)
+}
+
+/// A study error as the CLI's error (exit 2, 1 or 3).
+pub(crate) fn cli_error(e: StudyError) -> CliError {
+    match e {
+        StudyError::Input(m) => CliError::input(m),
+        StudyError::Run(m) => CliError::run(m),
+        StudyError::Unavailable(m) => CliError::unavailable(m),
+    }
+}
+
+/// `--plan FILE`: writes the job graph atomically and lists its jobs.
+fn write_plan(study: &study::Study, opts: &RunOptions, file: &std::path::Path) -> Result<u8, CliError> {
+    let plan = study::jobs::plan(study, opts).map_err(cli_error)?;
+    let text = serde_json::to_string_pretty(&plan).map_err(|e| CliError::run(e.to_string()))?;
+    scenes::layered::write_atomic(file, text.as_bytes())
+        .map_err(|e| CliError::input(format!("--plan {}: {e}", file.display())))?;
+    for job in &plan.jobs {
+        println!("{} ({})", job.id, job.kind);
+    }
+    println!(
+        "plan {}: {} jobs -> {}",
+        study.name,
+        plan.jobs.len(),
+        file.display()
+    );
+    Ok(0)
+}
+
+/// `--from FILE`: the plan's report job, once every ground truth is in the cache.
+fn run_from_plan(file: &std::path::Path, args: &ReportArgs) -> Result<u8, CliError> {
+    let plan = study::jobs::read_plan(file).map_err(cli_error)?;
+    let study = study::load(&plan.study).map_err(|e| CliError::input(e.to_string()))?;
+    let missing = study::jobs::unfinished(&plan);
+    if !missing.is_empty() {
+        return Err(CliError::input(format!(
+            "--from {}: ground-truth jobs not done yet: {} (run them with verity run-job {} JOB)",
+            file.display(),
+            missing.join(", "),
+            file.display()
+        )));
+    }
+    run_and_report(
+        &study,
+        &study::jobs::options(&plan, ProgressMode::detect(args.quiet)),
+    )
+}
+
+/// Runs the study and writes its report; exit status 1 when a bound fails.
+fn run_and_report(study: &study::Study, opts: &RunOptions) -> Result<u8, CliError> {
+    let out_dir = &opts.out_dir;
     let renderer = Renderer::new().map_err(|e| CliError::unavailable(e.to_string()))?;
-    let result = run_study(&study, &renderer, &opts).map_err(cli_error)?;
-    crate::report::write(&result, &out_dir)
+    let result = run_study(study, &renderer, opts).map_err(cli_error)?;
+    crate::report::write(&result, out_dir)
         .map_err(|e| CliError::run(format!("{}: {e}", out_dir.display())))?;
     let failures = result.failures();
     println!(

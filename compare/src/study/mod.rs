@@ -26,6 +26,7 @@
 
 pub mod cache;
 mod check;
+pub mod jobs;
 pub mod model;
 mod parse;
 pub mod plan;

@@ -114,6 +114,36 @@ pub fn ground_truth(
     opts: &RunOptions,
     name: &str,
 ) -> Result<(LayeredImage, GroundTruthInfo), StudyError> {
+    let (image, hash, was_cached) = cached_ground_truth(scene, settings, opts, name)?;
+    let exr = format!("{name}.exr");
+    image
+        .write_exr(opts.out_dir.join(&exr))
+        .map_err(io_err(&opts.out_dir))?;
+    let info = GroundTruthInfo {
+        integrator: settings.integrator.name().into(),
+        pixel_filter: settings.pixel_filter.describe(),
+        spp: settings.spp,
+        seconds: image
+            .attribute("seconds")
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(f64::NAN),
+        hash,
+        cached: was_cached,
+        exr,
+        png: format!("{name}.png"),
+        mean_relative_std_error: mean_relative_std_error(&image),
+    };
+    Ok((image, info))
+}
+
+/// The ground truth from the cache, or rendered and cached: the image, its cache key, and
+/// whether it was found in the cache. `name` is for messages.
+pub fn cached_ground_truth(
+    scene: &Scene,
+    settings: RenderSettings,
+    opts: &RunOptions,
+    name: &str,
+) -> Result<(LayeredImage, String, bool), StudyError> {
     let hash = ground_truth_hash(scene, &settings);
     let entry = cache::Entry::new(&opts.cache_dir, &hash);
     let cached = match entry.read() {
@@ -167,25 +197,7 @@ pub fn ground_truth(
             r.image
         }
     };
-    let exr = format!("{name}.exr");
-    image
-        .write_exr(opts.out_dir.join(&exr))
-        .map_err(io_err(&opts.out_dir))?;
-    let info = GroundTruthInfo {
-        integrator: settings.integrator.name().into(),
-        pixel_filter: settings.pixel_filter.describe(),
-        spp: settings.spp,
-        seconds: image
-            .attribute("seconds")
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(f64::NAN),
-        hash,
-        cached: was_cached,
-        exr,
-        png: format!("{name}.png"),
-        mean_relative_std_error: mean_relative_std_error(&image),
-    };
-    Ok((image, info))
+    Ok((image, hash, was_cached))
 }
 
 /// Mean over pixels and channels of σ/(|r| + 0.01): the reference's own relative noise.

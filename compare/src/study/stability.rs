@@ -180,6 +180,29 @@ pub fn orbit(scene: &Scene, degrees: f32, distance: f32) -> Scene {
     s
 }
 
+/// The scenes of the flicker frames: the base scene moved by frame k's step of the motion.
+pub fn flicker_frames(
+    study: &Study,
+    scene: &Scene,
+    point: &ScenePoint,
+    f: &Flicker,
+    quick: bool,
+) -> Result<Vec<Scene>, StudyError> {
+    let mut frames: Vec<Scene> = Vec::new();
+    for k in 0..f.frames {
+        frames.push(match &f.motion {
+            Motion::Orbit { degrees, distance } => orbit(scene, k as f32 * degrees, *distance),
+            Motion::Shift { .. } if k == 0 => scene.clone(),
+            Motion::Shift { .. } => {
+                let mut edits = point.overrides.clone();
+                edits.extend(shifted(&f.motion, k));
+                prepare(study, quick, &edits)?.0
+            }
+        });
+    }
+    Ok(frames)
+}
+
 /// Flicker of every variant (of the first scene point, whose scene, oracle settings and
 /// point `base` are) over `f.frames` frames of its motion; ground truths cached like the
 /// study's own, frame 0 being the study's own view.
@@ -197,18 +220,7 @@ pub fn flicker(
     };
     std::fs::create_dir_all(&frame_opts.out_dir)
         .map_err(|e| StudyError::Run(format!("{}: {e}", frame_opts.out_dir.display())))?;
-    let mut frames: Vec<Scene> = Vec::new();
-    for k in 0..f.frames {
-        frames.push(match &f.motion {
-            Motion::Orbit { degrees, distance } => orbit(scene, k as f32 * degrees, *distance),
-            Motion::Shift { .. } if k == 0 => scene.clone(),
-            Motion::Shift { .. } => {
-                let mut edits = point.overrides.clone();
-                edits.extend(shifted(&f.motion, k));
-                prepare(study, opts.quick, &edits)?.0
-            }
-        });
-    }
+    let frames = flicker_frames(study, scene, point, f, opts.quick)?;
     let mut refs = Vec::new();
     let mut interiors = Vec::new();
     for (k, s) in frames.iter().enumerate() {
