@@ -257,36 +257,126 @@ fn a_study_run_as_a_job_graph_gives_the_single_process_report() {
     let (code, _, err) = verity(&["report", "--from", &path(&plan), "-q"]);
     assert_eq!(code, 0, "{err}");
 
-    let metrics = |d: &Path| -> serde_json::Value {
-        serde_json::from_str(&std::fs::read_to_string(d.join("metrics.json")).unwrap()).unwrap()
-    };
-    let (a, b) = (metrics(&single), metrics(&graph));
-    let values = |m: &serde_json::Value| {
-        (
-            m["variants"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|v| v["metrics"].clone())
-                .collect::<Vec<_>>(),
-            m["thresholds"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|t| t["value"].clone())
-                .collect::<Vec<_>>(),
-            m["flicker"].clone(),
-            m["ground_truth"]["hash"].clone(),
-        )
-    };
     assert_eq!(
-        values(&a),
-        values(&b),
+        report_values(&single),
+        report_values(&graph),
         "the job graph's report is the single run's"
     );
+    let graph_metrics: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(graph.join("metrics.json")).unwrap()).unwrap();
     assert_eq!(
-        b["ground_truth"]["cached"], true,
+        graph_metrics["ground_truth"]["cached"], true,
         "the report job found its ground truth in the cache"
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The project's venv Python (`$VERITY_PYTHON`, else `.venv/bin/python`), which
+/// scripts/setup.sh fills from compare/python/requirements.txt.
+fn venv_python() -> PathBuf {
+    let python = std::env::var_os("VERITY_PYTHON")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../.venv/bin/python"));
+    assert!(
+        python.exists(),
+        "no Python at {}: run ./scripts/setup.sh (it installs compare/python/requirements.txt into .venv)",
+        python.display()
+    );
+    python
+}
+
+/// compare/python/run_plan.py runs the job graph on a local Dask cluster of two worker
+/// processes (127.0.0.1) and makes the report; one worker dies abruptly in its first job (the
+/// driver's fault injection) and the job is run again elsewhere. The report equals the
+/// single-process one in every metric, threshold and flicker value.
+#[test]
+fn a_study_job_graph_runs_on_a_local_dask_cluster_that_loses_a_worker() {
+    let dir = tmp("dask");
+    let study = dir.join("dask.toml");
+    let text = tiny_study("max = 10.0")
+        + "[stability]\nmetric = \"relmse\"\nflicker = { frames = 3, orbit_degrees = 0.5, orbit_distance = 1.0 }\n";
+    std::fs::write(&study, text).unwrap();
+    let path = |p: &Path| p.display().to_string();
+    let (single, graph, plan) = (dir.join("single"), dir.join("graph"), dir.join("plan.json"));
+    let (code, _, err) = verity(&[
+        "report",
+        &path(&study),
+        "-q",
+        "--out",
+        &path(&single),
+        "--cache",
+        &path(&dir.join("cache-single")),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = verity(&[
+        "report",
+        &path(&study),
+        "--plan",
+        &path(&plan),
+        "--out",
+        &path(&graph),
+        "--cache",
+        &path(&dir.join("cache-graph")),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let died = dir.join("a-worker-died");
+    let driver = Path::new(env!("CARGO_MANIFEST_DIR")).join("python/run_plan.py");
+    let out = Command::new(venv_python())
+        .arg(&driver)
+        .arg(&plan)
+        .args(["--verity", env!("CARGO_BIN_EXE_verity"), "--local", "2"])
+        .env("VERITY_DASK_DIE_ONCE", &died)
+        .stdin(std::process::Stdio::null())
+        .output()
+        .unwrap();
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "run_plan.py (exit 3: run ./scripts/setup.sh for the venv):\n{stdout}\n{stderr}"
+    );
+    assert!(died.exists(), "the fault injection did not run: {stderr}");
+    for job in ["ground_truth", "flicker-frame-1", "flicker-frame-2"] {
+        assert!(stdout.contains(&format!("job {job} of")), "{job}: {stdout}");
+    }
+    assert_eq!(report_values(&single), report_values(&graph));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// What a report measured, without what depends on the run (timings, paths, cache state):
+/// every variant's metrics, every threshold's value, the flicker results, the ground truth's
+/// cache key.
+fn report_values(
+    dir: &Path,
+) -> (
+    Vec<serde_json::Value>,
+    Vec<serde_json::Value>,
+    serde_json::Value,
+    serde_json::Value,
+) {
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("metrics.json")).unwrap()).unwrap();
+    let each = |key: &str, field: &str| -> Vec<serde_json::Value> {
+        m[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v[field].clone())
+            .collect()
+    };
+    let (variants, thresholds) = (each("variants", "metrics"), each("thresholds", "value"));
+    assert!(
+        !variants.is_empty() && !thresholds.is_empty(),
+        "{}: an empty report",
+        dir.display()
+    );
+    (
+        variants,
+        thresholds,
+        m["flicker"].clone(),
+        m["ground_truth"]["hash"].clone(),
+    )
 }
