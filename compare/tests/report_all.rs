@@ -210,6 +210,17 @@ fn a_study_run_as_a_job_graph_gives_the_single_process_report() {
         ids,
         ["ground_truth", "flicker-frame-1", "flicker-frame-2", "report"]
     );
+    let report = &json["jobs"][3];
+    assert_eq!(report["depends_on"].as_array().unwrap().len(), 3);
+    assert_eq!(
+        report["inputs"].as_array().unwrap().len(),
+        2 + 3 * 2,
+        "the study, its scene, and each ground truth's EXR and checksum: {report}"
+    );
+    assert!(json["jobs"][0]["inputs"][0]
+        .as_str()
+        .unwrap()
+        .ends_with("graph.toml"));
 
     let (code, _, err) = verity(&["report", "--from", &path(&plan), "-q"]);
     assert_eq!(code, 2, "{err}");

@@ -12,9 +12,15 @@
 //! { "schema_version": 1, "study": "scenes/studies/area-lights.toml", "mode": "quick",
 //!   "out": "out/area-lights-quick", "cache": "out/cache",
 //!   "jobs": [ { "id": "ground_truth", "kind": "ground_truth", "hash": "<sha-256>",
-//!               "outputs": ["out/cache/<hash>.exr"], "depends_on": [] }, …,
+//!               "inputs": ["scenes/studies/area-lights.toml", "scenes/studies/scenes/glossy-area-light.toml"],
+//!               "outputs": ["out/cache/<hash>.exr", "out/cache/<hash>.exr.sha256"], "depends_on": [] }, …,
 //!             { "id": "report", "kind": "report", "hash": null,
+//!               "inputs": ["scenes/studies/area-lights.toml", …, "out/cache/<hash>.exr", …],
 //!               "outputs": ["out/area-lights-quick/metrics.json"], "depends_on": ["ground_truth", …] } ] }
+//!
+//! A job's inputs are the study file, its scene file (the files the scene reads in turn,
+//! textures and glTF assets, are covered by the hash: the cache key is of the scene as
+//! loaded) and, for the report, every ground truth's cache entry.
 //! ```
 //!
 //! A job is run from the plan by id; its scene and settings are derived from the study file
@@ -58,6 +64,8 @@ pub struct Job {
     pub kind: String,
     /// The ground truth's cache key; none for the report.
     pub hash: Option<String>,
+    /// The files the job reads.
+    pub inputs: Vec<PathBuf>,
     /// The files the job writes.
     pub outputs: Vec<PathBuf>,
     /// The jobs that must be done first.
@@ -101,6 +109,7 @@ fn needed(study: &Study, quick: bool) -> Result<Vec<Needed>, StudyError> {
 pub fn plan(study: &Study, opts: &RunOptions) -> Result<JobPlan, StudyError> {
     super::plan::plan(study, opts.quick)?;
     let mut jobs: Vec<Job> = Vec::new();
+    let study_files = vec![study.path.clone(), study.scene.clone()];
     for n in needed(study, opts.quick)? {
         let hash = ground_truth_hash(&n.scene, &n.settings);
         // Flicker frame 0 is the scene point's own ground truth: one job, two names.
@@ -111,16 +120,20 @@ pub fn plan(study: &Study, opts: &RunOptions) -> Result<JobPlan, StudyError> {
         jobs.push(Job {
             id: n.id,
             kind: "ground_truth".into(),
+            inputs: study_files.clone(),
             outputs: vec![entry.path().to_path_buf(), entry.checksum_path().to_path_buf()],
             hash: Some(hash),
             depends_on: Vec::new(),
         });
     }
     let depends_on = jobs.iter().map(|j| j.id.clone()).collect();
+    let mut inputs = study_files;
+    inputs.extend(jobs.iter().flat_map(|j| j.outputs.iter().cloned()));
     jobs.push(Job {
         id: "report".into(),
         kind: "report".into(),
         hash: None,
+        inputs,
         outputs: vec![opts.out_dir.join("metrics.json")],
         depends_on,
     });
