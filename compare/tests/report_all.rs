@@ -170,34 +170,8 @@ fn all_studies_in_full_mode_are_summarized_and_recorded_and_stale_reruns_only_wh
 /// value equal.
 #[test]
 fn a_study_run_as_a_job_graph_gives_the_single_process_report() {
-    let dir = tmp("job-graph");
-    let study = dir.join("graph.toml");
-    let text = tiny_study("max = 10.0")
-        + "[stability]\nmetric = \"relmse\"\nflicker = { frames = 3, orbit_degrees = 0.5, orbit_distance = 1.0 }\n";
-    std::fs::write(&study, text).unwrap();
+    let (dir, plan, single, graph, out) = single_run_and_plan("job-graph", "graph.toml");
     let path = |p: &Path| p.display().to_string();
-    let (single, graph, plan) = (dir.join("single"), dir.join("graph"), dir.join("plan.json"));
-    let (code, _, err) = verity(&[
-        "report",
-        &path(&study),
-        "-q",
-        "--out",
-        &path(&single),
-        "--cache",
-        &path(&dir.join("cache-single")),
-    ]);
-    assert_eq!(code, 0, "{err}");
-    let (code, out, err) = verity(&[
-        "report",
-        &path(&study),
-        "--plan",
-        &path(&plan),
-        "--out",
-        &path(&graph),
-        "--cache",
-        &path(&dir.join("cache-graph")),
-    ]);
-    assert_eq!(code, 0, "{err}");
     assert!(out.contains("plan graph: 4 jobs"), "{out}");
     let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&plan).unwrap()).unwrap();
     let ids: Vec<String> = json["jobs"]
@@ -302,34 +276,7 @@ fn venv_python() -> PathBuf {
 /// single-process one in every metric, threshold and flicker value.
 #[test]
 fn a_study_job_graph_runs_on_a_local_dask_cluster_that_loses_a_worker() {
-    let dir = tmp("dask");
-    let study = dir.join("dask.toml");
-    let text = tiny_study("max = 10.0")
-        + "[stability]\nmetric = \"relmse\"\nflicker = { frames = 3, orbit_degrees = 0.5, orbit_distance = 1.0 }\n";
-    std::fs::write(&study, text).unwrap();
-    let path = |p: &Path| p.display().to_string();
-    let (single, graph, plan) = (dir.join("single"), dir.join("graph"), dir.join("plan.json"));
-    let (code, _, err) = verity(&[
-        "report",
-        &path(&study),
-        "-q",
-        "--out",
-        &path(&single),
-        "--cache",
-        &path(&dir.join("cache-single")),
-    ]);
-    assert_eq!(code, 0, "{err}");
-    let (code, _, err) = verity(&[
-        "report",
-        &path(&study),
-        "--plan",
-        &path(&plan),
-        "--out",
-        &path(&graph),
-        "--cache",
-        &path(&dir.join("cache-graph")),
-    ]);
-    assert_eq!(code, 0, "{err}");
+    let (dir, plan, single, graph, _) = single_run_and_plan("dask", "dask.toml");
     let died = dir.join("a-worker-died");
     let driver = Path::new(env!("CARGO_MANIFEST_DIR")).join("python/run_plan.py");
     // Bounded in time: a hung cluster fails the test (exit 124) instead of stalling CI.
@@ -393,4 +340,40 @@ fn report_values(
         m["flicker"].clone(),
         m["ground_truth"]["hash"].clone(),
     )
+}
+
+/// In a fresh folder `name`: the tiny study (file `file`, with three flicker frames) run in
+/// one process into `single/`, and its plan written to `plan.json` for a job-graph run into
+/// `graph/` (separate caches). Returns the folder, the plan, the two report folders and what
+/// `--plan` printed.
+fn single_run_and_plan(name: &str, file: &str) -> (PathBuf, PathBuf, PathBuf, PathBuf, String) {
+    let dir = tmp(name);
+    let study = dir.join(file);
+    let text = tiny_study("max = 10.0")
+        + "[stability]\nmetric = \"relmse\"\nflicker = { frames = 3, orbit_degrees = 0.5, orbit_distance = 1.0 }\n";
+    std::fs::write(&study, text).unwrap();
+    let path = |p: &Path| p.display().to_string();
+    let (single, graph, plan) = (dir.join("single"), dir.join("graph"), dir.join("plan.json"));
+    let (code, _, err) = verity(&[
+        "report",
+        &path(&study),
+        "-q",
+        "--out",
+        &path(&single),
+        "--cache",
+        &path(&dir.join("cache-single")),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = verity(&[
+        "report",
+        &path(&study),
+        "--plan",
+        &path(&plan),
+        "--out",
+        &path(&graph),
+        "--cache",
+        &path(&dir.join("cache-graph")),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    (dir, plan, single, graph, out)
 }
