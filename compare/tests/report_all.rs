@@ -164,15 +164,15 @@ fn all_studies_in_full_mode_are_summarized_and_recorded_and_stale_reruns_only_wh
 }
 
 /// A study as a job graph: `--plan` lists one job per ground truth (the scene point and each
-/// flicker frame but the first, which is the point's) and the report; `run-job` renders each
-/// into the cache, once (a second run says it is done); `--from` refuses to run before they
-/// are done and then gives the single-process report: every metric, threshold and flicker
-/// value equal.
+/// flicker frame but the first, which is the point's), one per variant's raster renders and
+/// the report; `run-job` renders each, once (a second run says it is done); `--from` refuses
+/// to run before they are done and then gives the single-process report, rendering nothing:
+/// every metric, threshold and flicker value equal.
 #[test]
 fn a_study_run_as_a_job_graph_gives_the_single_process_report() {
-    let (dir, plan, single, graph, out) = single_run_and_plan("job-graph", "graph.toml");
+    let (dir, plan, single, graph, out) = single_run_and_plan("job-graph", "graph.toml", 1);
     let path = |p: &Path| p.display().to_string();
-    assert!(out.contains("plan graph: 4 jobs"), "{out}");
+    assert!(out.contains("plan graph: 5 jobs"), "{out}");
     let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&plan).unwrap()).unwrap();
     let ids: Vec<String> = json["jobs"]
         .as_array()
@@ -180,16 +180,23 @@ fn a_study_run_as_a_job_graph_gives_the_single_process_report() {
         .iter()
         .map(|j| j["id"].as_str().unwrap().to_string())
         .collect();
-    assert_eq!(
-        ids,
-        ["ground_truth", "flicker-frame-1", "flicker-frame-2", "report"]
+    assert_eq!(ids[..3], ["ground_truth", "flicker-frame-1", "flicker-frame-2"]);
+    assert!(
+        ids[3].starts_with("raster-area_quadrature") && ids[4] == "report",
+        "{ids:?}"
     );
-    let report = &json["jobs"][3];
-    assert_eq!(report["depends_on"].as_array().unwrap().len(), 3);
+    let raster = &json["jobs"][3];
+    assert_eq!(
+        raster["outputs"].as_array().unwrap().len(),
+        2 * 4,
+        "the measured render and one per flicker frame, each an EXR and its checksum: {raster}"
+    );
+    let report = &json["jobs"][4];
+    assert_eq!(report["depends_on"].as_array().unwrap().len(), 4);
     assert_eq!(
         report["inputs"].as_array().unwrap().len(),
-        2 + 3 * 2,
-        "the study, its scene, and each ground truth's EXR and checksum: {report}"
+        2 + 3 * 2 + 4 * 2,
+        "the study, its scene, and each ground truth's and raster's EXR and checksum: {report}"
     );
     assert!(json["jobs"][0]["inputs"][0]
         .as_str()
@@ -199,21 +206,27 @@ fn a_study_run_as_a_job_graph_gives_the_single_process_report() {
     let (code, _, err) = verity(&["report", "--from", &path(&plan), "-q"]);
     assert_eq!(code, 2, "{err}");
     assert!(
-        err.contains("ground-truth jobs not done yet: ground_truth, flicker-frame-1, flicker-frame-2"),
+        err.contains(&format!(
+            "jobs not done yet: ground_truth, flicker-frame-1, flicker-frame-2, {}",
+            ids[3]
+        )),
         "{err}"
     );
-    // The first job by hand, the others as scripts/slurm/study-jobs.sbatch runs them (tasks
-    // 2 and 3 of an array numbered 1-3).
+    // The first job by hand, the others as scripts/slurm/study-jobs.sbatch runs them: tasks
+    // 2 and 3 of an array 1-3 of the ground truths (the default kind), task 1 of an array of
+    // the raster jobs.
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/slurm/study-jobs.sbatch");
-    for (i, id) in ids[..3].iter().enumerate() {
+    for (i, id) in ids[..4].iter().enumerate() {
         let (code, out, err) = if i == 0 {
             verity(&["run-job", &path(&plan), id, "-q"])
         } else {
+            let (task, kind) = if i < 3 { (i + 1, None) } else { (1, Some("raster")) };
             let out = Command::new("bash")
                 .arg(&script)
                 .arg(&plan)
+                .args(kind)
                 .env("VERITY", env!("CARGO_BIN_EXE_verity"))
-                .env("SLURM_ARRAY_TASK_ID", (i + 1).to_string())
+                .env("SLURM_ARRAY_TASK_ID", task.to_string())
                 .env("SLURM_ARRAY_TASK_MIN", "1")
                 .output()
                 .unwrap();
@@ -229,8 +242,10 @@ fn a_study_run_as_a_job_graph_gives_the_single_process_report() {
             "{out}"
         );
     }
-    let (code, out, _) = verity(&["run-job", &path(&plan), "flicker-frame-1", "-q"]);
-    assert!(code == 0 && out.contains("already done"), "{out}");
+    for id in ["flicker-frame-1", ids[3].as_str()] {
+        let (code, out, _) = verity(&["run-job", &path(&plan), id, "-q"]);
+        assert!(code == 0 && out.contains("already done"), "{out}");
+    }
     for (job, expected) in [
         ("report", "job `report` is the report"),
         ("nope", "no job `nope` in the plan"),
@@ -239,8 +254,19 @@ fn a_study_run_as_a_job_graph_gives_the_single_process_report() {
         assert_eq!(code, 2, "{err}");
         assert!(err.contains(expected), "{err}");
     }
-    let (code, _, err) = verity(&["report", "--from", &path(&plan), "-q"]);
-    assert_eq!(code, 0, "{err}");
+    // The report job measures the recorded rasters: it needs no adapter at all.
+    let out = Command::new(env!("CARGO_BIN_EXE_verity"))
+        .args(["report", "--from", &path(&plan), "-q"])
+        .env("WGPU_BACKEND", "gl")
+        .env("WGPU_ADAPTER_NAME", "no such adapter")
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 
     assert_eq!(
         report_values(&single),
@@ -252,6 +278,18 @@ fn a_study_run_as_a_job_graph_gives_the_single_process_report() {
     assert_eq!(
         graph_metrics["ground_truth"]["cached"], true,
         "the report job found its ground truth in the cache"
+    );
+
+    // A raster recorded for another scene or settings is refused, naming the job to rerun.
+    let study = dir.join("graph.toml");
+    let text = std::fs::read_to_string(&study).unwrap();
+    std::fs::write(&study, text.replace("timed_frames = 1", "timed_frames = 2")).unwrap();
+    let (code, _, err) = verity(&["report", "--from", &path(&plan), "-q"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("rendered for another scene or settings")
+            && err.contains("raster job of `area_quadrature"),
+        "{err}"
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -270,13 +308,18 @@ fn venv_python() -> PathBuf {
     python
 }
 
-/// compare/python/run_plan.py runs the job graph on a local Dask cluster of two worker
-/// processes (127.0.0.1) and makes the report; one worker dies abruptly in its first job (the
-/// driver's fault injection) and the job is run again elsewhere. The report equals the
-/// single-process one in every metric, threshold and flicker value.
+/// compare/python/run_plan.py runs the job graph, its ground truths split into two shares
+/// each, on a local Dask cluster of two worker processes (127.0.0.1) and makes the report; one
+/// worker dies abruptly in its first job (the driver's fault injection) and the job is run
+/// again elsewhere. The report equals the single-process one in every metric, threshold and
+/// flicker value, and the merged ground truths are the single run's, bit for bit.
 #[test]
 fn a_study_job_graph_runs_on_a_local_dask_cluster_that_loses_a_worker() {
-    let (dir, plan, single, graph, _) = single_run_and_plan("dask", "dask.toml");
+    let (dir, plan, single, graph, out) = single_run_and_plan("dask", "dask.toml", 2);
+    assert!(
+        out.contains("plan dask: 11 jobs"),
+        "3 ground truths of 2 parts each, 1 raster job, the report: {out}"
+    );
     let died = dir.join("a-worker-died");
     let driver = Path::new(env!("CARGO_MANIFEST_DIR")).join("python/run_plan.py");
     // Bounded in time: a hung cluster fails the test (exit 124) instead of stalling CI.
@@ -300,11 +343,166 @@ fn a_study_job_graph_runs_on_a_local_dask_cluster_that_loses_a_worker() {
         "run_plan.py (exit 3: run ./scripts/setup.sh for the venv; 124: timed out after 300 s):\n{stdout}\n{stderr}"
     );
     assert!(died.exists(), "the fault injection did not run: {stderr}");
-    for job in ["ground_truth", "flicker-frame-1", "flicker-frame-2"] {
+    for job in [
+        "ground_truth.part-2-of-2",
+        "ground_truth",
+        "flicker-frame-1",
+        "flicker-frame-2",
+    ] {
         assert!(stdout.contains(&format!("job {job} of")), "{job}: {stdout}");
     }
+    assert!(stdout.contains("merged from its parts"), "{stdout}");
     assert_eq!(report_values(&single), report_values(&graph));
+    assert_same_ground_truths(&dir.join("cache-single"), &dir.join("cache-graph"));
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// dask-jobqueue's Slurm cluster, as on a real cluster but for the queue: stand-ins for
+/// `sbatch` (runs the job script it is given in the background and prints its job id) and
+/// `scancel` (kills it) on the PATH, three ground-truth shares each. The report equals the
+/// single-process one and the merged ground truths are the single run's, bit for bit.
+#[test]
+fn a_study_job_graph_runs_on_slurm_workers_through_dask_jobqueue() {
+    let (dir, plan, single, graph, _) = single_run_and_plan("jobqueue", "jobqueue.toml", 3);
+    let bin = dir.join("fake-slurm");
+    std::fs::create_dir_all(&bin).unwrap();
+    let jobs = dir.join("slurm-jobs");
+    std::fs::write(
+        bin.join("sbatch"),
+        format!(
+            r#"#!/bin/sh
+# A stand-in for Slurm's sbatch: the job script runs now, in the background, in its own
+# process group; the job id is its process id.
+mkdir -p {jobs}
+script=$(mktemp {jobs}/job-XXXXXX)
+cp "$1" "$script"
+setsid sh -c 'exec bash "$0" > "$0.log" 2>&1' "$script" < /dev/null &
+echo "Submitted batch job $!"
+"#,
+            jobs = jobs.display()
+        ),
+    )
+    .unwrap();
+    std::fs::write(
+        bin.join("scancel"),
+        "#!/bin/sh\nkill -TERM -- -\"$1\" 2>/dev/null || true\n",
+    )
+    .unwrap();
+    for f in ["sbatch", "scancel"] {
+        Command::new("chmod").arg("+x").arg(bin.join(f)).status().unwrap();
+    }
+    let driver = Path::new(env!("CARGO_MANIFEST_DIR")).join("python/run_plan.py");
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    let out = Command::new("timeout")
+        .arg("300")
+        .arg(venv_python())
+        .arg(&driver)
+        .arg(&plan)
+        .args([
+            "--verity",
+            env!("CARGO_BIN_EXE_verity"),
+            "--jobqueue",
+            "slurm",
+            "--jobs",
+            "2",
+        ])
+        .args(["--cores", "1", "--memory", "2GB", "--host", "127.0.0.1"])
+        .env("PATH", path)
+        .stdin(std::process::Stdio::null())
+        .output()
+        .unwrap();
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "run_plan.py --jobqueue slurm (exit 3: run ./scripts/setup.sh for the venv; 124: timed out after 300 s):\n{stdout}\n{stderr}"
+    );
+    let scripts: Vec<String> = std::fs::read_dir(&jobs)
+        .unwrap()
+        .filter_map(|e| std::fs::read_to_string(e.unwrap().path()).ok())
+        .filter(|t| t.contains("#SBATCH"))
+        .collect();
+    assert_eq!(scripts.len(), 2, "two batch jobs submitted");
+    assert!(
+        scripts.iter().all(|t| t.contains("--resources verity=1")),
+        "each worker runs one Verity job at a time: {}",
+        scripts[0]
+    );
+    assert!(stdout.contains("job ground_truth.part-3-of-3 of"), "{stdout}");
+    assert_eq!(report_values(&single), report_values(&graph));
+    assert_same_ground_truths(&dir.join("cache-single"), &dir.join("cache-graph"));
+
+    // A part cut short is refused by its merge, which names the job to run again; that job
+    // renders it again (it is not done) and the merge then succeeds.
+    let plan_json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&plan).unwrap()).unwrap();
+    let job = |id: &str| {
+        plan_json["jobs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|j| j["id"] == id)
+            .unwrap_or_else(|| panic!("no job {id}"))
+            .clone()
+    };
+    let (part, truth) = (job("ground_truth.part-1-of-3"), job("ground_truth"));
+    let part_file = PathBuf::from(part["outputs"][0].as_str().unwrap());
+    let bytes = std::fs::read(&part_file).unwrap();
+    std::fs::write(&part_file, &bytes[..bytes.len() / 2]).unwrap();
+    for output in truth["outputs"].as_array().unwrap() {
+        std::fs::remove_file(output.as_str().unwrap()).unwrap();
+    }
+    let plan_arg = plan.display().to_string();
+    let (code, _, err) = verity(&["run-job", &plan_arg, "ground_truth", "-q"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("run job `ground_truth.part-1-of-3` again"), "{err}");
+    for (job, did) in [
+        ("ground_truth.part-1-of-3", "rendered"),
+        ("ground_truth.part-2-of-3", "already done"),
+        ("ground_truth", "merged from its parts"),
+        ("ground_truth.part-3-of-3", "already done"),
+    ] {
+        let (code, out, err) = verity(&["run-job", &plan_arg, job, "-q"]);
+        assert!(code == 0 && out.contains(did), "{job}: {out}{err}");
+    }
+    assert_same_ground_truths(&dir.join("cache-single"), &dir.join("cache-graph"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Every ground truth in the cache `single` is in `graph` under the same key with the same
+/// channels, bit for bit, and the same header but for the render time.
+fn assert_same_ground_truths(single: &Path, graph: &Path) {
+    let mut seen = 0;
+    for e in std::fs::read_dir(single).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_none_or(|x| x != "exr") {
+            continue;
+        }
+        let other = graph.join(p.file_name().unwrap());
+        let (a, b) = (
+            scenes::layered::LayeredImage::read_exr(&p).unwrap(),
+            scenes::layered::LayeredImage::read_exr(&other).unwrap_or_else(|e| panic!("{e}")),
+        );
+        assert_eq!(a.channels.len(), b.channels.len());
+        for ((name, x), (other_name, y)) in a.channels.iter().zip(&b.channels) {
+            assert_eq!(name, other_name);
+            let bits = |c: &[f32]| c.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert!(bits(x) == bits(y), "{}: channel {name}", other.display());
+        }
+        let header = |i: &scenes::layered::LayeredImage| {
+            i.attributes
+                .iter()
+                .filter(|(k, _)| k != "seconds")
+                .cloned()
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(header(&a), header(&b), "{}", other.display());
+        seen += 1;
+    }
+    assert_eq!(seen, 3, "the scene point's ground truth and two flicker frames'");
 }
 
 /// What a report measured, without what depends on the run (timings, paths, cache state):
@@ -343,10 +541,11 @@ fn report_values(
 }
 
 /// In a fresh folder `name`: the tiny study (file `file`, with three flicker frames) run in
-/// one process into `single/`, and its plan written to `plan.json` for a job-graph run into
-/// `graph/` (separate caches). Returns the folder, the plan, the two report folders and what
-/// `--plan` printed.
-fn single_run_and_plan(name: &str, file: &str) -> (PathBuf, PathBuf, PathBuf, PathBuf, String) {
+/// one process into `single/`, and its plan written to `plan.json`, ground truths in `parts`
+/// shares, for a job-graph run into `graph/` (separate caches, `cache-single/` and
+/// `cache-graph/`). Returns the folder, the plan, the two report folders and what `--plan`
+/// printed.
+fn single_run_and_plan(name: &str, file: &str, parts: u32) -> (PathBuf, PathBuf, PathBuf, PathBuf, String) {
     let dir = tmp(name);
     let study = dir.join(file);
     let text = tiny_study("max = 10.0")
@@ -373,6 +572,8 @@ fn single_run_and_plan(name: &str, file: &str) -> (PathBuf, PathBuf, PathBuf, Pa
         &path(&graph),
         "--cache",
         &path(&dir.join("cache-graph")),
+        "--parts",
+        &parts.to_string(),
     ]);
     assert_eq!(code, 0, "{err}");
     (dir, plan, single, graph, out)

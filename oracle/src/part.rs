@@ -108,7 +108,7 @@ pub struct Part {
     /// Render time of this part in seconds.
     pub seconds: f64,
     /// The EXR header of the render, in order; `seconds`, `paths`, `rays`,
-    /// `nonfinite_samples` and `rel_err` are recomputed by [`merge`].
+    /// `nonfinite_samples` and (where present) `rel_err` are recomputed by [`merge`].
     pub header: Vec<(String, String)>,
 }
 
@@ -449,11 +449,15 @@ pub fn merge(parts: &[(PathBuf, Part)], ledger: &scenes::budget::Ledger) -> Resu
     image.set_attribute("paths", film.paths.to_string());
     image.set_attribute("rays", film.rays.to_string());
     image.set_attribute("nonfinite_samples", film.nonfinite.to_string());
-    let rel_err = film.mean_relative_error();
-    if rel_err.is_finite() {
-        image.set_attribute("rel_err", rel_err.to_string());
-    } else {
-        image.attributes.retain(|(k, _)| k != "rel_err");
+    // `rel_err` is the CLI's (`verity render` writes it; the oracle's own header has none):
+    // recomputed where the parts' header carries it.
+    if image.attribute("rel_err").is_some() {
+        let rel_err = film.mean_relative_error();
+        if rel_err.is_finite() {
+            image.set_attribute("rel_err", rel_err.to_string());
+        } else {
+            image.attributes.retain(|(k, _)| k != "rel_err");
+        }
     }
     Ok(image)
 }

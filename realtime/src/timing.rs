@@ -8,8 +8,10 @@
 
 use std::fmt::Write as _;
 
+use serde::{Deserialize, Serialize};
+
 /// Where the frame time comes from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum TimingSource {
     /// Per-pass GPU timestamp queries.
     GpuTimestamps,
@@ -18,7 +20,7 @@ pub enum TimingSource {
 }
 
 /// Median time of one pass.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PassTime {
     /// Pass label (`forward pass`, `G-buffer pass`, `lighting pass`).
     pub name: String,
@@ -27,7 +29,7 @@ pub struct PassTime {
 }
 
 /// A render's cost.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Timing {
     /// Adapter name as the driver reports it.
     pub adapter: String,
@@ -84,7 +86,7 @@ impl Timing {
 /// Hardware-independent cost of shading each visible sample once, per final pixel (all k²
 /// subsamples, background included; forward overdraw excluded, so forward and deferred count
 /// the same).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Counters {
     /// Texel reads from textures (a bilinear lookup is 4; normal maps and environment lookups
     /// included).

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use compare::progress::ProgressMode;
-use compare::study::run::{run_study, RunOptions};
+use compare::study::run::{run_study, Rasters, RunOptions};
 
 fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
@@ -27,7 +27,7 @@ fn the_example_notebook_runs_on_a_quick_report() {
         cache_dir: ws.join("target/notebook-test/cache"),
         progress: ProgressMode::Quiet,
     };
-    let r = run_study(&study, &renderer, &opts).unwrap_or_else(|e| panic!("{e}"));
+    let r = run_study(&study, &Rasters::Live(&renderer), &opts).unwrap_or_else(|e| panic!("{e}"));
     compare::report::write(&r, &out).unwrap();
     let python = std::env::var_os("VERITY_PYTHON").map_or(ws.join(".venv/bin/python"), PathBuf::from);
     let run = Command::new(&python)

@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 
 use compare::progress::ProgressMode;
 use compare::study::result::StudyResult;
-use compare::study::run::{run_study, RunOptions};
+use compare::study::run::{run_study, Rasters, RunOptions};
 use compare::study::{self, Study};
 use realtime::Renderer;
 
@@ -34,7 +34,8 @@ fn run_quick(study: &Study, tag: &str) -> StudyResult {
         cache_dir: workspace().join("target/study-tests/cache"),
         progress: ProgressMode::Quiet,
     };
-    let r = run_study(study, renderer(), &opts).unwrap_or_else(|e| panic!("{}: {e}", study.path.display()));
+    let r = run_study(study, &Rasters::Live(renderer()), &opts)
+        .unwrap_or_else(|e| panic!("{}: {e}", study.path.display()));
     compare::report::write(&r, &out).expect("report written");
     r
 }

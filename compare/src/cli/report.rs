@@ -16,7 +16,7 @@ use realtime::Renderer;
 
 use super::CliError;
 use crate::progress::ProgressMode;
-use crate::study::run::{run_study, RunOptions, StudyError};
+use crate::study::run::{run_study, Rasters, RunOptions, StudyError};
 use crate::study::{self, plan, DEFAULT_STUDY};
 
 /// Flags of `verity report`.
@@ -70,13 +70,22 @@ pub struct ReportArgs {
     pub studies: Option<PathBuf>,
 
     /// Write the study's job graph to FILE (JSON) instead of running it: one job per ground
-    /// truth (run each with `verity run-job FILE JOB`, on any machine that shares the cache)
-    /// and the report job (`verity report --from FILE`).
+    /// truth and one per variant's raster renders (run each with `verity run-job FILE JOB`,
+    /// on any machine that shares the cache and the report folder), and the report job
+    /// (`verity report --from FILE`).
     #[arg(long, value_name = "FILE", conflicts_with_all = ["all", "dry_run", "from"])]
     pub plan: Option<PathBuf>,
 
+    /// With --plan: split each ground truth into N jobs, each rendering a share of its image
+    /// rows (`verity render --part K/N`), and a job that merges them into the cache entry one
+    /// render would make, bit for bit.
+    #[arg(long, value_name = "N", requires = "plan", default_value_t = 1,
+          value_parser = clap::value_parser!(u32).range(1..=i64::from(oracle::part::MAX_SHARES)))]
+    pub parts: u32,
+
     /// Run the report job of a plan written by --plan: the study, mode, report folder and
-    /// cache are the plan's; every ground-truth job must be done (found in the cache).
+    /// cache are the plan's; every ground-truth and raster job must be done (the report
+    /// renders nothing, so it needs no GPU adapter).
     #[arg(long, value_name = "FILE", conflicts_with_all = ["all", "dry_run", "quick", "out", "cache", "study"])]
     pub from: Option<PathBuf>,
 }
@@ -139,7 +148,7 @@ pub fn run(args: &ReportArgs) -> Result<u8, CliError> {
         progress: ProgressMode::detect(args.quiet),
     };
     if let Some(file) = &args.plan {
-        return write_plan(&study, &opts, file);
+        return write_plan(&study, &opts, file, args.parts);
     }
     run_and_report(&study, &opts)
 }
@@ -154,8 +163,13 @@ pub(crate) fn cli_error(e: StudyError) -> CliError {
 }
 
 /// `--plan FILE`: writes the job graph atomically and lists its jobs.
-fn write_plan(study: &study::Study, opts: &RunOptions, file: &std::path::Path) -> Result<u8, CliError> {
-    let plan = study::jobs::plan(study, opts).map_err(cli_error)?;
+fn write_plan(
+    study: &study::Study,
+    opts: &RunOptions,
+    file: &std::path::Path,
+    parts: u32,
+) -> Result<u8, CliError> {
+    let plan = study::jobs::plan(study, opts, parts).map_err(cli_error)?;
     let text = serde_json::to_string_pretty(&plan).map_err(|e| CliError::run(e.to_string()))?;
     scenes::layered::write_atomic(file, text.as_bytes())
         .map_err(|e| CliError::input(format!("--plan {}: {e}", file.display())))?;
@@ -171,30 +185,38 @@ fn write_plan(study: &study::Study, opts: &RunOptions, file: &std::path::Path) -
     Ok(0)
 }
 
-/// `--from FILE`: the plan's report job, once every ground truth is in the cache.
+/// `--from FILE`: the plan's report job, once every ground truth is in the cache and every
+/// raster render recorded (a plan without raster jobs renders them here).
 fn run_from_plan(file: &std::path::Path, args: &ReportArgs) -> Result<u8, CliError> {
     let plan = study::jobs::read_plan(file).map_err(cli_error)?;
     let study = study::load(&plan.study).map_err(|e| CliError::input(e.to_string()))?;
     let missing = study::jobs::unfinished(&plan);
     if !missing.is_empty() {
         return Err(CliError::input(format!(
-            "--from {}: ground-truth jobs not done yet: {} (run them with verity run-job {} JOB)",
+            "--from {}: jobs not done yet: {} (run them with verity run-job {} JOB)",
             file.display(),
             missing.join(", "),
             file.display()
         )));
     }
-    run_and_report(
-        &study,
-        &study::jobs::options(&plan, ProgressMode::detect(args.quiet)),
-    )
+    let opts = study::jobs::options(&plan, ProgressMode::detect(args.quiet));
+    if study::jobs::has_raster_jobs(&plan) {
+        let recorded = Rasters::Recorded(study::jobs::raster_dir(&plan));
+        return report(&study, &recorded, &opts);
+    }
+    run_and_report(&study, &opts)
 }
 
 /// Runs the study and writes its report; exit status 1 when a bound fails.
 fn run_and_report(study: &study::Study, opts: &RunOptions) -> Result<u8, CliError> {
-    let out_dir = &opts.out_dir;
     let renderer = Renderer::new().map_err(|e| CliError::unavailable(e.to_string()))?;
-    let result = run_study(study, &renderer, opts).map_err(cli_error)?;
+    report(study, &Rasters::Live(&renderer), opts)
+}
+
+/// The study run with `rasters` and its report written; exit status 1 when a bound fails.
+fn report(study: &study::Study, rasters: &Rasters, opts: &RunOptions) -> Result<u8, CliError> {
+    let out_dir = &opts.out_dir;
+    let result = run_study(study, rasters, opts).map_err(cli_error)?;
     crate::report::write(&result, out_dir)
         .map_err(|e| CliError::run(format!("{}: {e}", out_dir.display())))?;
     let failures = result.failures();

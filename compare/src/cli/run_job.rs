@@ -1,6 +1,7 @@
-//! `verity run-job PLAN JOB`: one ground-truth job of a study's job graph (`verity report
-//! STUDY --plan PLAN`), on any machine that shares the plan's cache folder. A job whose ground
-//! truth is in the cache with its hash is done: it says so and renders nothing.
+//! `verity run-job PLAN JOB`: one job of a study's job graph (`verity report STUDY --plan
+//! PLAN`): a ground truth, a share of one, or a variant's raster renders, on any machine that
+//! shares the plan's cache and report folders (a raster job needs a GPU adapter or lavapipe).
+//! A job whose outputs exist with their hash is done: it says so and renders nothing.
 
 use std::path::PathBuf;
 
@@ -18,7 +19,8 @@ pub struct RunJobArgs {
     #[arg(value_name = "PLAN")]
     pub plan: PathBuf,
 
-    /// The job's id in the plan (e.g. `ground_truth`, `flicker-frame-2`).
+    /// The job's id in the plan (e.g. `ground_truth`, `flicker-frame-2`,
+    /// `ground_truth.part-1-of-4`, `raster-ltc`).
     #[arg(value_name = "JOB")]
     pub job: String,
 
@@ -34,10 +36,13 @@ pub fn run(args: &RunJobArgs) -> Result<(), CliError> {
     let opts = jobs::options(&plan, ProgressMode::detect(args.quiet));
     std::fs::create_dir_all(&opts.cache_dir)
         .map_err(|e| CliError::run(format!("{}: {e}", opts.cache_dir.display())))?;
-    let outcome = jobs::run_ground_truth_job(&study, &plan, &args.job, &opts).map_err(cli_error)?;
+    let renderer =
+        || realtime::Renderer::new().map_err(|e| study::run::StudyError::Unavailable(e.to_string()));
+    let outcome = jobs::run_job(&study, &plan, &args.job, &opts, &renderer).map_err(cli_error)?;
     let what = match outcome {
         jobs::Outcome::Rendered => "rendered",
-        jobs::Outcome::AlreadyDone => "already done (in the cache with its hash)",
+        jobs::Outcome::Merged => "merged from its parts into the cache",
+        jobs::Outcome::AlreadyDone => "already done (its outputs exist with their hash)",
     };
     println!("job {} of {}: {what}", args.job, args.plan.display());
     Ok(())

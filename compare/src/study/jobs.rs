@@ -1,39 +1,61 @@
-//! A study as a job graph, for running it on more than one machine: the ground truths (the
-//! expensive, GPU-free part: one per scene point and one per flicker frame) are jobs of their
-//! own, keyed by the content hash the ground-truth cache already uses
-//! ([`super::setup::ground_truth_hash`]); the report (every raster render, measurement and
-//! chart, on a machine with a GPU adapter) is one job that depends on all of them and finds
-//! them in the cache. A job whose output exists with its hash is done: running it again only
-//! says so.
+//! A study as a job graph, for running it on more than one machine. Four kinds of job:
 //!
-//! The plan is JSON (schema version 1):
+//! - `ground_truth_part` (with `--parts N`): share K of N of a ground truth's image rows
+//!   (`verity render --part`, [`oracle::part`]), written to `<cache>/parts/<hash>/part-K-of-N.vpart`;
+//! - `ground_truth`: one per scene point and flicker frame, keyed by the content hash the
+//!   ground-truth cache already uses ([`super::setup::ground_truth_hash`]): rendered into the
+//!   cache, or, when the plan splits it, its parts merged into the cache entry, bit for bit the
+//!   image one render makes (the header's `seconds` is the parts' sum);
+//! - `raster`: every raster render of one variant (its measured render and, in a study with
+//!   flicker, one per flicker frame), recorded in `<out>/raster/` ([`super::rasters`]); these
+//!   need a GPU adapter (or lavapipe);
+//! - `report`: every measurement, bound and chart, from the cache and the recorded rasters
+//!   (`verity report --from`), on any machine: it renders nothing.
+//!
+//! A job whose outputs exist with their hash is done: running it again only says so.
+//!
+//! The plan is JSON (schema version 1; fields and kinds are only ever added):
 //!
 //! ```text
 //! { "schema_version": 1, "study": "scenes/studies/area-lights.toml", "mode": "quick",
 //!   "out": "out/area-lights-quick", "cache": "out/cache",
-//!   "jobs": [ { "id": "ground_truth", "kind": "ground_truth", "hash": "<sha-256>",
+//!   "jobs": [ { "id": "ground_truth.part-1-of-2", "kind": "ground_truth_part", "hash": "<sha-256>", "part": "1/2",
 //!               "inputs": ["scenes/studies/area-lights.toml", "scenes/studies/scenes/glossy-area-light.toml"],
-//!               "outputs": ["out/cache/<hash>.exr", "out/cache/<hash>.exr.sha256"], "depends_on": [] }, …,
-//!             { "id": "report", "kind": "report", "hash": null,
-//!               "inputs": ["scenes/studies/area-lights.toml", …, "out/cache/<hash>.exr", …],
-//!               "outputs": ["out/area-lights-quick/metrics.json"], "depends_on": ["ground_truth", …] } ] }
-//!
-//! A job's inputs are the study file, its scene file (the files the scene reads in turn,
-//! textures and glTF assets, are covered by the hash: the cache key is of the scene as
-//! loaded) and, for the report, every ground truth's cache entry.
+//!               "outputs": ["out/cache/parts/<hash>/part-1-of-2.vpart"], "depends_on": [] }, …,
+//!             { "id": "ground_truth", "kind": "ground_truth", "hash": "<sha-256>", "part": null,
+//!               "inputs": [<the study, its scene, the parts>],
+//!               "outputs": ["out/cache/<hash>.exr", "out/cache/<hash>.exr.sha256"],
+//!               "depends_on": ["ground_truth.part-1-of-2", "ground_truth.part-2-of-2"] }, …,
+//!             { "id": "raster-ltc", "kind": "raster", "hash": null, "part": null, "inputs": [<the study, its scene>],
+//!               "outputs": ["out/area-lights-quick/raster/ltc.exr", "out/area-lights-quick/raster/ltc.exr.sha256"],
+//!               "depends_on": [] }, …,
+//!             { "id": "report", "kind": "report", "hash": null, "part": null,
+//!               "inputs": [<the study, its scene, every ground truth's and raster's files>],
+//!               "outputs": ["out/area-lights-quick/metrics.json"], "depends_on": [<every other job but the parts>] } ] }
 //! ```
 //!
-//! A job is run from the plan by id; its scene and settings are derived from the study file
-//! again and must give the hash the plan recorded (else the study or its scene changed since
-//! the plan was written, and the job refuses to run).
+//! A job's inputs are the files it reads: the study file and its scene file (the files the
+//! scene reads in turn, textures and glTF assets, are covered by the hashes: the keys are of
+//! the scene as loaded) and the outputs of the jobs it depends on. A job is run from the plan
+//! by id; its scene and settings are derived from the study file again and must give the hash
+//! the plan recorded (else the study or its scene changed since the plan was written, and the
+//! job refuses to run). Plans written before raster jobs existed (no `raster` job) still run:
+//! their report job renders the rasters itself.
 
 use std::path::{Path, PathBuf};
 
+use oracle::part::RowShare;
+use realtime::Renderer;
+use scenes::budget::Ledger;
 use scenes::{RenderSettings, Scene};
 use serde::{Deserialize, Serialize};
 
-use super::setup::{cached_ground_truth, ground_truth_hash, prepare, RunOptions, StudyError};
-use super::{cache, stability, Study};
+use super::rasters::{self, RasterKey};
+use super::setup::{
+    cached_ground_truth, flicker_raster_settings, ground_truth_hash, measured_raster_settings, oracle_job,
+    prepare, RunOptions, StudyError,
+};
+use super::{cache, stability, Study, Variant};
 
 /// Version of the plan's JSON layout.
 pub const PLAN_SCHEMA_VERSION: u32 = 1;
@@ -58,12 +80,16 @@ pub struct JobPlan {
 /// One job of a [`JobPlan`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Job {
-    /// Unique in the plan: `ground_truth<point suffix>`, `flicker-frame-<k>`, `report`.
+    /// Unique in the plan: `ground_truth<point suffix>`, `flicker-frame-<k>` (with
+    /// `.part-K-of-N` for their shares), `raster-<variant id>`, `report`.
     pub id: String,
-    /// `ground_truth` or `report`.
+    /// `ground_truth_part`, `ground_truth`, `raster` or `report`.
     pub kind: String,
-    /// The ground truth's cache key; none for the report.
+    /// The ground truth's cache key (of the ground truth and its parts); none for the others.
     pub hash: Option<String>,
+    /// The share `K/N` of a `ground_truth_part`.
+    #[serde(default)]
+    pub part: Option<String>,
     /// The files the job reads.
     pub inputs: Vec<PathBuf>,
     /// The files the job writes.
@@ -71,6 +97,15 @@ pub struct Job {
     /// The jobs that must be done first.
     pub depends_on: Vec<String>,
 }
+
+/// Job kinds.
+pub const GROUND_TRUTH_PART: &str = "ground_truth_part";
+/// A ground truth: rendered, or merged from its parts.
+pub const GROUND_TRUTH: &str = "ground_truth";
+/// The raster renders of one variant.
+pub const RASTER: &str = "raster";
+/// The measurements and the report.
+pub const REPORT: &str = "report";
 
 /// A ground truth the study needs: its job id, scene and oracle settings.
 struct Needed {
@@ -105,34 +140,134 @@ fn needed(study: &Study, quick: bool) -> Result<Vec<Needed>, StudyError> {
     Ok(out)
 }
 
-/// The plan of `study` run with `opts`.
-pub fn plan(study: &Study, opts: &RunOptions) -> Result<JobPlan, StudyError> {
+/// What [`for_each_raster`] calls with each render: the variant, the key, the scene, the settings.
+type RasterVisitor<'a> = dyn FnMut(&Variant, RasterKey, &Scene, &realtime::RasterSettings) -> Result<(), StudyError> + 'a;
+
+/// Calls `visit` with every raster render of the study (the variant, the render's key, its
+/// scene and settings), in the order a single run makes them: each scene point's variants,
+/// then, in a study with flicker, each variant of the first point at every flicker frame.
+/// The scenes are built one point at a time (a study's scenes may be large).
+fn for_each_raster(
+    study: &Study,
+    quick: bool,
+    visit: &mut RasterVisitor,
+) -> Result<(), StudyError> {
+    let points = study.scene_points();
+    for point in &points {
+        let (scene, _) = prepare(study, quick, &point.overrides)?;
+        for v in study.variants_at(point) {
+            let settings = measured_raster_settings(study, &scene, &v, quick);
+            visit(&v, RasterKey::measured(v.id()), &scene, &settings)?;
+        }
+    }
+    if let Some(f) = &study.stability.flicker {
+        let (scene, _) = prepare(study, quick, &points[0].overrides)?;
+        let frames = stability::flicker_frames(study, &scene, &points[0], f, quick)?;
+        for v in study.variants_at(&points[0]) {
+            for (k, frame) in frames.iter().enumerate() {
+                visit(
+                    &v,
+                    RasterKey::flicker(v.id(), k),
+                    frame,
+                    &flicker_raster_settings(study, frame, &v),
+                )?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The raster job of a variant.
+fn raster_job_id(variant_id: &str) -> String {
+    format!("raster-{variant_id}")
+}
+
+/// Where the raster jobs of `plan` record their renders.
+pub fn raster_dir(plan: &JobPlan) -> PathBuf {
+    plan.out.join("raster")
+}
+
+/// The part file of share `share` of the ground truth `hash`.
+fn part_path(cache_dir: &Path, hash: &str, share: RowShare) -> PathBuf {
+    cache_dir
+        .join("parts")
+        .join(hash)
+        .join(format!("part-{}-of-{}.vpart", share.index + 1, share.count))
+}
+
+/// The plan of `study` run with `opts`, each ground truth split into `parts` row shares
+/// (1: not split).
+pub fn plan(study: &Study, opts: &RunOptions, parts: u32) -> Result<JobPlan, StudyError> {
     super::plan::plan(study, opts.quick)?;
     let mut jobs: Vec<Job> = Vec::new();
+    let mut truths: Vec<Job> = Vec::new();
     let study_files = vec![study.path.clone(), study.scene.clone()];
     for n in needed(study, opts.quick)? {
         let hash = ground_truth_hash(&n.scene, &n.settings);
         // Flicker frame 0 is the scene point's own ground truth: one job, two names.
-        if jobs.iter().any(|j| j.hash.as_deref() == Some(hash.as_str())) {
+        if truths.iter().any(|j| j.hash.as_deref() == Some(hash.as_str())) {
             continue;
         }
+        let mut inputs = study_files.clone();
+        let mut depends_on = Vec::new();
+        if parts > 1 {
+            for index in 0..parts {
+                let share = RowShare { index, count: parts };
+                let id = format!("{}.part-{}-of-{parts}", n.id, index + 1);
+                let output = part_path(&opts.cache_dir, &hash, share);
+                inputs.push(output.clone());
+                depends_on.push(id.clone());
+                jobs.push(Job {
+                    id,
+                    kind: GROUND_TRUTH_PART.into(),
+                    hash: Some(hash.clone()),
+                    part: Some(share.label()),
+                    inputs: study_files.clone(),
+                    outputs: vec![output],
+                    depends_on: Vec::new(),
+                });
+            }
+        }
         let entry = cache::Entry::new(&opts.cache_dir, &hash);
-        jobs.push(Job {
+        truths.push(Job {
             id: n.id,
-            kind: "ground_truth".into(),
-            inputs: study_files.clone(),
-            outputs: vec![entry.path().to_path_buf(), entry.checksum_path().to_path_buf()],
+            kind: GROUND_TRUTH.into(),
             hash: Some(hash),
-            depends_on: Vec::new(),
+            part: None,
+            inputs,
+            outputs: vec![entry.path().to_path_buf(), entry.checksum_path().to_path_buf()],
+            depends_on,
         });
     }
-    let depends_on = jobs.iter().map(|j| j.id.clone()).collect();
+    jobs.extend(truths);
+    let raster_dir = opts.out_dir.join("raster");
+    for_each_raster(study, opts.quick, &mut |v, key, _, _| {
+        let id = raster_job_id(&v.id());
+        let entry = rasters::entry(&raster_dir, &key);
+        let outputs = [entry.path().to_path_buf(), entry.checksum_path().to_path_buf()];
+        match jobs.iter_mut().find(|j| j.id == id) {
+            Some(job) => job.outputs.extend(outputs),
+            None => jobs.push(Job {
+                id,
+                kind: RASTER.into(),
+                hash: None,
+                part: None,
+                inputs: study_files.clone(),
+                outputs: outputs.to_vec(),
+                depends_on: Vec::new(),
+            }),
+        }
+        Ok(())
+    })?;
+    let before: Vec<&Job> = jobs.iter().filter(|j| j.kind != GROUND_TRUTH_PART).collect();
+    let depends_on = before.iter().map(|j| j.id.clone()).collect();
     let mut inputs = study_files;
-    inputs.extend(jobs.iter().flat_map(|j| j.outputs.iter().cloned()));
+    inputs.extend(before.iter().flat_map(|j| j.outputs.iter().cloned()));
     jobs.push(Job {
         id: "report".into(),
-        kind: "report".into(),
+        kind: REPORT.into(),
         hash: None,
+        part: None,
         inputs,
         outputs: vec![opts.out_dir.join("metrics.json")],
         depends_on,
@@ -173,60 +308,213 @@ pub fn options(plan: &JobPlan, progress: crate::progress::ProgressMode) -> RunOp
     }
 }
 
-/// What running a ground-truth job did.
+/// What running a job did.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Outcome {
-    /// The ground truth was rendered and cached.
+    /// Its outputs were rendered (a ground truth, a part, a variant's rasters).
     Rendered,
-    /// It was in the cache already, with its hash: nothing to do.
+    /// A ground truth's parts were merged into its cache entry.
+    Merged,
+    /// Its outputs exist with their hash: nothing to do.
     AlreadyDone,
 }
 
-/// Runs ground-truth job `id` of `plan` for `study` (the plan's study file, loaded). The
-/// report job is run by `verity report --from` (it needs the GPU adapter).
-pub fn run_ground_truth_job(
+/// The job `id` of `plan`.
+pub fn job<'p>(plan: &'p JobPlan, id: &str) -> Result<&'p Job, StudyError> {
+    plan.jobs
+        .iter()
+        .find(|j| j.id == id)
+        .ok_or_else(|| StudyError::Input(format!("no job `{id}` in the plan (its jobs: {})", job_ids(plan))))
+}
+
+/// Runs job `id` of `plan` for `study` (the plan's study file, loaded); `renderer` is called
+/// once, for a raster job only. The report job is run by `verity report --from`.
+pub fn run_job(
     study: &Study,
     plan: &JobPlan,
     id: &str,
     opts: &RunOptions,
+    renderer: &dyn Fn() -> Result<Renderer, StudyError>,
 ) -> Result<Outcome, StudyError> {
-    let job = plan.jobs.iter().find(|j| j.id == id).ok_or_else(|| {
-        StudyError::Input(format!("no job `{id}` in the plan (its jobs: {})", job_ids(plan)))
-    })?;
-    if job.kind != "ground_truth" {
-        return Err(StudyError::Input(format!(
-            "job `{id}` is the report: run it with `verity report STUDY --from PLAN` on a machine with a GPU adapter"
-        )));
+    let job = job(plan, id)?;
+    match job.kind.as_str() {
+        GROUND_TRUTH_PART => run_part(study, job, opts),
+        GROUND_TRUTH => run_ground_truth(study, plan, job, opts),
+        RASTER => run_raster(study, plan, job, opts, renderer),
+        REPORT => Err(StudyError::Input(format!(
+            "job `{id}` is the report: run it with `verity report --from PLAN` once the other jobs are done"
+        ))),
+        other => Err(StudyError::Input(format!(
+            "job `{id}` is of kind `{other}`, which this Verity does not know"
+        ))),
     }
-    let n = needed(study, opts.quick)?
+}
+
+/// The ground truth of `job` (by the hash the plan recorded).
+fn needed_by(study: &Study, job: &Job, opts: &RunOptions) -> Result<Needed, StudyError> {
+    needed(study, opts.quick)?
         .into_iter()
         .find(|n| ground_truth_hash(&n.scene, &n.settings).as_str() == job.hash.as_deref().unwrap_or_default())
         .ok_or_else(|| {
             StudyError::Input(format!(
-                "job `{id}`: no ground truth of {} has the hash the plan recorded: the study or its scene changed \
+                "job `{}`: no ground truth of {} has the hash the plan recorded: the study or its scene changed \
                  since the plan was written; write the plan again",
+                job.id,
                 study.path.display()
             ))
-        })?;
-    let (_, _, was_cached) = cached_ground_truth(&n.scene, n.settings, opts, &n.id)?;
-    Ok(if was_cached {
+        })
+}
+
+/// Whether the ground truth `hash` is in the cache, whole and with its checksum.
+fn is_cached(cache_dir: &Path, hash: &str) -> bool {
+    matches!(cache::Entry::new(cache_dir, hash).read(), cache::Lookup::Hit(_))
+}
+
+/// A `ground_truth_part` job: share `K/N` of the ground truth's rows, unless the ground truth
+/// is cached already or the part file holds this share of this render.
+fn run_part(study: &Study, job: &Job, opts: &RunOptions) -> Result<Outcome, StudyError> {
+    let share = RowShare::parse(job.part.as_deref().unwrap_or_default())
+        .map_err(|e| StudyError::Input(format!("job `{}`: part {e}", job.id)))?;
+    let n = needed_by(study, job, opts)?;
+    let hash = job.hash.as_deref().unwrap_or_default();
+    let path = part_path(&opts.cache_dir, hash, share);
+    let oracle_job = oracle_job(&n.scene, n.settings);
+    let fingerprint = oracle::checkpoint::fingerprint(&oracle_job);
+    let ledger = Ledger::new();
+    let done = |p: &oracle::part::Part| p.fingerprint == fingerprint && p.share == share;
+    if is_cached(&opts.cache_dir, hash) || oracle::part::load(&path, &ledger).is_ok_and(|p| done(&p)) {
+        return Ok(Outcome::AlreadyDone);
+    }
+    let part = oracle::render_part(&oracle_job, share, &mut |_| true)
+        .map_err(|e| StudyError::Input(format!("job `{}`: {e}", job.id)))?;
+    let dir = path.parent().expect("a part file is in a folder");
+    std::fs::create_dir_all(dir).map_err(|e| StudyError::Run(format!("{}: {e}", dir.display())))?;
+    oracle::part::save(&path, &part).map_err(|e| StudyError::Run(e.to_string()))?;
+    Ok(Outcome::Rendered)
+}
+
+/// A `ground_truth` job: rendered into the cache or, when the plan split it, merged there
+/// from its parts (the jobs it depends on).
+fn run_ground_truth(
+    study: &Study,
+    plan: &JobPlan,
+    job: &Job,
+    opts: &RunOptions,
+) -> Result<Outcome, StudyError> {
+    let hash = job.hash.as_deref().unwrap_or_default();
+    let parts: Vec<&Job> = plan
+        .jobs
+        .iter()
+        .filter(|j| j.kind == GROUND_TRUTH_PART && job.depends_on.contains(&j.id))
+        .collect();
+    if parts.is_empty() {
+        let n = needed_by(study, job, opts)?;
+        let (_, _, was_cached) = cached_ground_truth(&n.scene, n.settings, opts, &n.id)?;
+        return Ok(if was_cached {
+            Outcome::AlreadyDone
+        } else {
+            Outcome::Rendered
+        });
+    }
+    if is_cached(&opts.cache_dir, hash) {
+        return Ok(Outcome::AlreadyDone);
+    }
+    // The hash is checked against the study here too: a merge of stale parts must not land
+    // under a current key.
+    let n = needed_by(study, job, opts)?;
+    let fingerprint = oracle::checkpoint::fingerprint(&oracle_job(&n.scene, n.settings));
+    let ledger = Ledger::new();
+    let mut loaded = Vec::new();
+    for p in &parts {
+        let path = p.outputs[0].clone();
+        let part = oracle::part::load(&path, &ledger)
+            .map_err(|e| StudyError::Input(format!("job `{}`: {e} (run job `{}` again)", job.id, p.id)))?;
+        if part.fingerprint != fingerprint {
+            return Err(StudyError::Input(format!(
+                "job `{}`: {} is a part of another render (run job `{}` again)",
+                job.id,
+                path.display(),
+                p.id
+            )));
+        }
+        loaded.push((path, part));
+    }
+    let image = oracle::part::merge(&loaded, &ledger)
+        .map_err(|e| StudyError::Input(format!("job `{}`: {e}", job.id)))?;
+    std::fs::create_dir_all(&opts.cache_dir)
+        .map_err(|e| StudyError::Run(format!("{}: {e}", opts.cache_dir.display())))?;
+    cache::Entry::new(&opts.cache_dir, hash)
+        .write(&image)
+        .map_err(|e| StudyError::Run(e.to_string()))?;
+    Ok(Outcome::Merged)
+}
+
+/// A `raster` job: every raster render of its variant not yet recorded for its scene and
+/// settings.
+fn run_raster(
+    study: &Study,
+    plan: &JobPlan,
+    job: &Job,
+    opts: &RunOptions,
+    renderer: &dyn Fn() -> Result<Renderer, StudyError>,
+) -> Result<Outcome, StudyError> {
+    let dir = raster_dir(plan);
+    let (mut renderer_made, mut found, mut rendered) = (None, 0, 0);
+    for_each_raster(study, opts.quick, &mut |v, key, scene, settings| {
+        if raster_job_id(&v.id()) != job.id {
+            return Ok(());
+        }
+        found += 1;
+        if rasters::is_recorded(&dir, &key, &rasters::request_hash(scene, settings)) {
+            return Ok(());
+        }
+        if renderer_made.is_none() {
+            renderer_made = Some(renderer()?);
+        }
+        let r = renderer_made.as_ref().expect("made above");
+        rendered += 1;
+        rasters::record(r, &dir, &key, scene, settings)
+    })?;
+    if found == 0 {
+        return Err(StudyError::Input(format!(
+            "job `{}`: no variant of {} has this id: the study changed since the plan was written; write the plan again",
+            job.id,
+            study.path.display()
+        )));
+    }
+    Ok(if rendered == 0 {
         Outcome::AlreadyDone
     } else {
         Outcome::Rendered
     })
 }
 
-/// The ground-truth jobs of `plan` whose cache entry is missing or not valid.
+/// The jobs of `plan` the report needs that are not done: ground truths not in the cache,
+/// raster jobs with a render not recorded (checked against its scene and settings when the
+/// report reads it).
 pub fn unfinished(plan: &JobPlan) -> Vec<String> {
+    let entry_of = |exr: &Path| {
+        let stem = exr.file_stem().unwrap_or_default().to_string_lossy().into_owned();
+        cache::Entry::new(exr.parent().unwrap_or(Path::new(".")), &stem)
+    };
     plan.jobs
         .iter()
-        .filter(|j| j.kind == "ground_truth")
-        .filter(|j| {
-            let entry = cache::Entry::new(&plan.cache, j.hash.as_deref().unwrap_or_default());
-            !matches!(entry.read(), cache::Lookup::Hit(_))
+        .filter(|j| match j.kind.as_str() {
+            GROUND_TRUTH => !is_cached(&plan.cache, j.hash.as_deref().unwrap_or_default()),
+            RASTER => j
+                .outputs
+                .iter()
+                .filter(|p| p.extension().is_some_and(|e| e == "exr"))
+                .any(|p| !matches!(entry_of(p).read(), cache::Lookup::Hit(_))),
+            _ => false,
         })
         .map(|j| j.id.clone())
         .collect()
+}
+
+/// Whether the plan's raster renders are jobs of their own (else its report renders them).
+pub fn has_raster_jobs(plan: &JobPlan) -> bool {
+    plan.jobs.iter().any(|j| j.kind == RASTER)
 }
 
 fn job_ids(plan: &JobPlan) -> String {

@@ -19,10 +19,12 @@
 //! | [`plan`] | renders and memory, checked against the budget before the first render |
 //! | [`setup`] | what a run and its sweeps share: options, the ground truths and their cache key |
 //! | [`run`] | the run: ground truths, every variant, metrics, bounds |
+//! | [`rasters`] | the raster images of a run: rendered live, or recorded by raster jobs |
 //! | [`stability`] | sweeps' flicker over frames |
 //! | [`result`] | what a run produces and the bounds' verdicts |
 //! | [`record`] | full-mode records in study files |
 //! | [`cache`] | the content-addressed ground-truth cache |
+//! | [`jobs`] | the study as a job graph: ground-truth shares, ground truths, raster renders, the report |
 
 pub mod cache;
 mod check;
@@ -30,6 +32,7 @@ pub mod jobs;
 pub mod model;
 mod parse;
 pub mod plan;
+pub mod rasters;
 pub mod record;
 pub mod result;
 pub mod run;

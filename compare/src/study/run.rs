@@ -4,13 +4,14 @@
 
 use std::fs;
 
-use realtime::Renderer;
 use scenes::layered::LayeredImage;
 use scenes::{RenderSettings, Scene};
 
+use super::rasters::RasterKey;
+pub use super::rasters::Rasters;
 use super::result::*;
 pub use super::setup::{ground_truth, ground_truth_hash, prepare, raster_settings, RunOptions, StudyError};
-use super::setup::{io_err, raster_err};
+use super::setup::{io_err, measured_raster_settings};
 use super::{plan, stability, MaskSpec, ScenePoint, Study, Target, Variant};
 use crate::metrics::{self, Mask, Metric, MetricValue, RgbImage};
 use crate::progress::StepProgress;
@@ -19,7 +20,7 @@ use crate::report::colormap;
 /// Runs `study` on `renderer`, writing images under `opts.out_dir`: at each scene point (the
 /// scene as written, or each scene-sweep value) its ground truth, masks and every variant.
 /// The run's size and memory are checked first ([`plan::plan`]), before anything is written.
-pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Result<StudyResult, StudyError> {
+pub fn run_study(study: &Study, rasters: &Rasters, opts: &RunOptions) -> Result<StudyResult, StudyError> {
     let started = std::time::Instant::now();
     plan::plan(study, opts.quick)?;
     for sub in ["", "methods"] {
@@ -46,7 +47,7 @@ pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Resul
             steps.start(&variant.label());
             let (result, timing) = measure_variant(
                 study,
-                renderer,
+                rasters,
                 &scene,
                 &variant,
                 (&reference, &gt, &gt_info),
@@ -101,7 +102,7 @@ pub fn run_study(study: &Study, renderer: &Renderer, opts: &RunOptions) -> Resul
     out.scene_sweep = stability::scene_sweep(study, &at_first, ground_truths, &out);
     if let Some(f) = &study.stability.flicker {
         let base = (&scene, settings, &points[0]);
-        out.flicker = stability::flicker(study, renderer, base, &at_first, f, opts)?;
+        out.flicker = stability::flicker(study, rasters, base, &at_first, f, opts)?;
     }
     out.thresholds = check_thresholds(study, &study.variants(), &at_first, &out);
     out.run.wall_seconds = started.elapsed().as_secs_f64();
@@ -268,18 +269,15 @@ fn rectangle_mask(name: &str, rect: &[f32; 4], w: usize, h: usize) -> Mask {
 /// Renders and measures one variant; writes its EXR (with error layers) and PNGs.
 fn measure_variant(
     study: &Study,
-    renderer: &Renderer,
+    rasters: &Rasters,
     scene: &Scene,
     variant: &Variant,
     (reference, reference_image, gt_info): (&RgbImage, &LayeredImage, &GroundTruthInfo),
     masks: &[Mask],
     opts: &RunOptions,
 ) -> Result<(VariantResult, realtime::Timing), StudyError> {
-    let mut settings = raster_settings(study, scene, variant);
-    if let Some((warmup, timed)) = study.quick.frames.filter(|_| opts.quick) {
-        settings = settings.frames(warmup, timed);
-    }
-    let out = renderer.render(scene, &settings).map_err(raster_err)?;
+    let settings = measured_raster_settings(study, scene, variant, opts.quick);
+    let out = rasters.render(&RasterKey::measured(variant.id()), scene, &settings)?;
     let mut image = out.image;
     let test = RgbImage::from_layered(&image, &variant.label()).map_err(StudyError::Run)?;
     let mut per_mask = Vec::new();

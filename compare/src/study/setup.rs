@@ -158,12 +158,8 @@ pub fn cached_ground_truth(
     let image = match cached {
         Some(img) => img,
         None => {
-            let stop = StopRule {
-                spp: settings.spp,
-                time: None,
-                target_rel_err: None,
-            };
-            let mut reporter = ProgressReporter::new(opts.progress, stop, false);
+            let job = oracle_job(scene, settings);
+            let mut reporter = ProgressReporter::new(opts.progress, job.stop, false);
             reporter.note(&format!(
                 "report: ground truth {}x{}, {} spp, {}",
                 scene.film.width,
@@ -171,12 +167,6 @@ pub fn cached_ground_truth(
                 settings.spp,
                 settings.integrator.name()
             ));
-            let job = RenderJob {
-                scene,
-                settings,
-                stop,
-                checkpoint: None,
-            };
             let r = oracle::render(&job, &mut |p| {
                 reporter.update(p);
                 true
@@ -198,6 +188,21 @@ pub fn cached_ground_truth(
         }
     };
     Ok((image, hash, was_cached))
+}
+
+/// The oracle's job for a ground truth: its fixed sample count, no checkpoint (what a part
+/// of it renders too, so that its parts merge into this job's image).
+pub fn oracle_job(scene: &Scene, settings: RenderSettings) -> RenderJob<'_> {
+    RenderJob {
+        scene,
+        settings,
+        stop: StopRule {
+            spp: settings.spp,
+            time: None,
+            target_rel_err: None,
+        },
+        checkpoint: None,
+    }
 }
 
 /// Mean over pixels and channels of σ/(|r| + 0.01): the reference's own relative noise.
@@ -226,4 +231,27 @@ pub fn raster_settings(study: &Study, scene: &Scene, variant: &Variant) -> Raste
         .ssaa(r.ssaa)
         .frames(r.warmup_frames, r.timed_frames)
         .counters(true)
+}
+
+/// The settings of `variant`'s measured render: [`raster_settings`], with the quick mode's
+/// frame counts in quick mode.
+pub fn measured_raster_settings(
+    study: &Study,
+    scene: &Scene,
+    variant: &Variant,
+    quick: bool,
+) -> RasterSettings {
+    let settings = raster_settings(study, scene, variant);
+    match study.quick.frames.filter(|_| quick) {
+        Some((warmup, timed)) => settings.frames(warmup, timed),
+        None => settings,
+    }
+}
+
+/// The settings of `variant`'s render at a flicker frame of scene `frame`: one untimed
+/// frame, no counters (only the image is compared).
+pub fn flicker_raster_settings(study: &Study, frame: &Scene, variant: &Variant) -> RasterSettings {
+    raster_settings(study, frame, variant)
+        .frames(0, 1)
+        .counters(false)
 }

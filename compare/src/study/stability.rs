@@ -20,13 +20,13 @@
 //!   frames is an error, not a flicker of 0.
 
 use glam::{Affine3A, DVec3, Quat, Vec3};
-use realtime::Renderer;
 use scenes::{RenderSettings, Scene};
 
+use super::rasters::{RasterKey, Rasters};
 use super::result::{
     FlickerResult, GroundTruthInfo, SceneSeries, SceneSweepResult, SeriesErrors, StudyResult, SweepResult,
 };
-use super::setup::{ground_truth, prepare, raster_settings, RunOptions, StudyError};
+use super::setup::{flicker_raster_settings, ground_truth, prepare, RunOptions, StudyError};
 use super::{shifted, Flicker, Motion, ScenePoint, Study, Variant};
 use crate::metrics::{Mask, RELATIVE_EPSILON};
 
@@ -208,7 +208,7 @@ pub fn flicker_frames(
 /// study's own, frame 0 being the study's own view.
 pub fn flicker(
     study: &Study,
-    renderer: &Renderer,
+    rasters: &Rasters,
     (scene, settings, point): (&Scene, RenderSettings, &ScenePoint),
     variants: &[Variant],
     f: &Flicker,
@@ -249,10 +249,10 @@ pub fn flicker(
     let mut out = Vec::new();
     for v in variants {
         let mut errors = Vec::new();
-        for (s, (r, _)) in frames.iter().zip(&refs) {
-            let img = renderer
-                .render(s, &raster_settings(study, s, v).frames(0, 1).counters(false))
-                .map_err(|e| StudyError::Run(e.to_string()))?
+        for (k, (s, (r, _))) in frames.iter().zip(&refs).enumerate() {
+            let key = RasterKey::flicker(v.id(), k);
+            let img = rasters
+                .render(&key, s, &flicker_raster_settings(study, s, v))?
                 .image;
             let a = img
                 .rgb("")
