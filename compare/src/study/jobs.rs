@@ -141,17 +141,14 @@ fn needed(study: &Study, quick: bool) -> Result<Vec<Needed>, StudyError> {
 }
 
 /// What [`for_each_raster`] calls with each render: the variant, the key, the scene, the settings.
-type RasterVisitor<'a> = dyn FnMut(&Variant, RasterKey, &Scene, &realtime::RasterSettings) -> Result<(), StudyError> + 'a;
+type RasterVisitor<'a> =
+    dyn FnMut(&Variant, RasterKey, &Scene, &realtime::RasterSettings) -> Result<(), StudyError> + 'a;
 
 /// Calls `visit` with every raster render of the study (the variant, the render's key, its
 /// scene and settings), in the order a single run makes them: each scene point's variants,
 /// then, in a study with flicker, each variant of the first point at every flicker frame.
 /// The scenes are built one point at a time (a study's scenes may be large).
-fn for_each_raster(
-    study: &Study,
-    quick: bool,
-    visit: &mut RasterVisitor,
-) -> Result<(), StudyError> {
+fn for_each_raster(study: &Study, quick: bool, visit: &mut RasterVisitor) -> Result<(), StudyError> {
     let points = study.scene_points();
     for point in &points {
         let (scene, _) = prepare(study, quick, &point.overrides)?;
@@ -517,10 +514,18 @@ pub fn has_raster_jobs(plan: &JobPlan) -> bool {
     plan.jobs.iter().any(|j| j.kind == RASTER)
 }
 
+/// The plan's job ids for a message: the first eight, then how many more.
 fn job_ids(plan: &JobPlan) -> String {
-    plan.jobs
+    const SHOWN: usize = 8;
+    let mut ids = plan
+        .jobs
         .iter()
+        .take(SHOWN)
         .map(|j| j.id.as_str())
         .collect::<Vec<_>>()
-        .join(", ")
+        .join(", ");
+    if plan.jobs.len() > SHOWN {
+        ids += &format!(", … ({} more)", plan.jobs.len() - SHOWN);
+    }
+    ids
 }
