@@ -43,6 +43,10 @@ const ENV_MAP: u32 = 2u;
 
 // Pipeline-overridable constant: the area-light method (shade.wgsl dispatches on it).
 override AREA_METHOD: u32 = 0u;
+// The texture filter (TEX_*, texture/filter.wgsl) and the footprint's source (0 hardware
+// derivatives, 1 ray differentials).
+override TEXTURE_FILTER: u32 = 1u;
+override TEXTURE_DERIVATIVES: u32 = 0u;
 
 struct FrameUniforms {
     view_proj: mat4x4<f32>,
@@ -69,6 +73,8 @@ struct FrameUniforms {
     // Surface detail: linear steps (POM: at normal incidence), POM's steps at grazing
     // incidence, binary steps, self-shadow steps (0: none).
     detail_steps: vec4<u32>,
+    // Texture filter: lod_bias (levels), max_anisotropy, unused, unused.
+    texture: vec4<f32>,
 }
 
 struct Shape {
@@ -136,6 +142,13 @@ struct TextureInfo {
     height: u32,
     // Wrap mode of u (bits 0–3) and v (bits 4–7): 0 repeat, 1 clamp, 2 mirror.
     wrap: u32,
+    // Record of MIP level 1 (the next levels follow), or NONE; level count (level 0 included).
+    mips: u32,
+    mip_count: u32,
+    // Record of the RIP map's level (0, 0) (row-major in (v, u)), or NONE.
+    rip: u32,
+    // Record of the summed-area table (its first texel the mean), or NONE.
+    sat: u32,
 }
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;

@@ -166,8 +166,52 @@ fn peel_distance(frag: vec2<f32>) -> f32 {
     return previous * (1.0 + 1.0 / 512.0);
 }
 
+// The uv of the undetailed surface of analytic shape `s` seen through target pixel `frag`
+// (the plane or sphere extended past the shape's edge), as rectangle_differential,
+// disk_differential and sphere_differential give it.
+fn analytic_base_uv(f: FrameUniforms, s: Shape, frag: vec2<f32>) -> vec2<f32> {
+    let xy = film_position(f, frag);
+    let o = f.cam_pos.xyz;
+    let d = camera_ray_direction(f, xy.x, xy.y);
+    let st = plane_local(s, o + d * intersect_plane(s, o, d));
+    let rectangle = (clamp(st, vec2<f32>(-1.0), vec2<f32>(1.0)) + 1.0) * 0.5;
+    let disk = vec2<f32>(min(length(st), 1.0), fract(atan2(st.y, st.x) / TAU + 1.0));
+    let oc = o - s.center.xyz;
+    let b = dot(oc, d);
+    let t = -b - sqrt(max(b * b - dot(oc, oc) + s.center.w * s.center.w, 0.0));
+    let n = normalize(oc + d * t);
+    let sphere = vec2<f32>(fract(atan2(n.y, n.x) / TAU + 1.0), acos(clamp(n.z, -1.0, 1.0)) / PI);
+    return select(select(rectangle, disk, s.kind == SHAPE_DISK), sphere, s.kind == SHAPE_SPHERE);
+}
+
+// The texture filters' hardware footprint of an analytic shape's fragment: the fine quad
+// derivatives (the difference to the quad's other pixel in x and in y) of the shape's uv,
+// evaluated in this invocation rather than read from the quad's helper invocations, which
+// lavapipe does not run reliably for these proxies (a line of over-blurred pixels followed
+// the proxy's triangle edge). A GPU computing dpdxFine/dpdyFine of the same uv gets the same.
+fn set_analytic_shape_footprint(in: AnalyticVarying) {
+    if filter_reads_footprint() && TEXTURE_DERIVATIVES == 0u {
+        let s = shapes[in.shape];
+        let px = vec2<i32>(floor(in.clip.xy));
+        let step = select(vec2<f32>(1.0), vec2<f32>(-1.0), (px & vec2<i32>(1)) == vec2<i32>(1));
+        let uv = analytic_base_uv(frame, s, in.clip.xy);
+        let dx = (analytic_base_uv(frame, s, in.clip.xy + vec2<f32>(step.x, 0.0)) - uv) * step.x;
+        let dy = (analytic_base_uv(frame, s, in.clip.xy + vec2<f32>(0.0, step.y)) - uv) * step.y;
+        let fp = vec4<f32>(dx, dy);
+        uv_footprint = select(vec4<f32>(0.0), fp, all(abs(fp) < vec4<f32>(1e30)));
+    }
+}
+
+// The texture filters' hardware footprint of a mesh fragment (uniform control flow).
+fn set_mesh_footprint(in: MeshVarying) {
+    if filter_reads_footprint() && TEXTURE_DERIVATIVES == 0u {
+        set_hardware_footprint(in.uv);
+    }
+}
+
 @fragment
 fn fs_mesh_forward(in: MeshVarying) -> ShadedOut {
+    set_mesh_footprint(in);
     let hit = mesh_surface(in, shapes[in.shape]);
     if !hit.hit || distance(hit.surface.p, frame.cam_pos.xyz) <= peel_distance(in.clip.xy) {
         discard;
@@ -177,6 +221,7 @@ fn fs_mesh_forward(in: MeshVarying) -> ShadedOut {
 
 @fragment
 fn fs_analytic_forward(in: AnalyticVarying) -> ShadedDepthOut {
+    set_analytic_shape_footprint(in);
     let hit = trace_analytic(frame, shapes[in.shape], in.shape, in.clip.xy, peel_distance(in.clip.xy));
     if !hit.hit {
         discard;
@@ -192,6 +237,7 @@ fn fs_background(@builtin(position) pos: vec4<f32>) -> ShadedOut {
 
 @fragment
 fn fs_mesh_gbuffer(in: MeshVarying) -> GBufferOut {
+    set_mesh_footprint(in);
     let hit = mesh_surface(in, shapes[in.shape]);
     if !hit.hit {
         discard;
@@ -201,6 +247,7 @@ fn fs_mesh_gbuffer(in: MeshVarying) -> GBufferOut {
 
 @fragment
 fn fs_analytic_gbuffer(in: AnalyticVarying) -> GBufferDepthOut {
+    set_analytic_shape_footprint(in);
     let hit = trace_analytic(frame, shapes[in.shape], in.shape, in.clip.xy, 0.0);
     if !hit.hit {
         discard;
@@ -213,12 +260,18 @@ fn fs_analytic_gbuffer(in: AnalyticVarying) -> GBufferDepthOut {
 fn fs_lighting(@builtin(position) pos: vec4<f32>) -> ShadedOut {
     let px = vec2<i32>(pos.xy);
     let g0 = textureLoad(gbuffer0, px, 0);
+    let g1 = textureLoad(gbuffer1, px, 0);
+    let g2 = textureLoad(gbuffer2, px, 0);
+    // The texture filters' footprint: the stored uv differenced over the quad (wrong at
+    // silhouettes, where a neighbour is another surface or the background). Analytic
+    // derivatives are not stored, so this pass uses these in the counting frame too.
+    if filter_reads_footprint() {
+        set_hardware_footprint(vec2<f32>(g1.w, g2.w));
+    }
     var out: ShadedOut;
     if g0.w < 0.5 {
         out = background_output(frame, pos.xy);
     } else {
-        let g1 = textureLoad(gbuffer1, px, 0);
-        let g2 = textureLoad(gbuffer2, px, 0);
         let sp = SurfacePoint(g0.xyz, g2.xyz, g1.xyz, vec2<f32>(g1.w, g2.w), gbuffer_shape(g0.w));
         out = shaded_output(frame, sp, pos.xy);
     }

@@ -49,9 +49,10 @@ fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>, frag: vec2<f
     let shape = shapes[sp.shape];
     let b = resolve_bsdf(materials[shape.material], sp.uv);
     var color = vec3<f32>(0.0);
-    // Emission seen directly: the front side only unless two-sided (RectangleLight::emitted).
+    // Emission seen directly, through the pixel's footprint: the front side only unless
+    // two-sided (RectangleLight::emitted).
     if shape.emission_info.x != 0u && (shape.emission_info.y != 0u || dot(sp.ng, wo) > 0.0) {
-        color += emitted_radiance(shape, sp.uv);
+        color += eval_tex_rgb(shape.emission_info.z, shape.emission.xyz, sp.uv);
     }
     // The shading frame's normal: ns turned to the geometric normal's side (integrator `shade`).
     let n = select(sp.ns, -sp.ns, dot(sp.ns, sp.ng) < 0.0);

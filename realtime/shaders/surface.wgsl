@@ -186,7 +186,7 @@ fn shading_normal(d: Differential, map: u32, scale: f32) -> vec3<f32> {
     }
     t = orthogonal_tangent(t, n);
     let b = cross(n, t) * w;
-    var n_ts = texture_sample(map, d.uv).xyz * 2.0 - 1.0;
+    var n_ts = texture_filtered(map, d.uv).xyz * 2.0 - 1.0;
     n_ts = vec3<f32>(n_ts.xy * scale, n_ts.z);
     let l2 = dot(n_ts, n_ts);
     if !(l2 > 0.0) {

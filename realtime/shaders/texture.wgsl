@@ -3,7 +3,7 @@
 // Technique: manual bilinear filtering from a texel buffer, written to give exactly what the
 // oracle's `scenes::texture::Texture::sample` and `scenes::environment_lookup` give: texel
 // (i, j) centred at ((i + ½)/W, (j + ½)/H), v = 0 the top row, wrap per axis (repeat = Euclidean
-// remainder, clamp, mirror); the environment uses Mitsuba 3's `envmap` placement (columns at
+// remainder, clamp, mirror); the texture filters (texture/*.wgsl) build on these lookups; the environment uses Mitsuba 3's `envmap` placement (columns at
 // texel centres, rows at v = j/(H − 1), u wraps) measured against Mitsuba 3.9.1 (docs/ARCHITECTURE.md
 // "Environment map"). No mip-mapping: both renderers point-sample the filter at one uv.
 // Reference: none beyond the texture model; bilinear interpolation as in pbrt-v4 §10.4.3.
@@ -41,9 +41,14 @@ fn texel_wrapped(info: TextureInfo, i: i32, j: i32) -> vec4<f32> {
     return texel_at(info, x, y);
 }
 
-// Bilinear lookup of texture `t` at `uv` (Texture::sample).
+// Bilinear lookup of texture `t` at `uv` (Texture::sample): level 0, no footprint (surface
+// detail's heightfield searches, emission at a light's sample points).
 fn texture_sample(t: u32, uv: vec2<f32>) -> vec4<f32> {
-    let info = texture_infos[t];
+    return bilinear(texture_infos[t], uv);
+}
+
+// Bilinear lookup of the texture or level record `info` at `uv`.
+fn bilinear(info: TextureInfo, uv: vec2<f32>) -> vec4<f32> {
     let x = uv.x * f32(info.width) - 0.5;
     let y = uv.y * f32(info.height) - 0.5;
     if !(abs(x) < 1e30 && abs(y) < 1e30) {
@@ -91,18 +96,28 @@ fn environment_lookup(t: u32, d: vec3<f32>) -> vec4<f32> {
     return top * (1.0 - fy) + bottom * fy;
 }
 
-// A TexRgb input: the constant, or factor × texture(uv).
+// A TexRgb input seen through the pixel: the constant, or factor × the filtered texture
+// (texture/filter.wgsl) over the pixel's footprint about uv.
 fn eval_tex_rgb(tex: u32, value: vec3<f32>, uv: vec2<f32>) -> vec3<f32> {
+    if tex == NONE {
+        return value;
+    }
+    return texture_filtered(tex, uv).xyz * value;
+}
+
+// A TexRgb input at one point (no footprint): the constant, or factor × texture(uv).
+fn eval_tex_rgb_point(tex: u32, value: vec3<f32>, uv: vec2<f32>) -> vec3<f32> {
     if tex == NONE {
         return value;
     }
     return texture_sample(tex, uv).xyz * value;
 }
 
-// A TexScalar input: the constant, or factor × texture(uv)[channel].
+// A TexScalar input seen through the pixel: the constant, or factor × the filtered
+// texture's `channel`.
 fn eval_tex_scalar(tex: u32, channel: u32, value: f32, uv: vec2<f32>) -> f32 {
     if tex == NONE {
         return value;
     }
-    return texture_sample(tex, uv)[min(channel, 3u)] * value;
+    return texture_filtered(tex, uv)[min(channel, 3u)] * value;
 }

@@ -107,6 +107,7 @@ fn frame_uniforms(scene: &Scene, sg: &SceneGpu, settings: &RasterSettings, k: u3
         counts: [sg.light_count, sg.emitter_count, settings.method.area_n, 0],
         detail,
         detail_steps,
+        texture: settings.method.texture_filter().uniforms(),
     }
 }
 

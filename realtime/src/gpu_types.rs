@@ -101,8 +101,11 @@ pub struct FrameUniforms {
     /// Surface detail: linear steps (POM: at normal incidence), POM's steps at grazing
     /// incidence, binary steps, self-shadow steps (0: none).
     pub detail_steps: [u32; 4],
+    /// Texture filter: lod_bias, max_anisotropy, unused, unused
+    /// ([`crate::technique::texture::TextureFilter::uniforms`]).
+    pub texture: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 64 + 12 * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 64 + 13 * 16);
 
 /// One shape (WGSL `Shape`).
 #[repr(C)]
@@ -188,7 +191,9 @@ pub struct GpuLight {
 }
 const _: () = assert!(std::mem::size_of::<GpuLight>() == 16 + 4 * 16);
 
-/// Where a texture's texels start in the texel buffer (WGSL `TextureInfo`).
+/// Where a texture's texels start in the texel buffer, and where its reduced levels are
+/// (WGSL `TextureInfo`). The records of levels and tables are `GpuTextureInfo`s too, after
+/// the scene's textures, with [`NONE`] in the last four fields.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuTextureInfo {
@@ -200,8 +205,16 @@ pub struct GpuTextureInfo {
     pub height: u32,
     /// Wrap of u (bits 0–3) and v (bits 4–7): 0 repeat, 1 clamp, 2 mirror.
     pub wrap: u32,
+    /// Record of MIP level 1 (levels 2, 3, … follow), or [`NONE`].
+    pub mips: u32,
+    /// Number of MIP levels, level 0 included (1 without a pyramid).
+    pub mip_count: u32,
+    /// Record of the RIP map's level (0, 0) (the others follow, row-major in (v, u)), or [`NONE`].
+    pub rip: u32,
+    /// Record of the summed-area table ((W + 1) × (H + 1), after one texel holding the mean), or [`NONE`].
+    pub sat: u32,
 }
-const _: () = assert!(std::mem::size_of::<GpuTextureInfo>() == 16);
+const _: () = assert!(std::mem::size_of::<GpuTextureInfo>() == 32);
 
 /// A vertex of a de-indexed mesh triangle (WGSL `MeshVertexIn`); the last three fields are the
 /// same on the triangle's three vertices (flat interpolation).

@@ -62,7 +62,7 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// The WGSL sources in dependency order; WGSL has no includes, so they form one module, with
 /// `counters_on.wgsl` or `counters_off.wgsl` appended.
-const SHADER_SOURCES: [(&str, &str); 22] = [
+const SHADER_SOURCES: [(&str, &str); 30] = [
     ("common.wgsl", include_str!("../shaders/common.wgsl")),
     ("texture.wgsl", include_str!("../shaders/texture.wgsl")),
     ("surface.wgsl", include_str!("../shaders/surface.wgsl")),
@@ -119,6 +119,32 @@ const SHADER_SOURCES: [(&str, &str); 22] = [
         "distance_impostor/lookup.wgsl",
         include_str!("../shaders/distance_impostor/lookup.wgsl"),
     ),
+    (
+        "texture/filter.wgsl",
+        include_str!("../shaders/texture/filter.wgsl"),
+    ),
+    (
+        "texture/nearest.wgsl",
+        include_str!("../shaders/texture/nearest.wgsl"),
+    ),
+    (
+        "texture/mip_nearest.wgsl",
+        include_str!("../shaders/texture/mip_nearest.wgsl"),
+    ),
+    (
+        "texture/trilinear.wgsl",
+        include_str!("../shaders/texture/trilinear.wgsl"),
+    ),
+    ("texture/sat.wgsl", include_str!("../shaders/texture/sat.wgsl")),
+    (
+        "texture/ripmap.wgsl",
+        include_str!("../shaders/texture/ripmap.wgsl"),
+    ),
+    (
+        "texture/footprint.wgsl",
+        include_str!("../shaders/texture/footprint.wgsl"),
+    ),
+    ("texture/ewa.wgsl", include_str!("../shaders/texture/ewa.wgsl")),
     ("shade.wgsl", include_str!("../shaders/shade.wgsl")),
     ("passes.wgsl", include_str!("../shaders/passes.wgsl")),
 ];
@@ -221,8 +247,10 @@ impl Stage {
 }
 
 /// Cache key: the pipeline, the area method, the shadow, detail and environment-mapping
-/// methods' WGSL codes, whether it is the counting variant.
-type Key = (Stage, AreaMethod, u32, u32, u32, bool);
+/// methods' WGSL codes, the texture filter's
+/// ([`crate::technique::texture::TextureFilter::pipeline_code`]), whether it is the counting
+/// variant.
+type Key = (Stage, AreaMethod, u32, u32, u32, u32, bool);
 
 /// Layouts, the shader module and the pipeline cache.
 pub struct Pipelines {
@@ -475,8 +503,9 @@ impl Pipelines {
         method: &Method,
         counters: bool,
     ) -> Arc<wgpu::RenderPipeline> {
+        let texture = method.texture_filter().pipeline_code();
         let key = if stage.is_shadow() {
-            (stage, AreaMethod::Quadrature, 0, 0, 0, false)
+            (stage, AreaMethod::Quadrature, 0, 0, 0, 0, false)
         } else if stage.shades() {
             (
                 stage,
@@ -484,10 +513,11 @@ impl Pipelines {
                 method.shadow_code(),
                 method.detail_code(),
                 method.envmap_code(),
+                texture,
                 counters,
             )
         } else {
-            (stage, method.area, 0, method.detail_code(), 0, counters)
+            (stage, method.area, 0, method.detail_code(), 0, texture, counters)
         };
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
         cache
@@ -499,17 +529,20 @@ impl Pipelines {
     fn build(
         &self,
         device: &wgpu::Device,
-        (stage, method, shadow, detail, envmap, counters): Key,
+        (stage, method, shadow, detail, envmap, texture, counters): Key,
     ) -> wgpu::RenderPipeline {
         let (vs, fs) = stage.entry_points();
         let label = format!(
-            "{vs}/{fs} ({method:?}, shadow method {shadow}, detail method {detail}, environment map {envmap}, counters {counters})"
+            "{vs}/{fs} ({method:?}, shadow method {shadow}, detail method {detail}, environment map {envmap}, \
+             texture filter {texture:#x}, counters {counters})"
         );
         let constants = [
             ("AREA_METHOD", f64::from(method.shader_code())),
             ("SHADOW_METHOD", f64::from(shadow)),
             ("DETAIL_METHOD", f64::from(detail)),
             ("ENVMAP_METHOD", f64::from(envmap)),
+            ("TEXTURE_FILTER", f64::from(texture & 0xff)),
+            ("TEXTURE_DERIVATIVES", f64::from(texture >> 8)),
         ];
         let module = if counters {
             &self.counting_module

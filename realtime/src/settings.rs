@@ -101,6 +101,12 @@ impl RasterSettings {
                 ));
             }
         }
+        let analytic = crate::technique::texture::Derivatives::Analytic;
+        if m.texture_filter().derivatives == analytic && self.pipeline != PipelineKind::Forward {
+            return bad(format!(
+                "method {m}: derivatives = analytic needs the forward pipeline (the G-buffer stores no ray differentials)"
+            ));
+        }
         if self.timed_frames == 0 {
             return bad("at least one timed frame is needed".into());
         }

@@ -26,6 +26,8 @@ use wgpu::util::DeviceExt;
 
 use crate::gpu_types::*;
 use crate::technique::detail::{derivative_map, ConeCache, Detail};
+use crate::technique::texture::{pyramid, sat, Needs, TextureFilter};
+use crate::technique::Method;
 
 /// Relative enlargement of a sphere's bounding box proxy, so rasterisation never clips its
 /// silhouette (the box touches the sphere at its face centres).
@@ -65,15 +67,16 @@ struct Arrays {
 
 impl SceneGpu {
     /// Checks and uploads `scene`; `max_binding` is the device's storage-binding limit. Displaced
-    /// shapes get the maps `detail` reads (a derivative map; a cone map from `cones` under
-    /// `cone_step`).
+    /// shapes get the maps the method's surface detail reads (a derivative map; a cone map from
+    /// `cones` under `cone_step`), textures the levels its texture filter reads.
     pub fn new(
         device: &wgpu::Device,
         scene: &Scene,
         max_binding: u64,
-        detail: Option<&Detail>,
+        method: &Method,
         cones: &ConeCache,
     ) -> Result<SceneGpu, String> {
+        let detail = method.detail.as_ref();
         let src = scene.source.display().to_string();
         let mut a = Arrays::default();
         for (i, t) in scene.textures.iter().enumerate() {
@@ -91,6 +94,7 @@ impl SceneGpu {
             a.lights
                 .push(light(l).map_err(|e| format!("{src}: light '{}' (lights[{i}]): {e}", l.name()))?);
         }
+        add_levels(&mut a, scene, &method.texture_filter());
         let env = environment(scene).map_err(|e| format!("{src}: environment: {e}"))?;
         let bytes = (a.texels.len() * 16) as u64;
         if bytes > max_binding {
@@ -172,9 +176,79 @@ fn add_texture(a: &mut Arrays, t: &Arc<Texture>) -> Result<(), String> {
         width: t.width,
         height: t.height,
         wrap: wrap_code(t.wrap[0]) | (wrap_code(t.wrap[1]) << 4),
+        mips: NONE,
+        mip_count: 1,
+        rip: NONE,
+        sat: NONE,
     });
     a.texels.extend(t.texels.iter().map(|v| v.to_array()));
     Ok(())
+}
+
+/// The levels and tables `filter` reads, for every scene texture (technique/texture: MIP
+/// levels, RIP levels, the summed-area table), appended as records after every other; colour
+/// textures (base colour, reflectance, emission) are reduced in the filter's `mip_space`.
+fn add_levels(a: &mut Arrays, scene: &Scene, filter: &TextureFilter) {
+    let needs = filter.filter.needs();
+    if needs == Needs::default() {
+        return;
+    }
+    let colour = colour_textures(scene);
+    for (i, t) in scene.textures.iter().enumerate() {
+        let record = a.texture_infos.len() as u32;
+        if needs.mips {
+            let levels = pyramid::mip_levels(t, filter.mip_space, colour.contains(&i));
+            a.texture_infos[i].mips = if levels.is_empty() { NONE } else { record };
+            a.texture_infos[i].mip_count = 1 + levels.len() as u32;
+            for level in &levels {
+                add_texture(a, &Arc::new(level.clone())).expect("a reduced level is well formed");
+            }
+        }
+        if needs.rip {
+            a.texture_infos[i].rip = a.texture_infos.len() as u32;
+            for level in pyramid::rip_levels(t) {
+                add_texture(a, &Arc::new(level)).expect("a reduced level is well formed");
+            }
+        }
+        if needs.sat {
+            let (mean, table) = sat::summed_area_table(t);
+            a.texture_infos[i].sat = a.texture_infos.len() as u32;
+            let offset = a.texels.len() as u32;
+            a.texture_infos.push(GpuTextureInfo {
+                offset,
+                width: t.width + 1,
+                height: t.height + 1,
+                wrap: a.texture_infos[i].wrap,
+                mips: NONE,
+                mip_count: 1,
+                rip: NONE,
+                sat: NONE,
+            });
+            a.texels.push(mean.to_array());
+            a.texels.extend(table.iter().map(|v| v.to_array()));
+        }
+    }
+}
+
+/// The scene textures holding colours (sRGB-encoded in their files): base colours,
+/// reflectances, emission.
+fn colour_textures(scene: &Scene) -> Vec<usize> {
+    let image = |t: &TexRgb| match t {
+        TexRgb::Image { texture, .. } => Some(*texture),
+        TexRgb::Constant(_) => None,
+    };
+    let materials = scene.materials.iter().filter_map(|m| match m {
+        Material::Diffuse { albedo: c }
+        | Material::Phong { reflectance: c, .. }
+        | Material::Ggx { reflectance: c, .. }
+        | Material::MetalRough { base_color: c, .. } => image(c),
+        _ => None,
+    });
+    let emission = scene
+        .shapes
+        .iter()
+        .filter_map(|s| s.emission.as_ref().and_then(|e| image(&e.radiance)));
+    materials.chain(emission).collect()
 }
 
 /// (texture or NONE, constant/factor) of a TexRgb.

@@ -23,9 +23,10 @@
 // Inputs: the emitter (`Shape`, `Light`) or the environment, the resolved BSDF, the shading
 // normal n (turned to the geometric normal's side), ωo, the point p, N.
 
-// Emitted radiance of shape `s` at texture coordinate uv (constant or factor × texture).
+// Emitted radiance of shape `s` at texture coordinate uv (constant or factor × texture), at
+// one point of the emitter (a light sample: no pixel footprint).
 fn emitted_radiance(s: Shape, uv: vec2<f32>) -> vec3<f32> {
-    return eval_tex_rgb(s.emission_info.z, s.emission.xyz, uv);
+    return eval_tex_rgb_point(s.emission_info.z, s.emission.xyz, uv);
 }
 
 // Mitsuba's sphere uv of the unit outward normal `d` (SphereLight::uv).

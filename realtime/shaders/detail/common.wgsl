@@ -92,6 +92,9 @@ fn displaced_normal(fr: DetailFrame, grad: vec2<f32>) -> vec3<f32> {
 // under the pipeline's DETAIL_METHOD; `hit` false: discard. Shapes without displacement, and
 // every shape under DETAIL_FLAT, keep their base surface.
 fn detailed_surface(f: FrameUniforms, d: Differential, s: Shape, shape: u32) -> AnalyticHit {
+    // The texture filters' footprint from ray differentials at the base surface (analytic
+    // derivatives only; texture/filter.wgsl).
+    set_analytic_footprint(f, d.p, d.ng, d.dpdu, d.dpdv);
     if DETAIL_METHOD == DETAIL_FLAT || s.detail.x == NONE {
         return AnalyticHit(true, surface_point(d, s, shape));
     }

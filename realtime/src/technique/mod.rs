@@ -9,6 +9,7 @@
 //! | surface detail | [`detail`] | `normal_mapping` … `cone_step` (8) | `direct` of the displaced surface |
 //! | environment mapping | [`envmap`] | `envmap_cube`, `envmap_sphere`, `envmap_paraboloid` | `direct` with the reflector's exact reflection |
 //! | distance impostors | [`distance_impostor`] | `distance_impostor`, `distance_search` | as environment mapping |
+//! | texture filtering | [`texture`] | `tex_nearest` … `tex_ewa` (8) | the pixel's box filter over level 0 |
 //!
 //! Every method takes [`COMMON`]'s `n` (N×N quadrature of each area light and sun disk; not
 //! `area_representative_point`) and `env_n` (`env_n`×`env_n` cosine-weighted midpoint
@@ -22,6 +23,7 @@ pub mod distance_impostor;
 pub mod envmap;
 pub mod param;
 pub mod shadow;
+pub mod texture;
 
 use std::fmt;
 
@@ -31,6 +33,7 @@ use envmap::localization::Localization;
 use envmap::EnvMapping;
 use param::{spec_named, Kind, MethodSpec, Param, Value};
 use shadow::Shadow;
+use texture::TextureFilter;
 
 /// Largest `n` / `env_n` accepted (N² samples per light per pixel).
 pub const MAX_QUADRATURE_N: u32 = 64;
@@ -50,6 +53,9 @@ pub struct Method {
     pub detail: Option<Detail>,
     /// Environment mapping of one reflector, or None: no maps are captured.
     pub envmap: Option<EnvMapping>,
+    /// The texture filter of a `tex_*` method, or None: bilinear at level 0
+    /// ([`TextureFilter::BILINEAR`]), the lookup of every other method.
+    pub texture: Option<TextureFilter>,
 }
 
 impl Default for Method {
@@ -62,6 +68,7 @@ impl Default for Method {
             shadow: None,
             detail: None,
             envmap: None,
+            texture: None,
         }
     }
 }
@@ -140,16 +147,19 @@ pub enum Family {
     EnvMap,
     /// [`distance_impostor`].
     DistanceImpostor,
+    /// [`texture`].
+    Texture,
 }
 
 impl Family {
     /// Every family, in the order the docs list them.
-    pub const ALL: [Family; 5] = [
+    pub const ALL: [Family; 6] = [
         Family::Area,
         Family::Shadow,
         Family::Detail,
         Family::EnvMap,
         Family::DistanceImpostor,
+        Family::Texture,
     ];
 
     /// Its heading in the docs.
@@ -160,6 +170,7 @@ impl Family {
             Family::Detail => "Surface detail",
             Family::EnvMap => "Environment mapping",
             Family::DistanceImpostor => "Distance impostors",
+            Family::Texture => "Texture filtering",
         }
     }
 
@@ -181,6 +192,7 @@ impl Family {
             Family::Detail => infos(detail::METHODS),
             Family::EnvMap => infos(envmap::METHODS),
             Family::DistanceImpostor => infos(distance_impostor::METHODS),
+            Family::Texture => infos(texture::METHODS),
         }
     }
 
@@ -188,7 +200,7 @@ impl Family {
     /// family's first method).
     fn shared_rows(self) -> Vec<Row> {
         match self {
-            Family::Area => Vec::new(),
+            Family::Area | Family::Texture => Vec::new(),
             Family::Shadow => shadow::COMMON.iter().map(Row::Shadow).collect(),
             Family::Detail => detail::COMMON.iter().map(Row::Detail).collect(),
             Family::EnvMap | Family::DistanceImpostor => envmap::COMMON
@@ -222,6 +234,8 @@ pub enum Row {
     Detail(&'static Param<Detail>),
     /// A row of its environment mapping (distance impostors included).
     EnvMap(&'static Param<EnvMapping>),
+    /// A row of its texture filter.
+    Texture(&'static Param<TextureFilter>),
 }
 
 /// The same field of whichever table a row is from.
@@ -232,6 +246,7 @@ macro_rules! row_field {
             Row::Shadow(p) => p.$field,
             Row::Detail(p) => p.$field,
             Row::EnvMap(p) => p.$field,
+            Row::Texture(p) => p.$field,
         }
     };
 }
@@ -274,6 +289,7 @@ impl Row {
             Row::Shadow(p) => m.shadow.as_ref().and_then(|s| (p.get)(s)),
             Row::Detail(p) => m.detail.as_ref().and_then(|d| (p.get)(d)),
             Row::EnvMap(p) => m.envmap.as_ref().and_then(|e| (p.get)(e)),
+            Row::Texture(p) => m.texture.as_ref().and_then(|t| (p.get)(t)),
         }
     }
 
@@ -284,6 +300,7 @@ impl Row {
             Row::Shadow(p) => (p.set)(m.shadow.as_mut()?, value),
             Row::Detail(p) => (p.set)(m.detail.as_mut()?, value),
             Row::EnvMap(p) => (p.set)(m.envmap.as_mut()?, value),
+            Row::Texture(p) => (p.set)(m.texture.as_mut()?, value),
         }
     }
 }
@@ -322,6 +339,9 @@ impl Method {
         if let Some(s) = spec_named(detail::METHODS, name) {
             return Some(Method::detailed((s.default)()));
         }
+        if let Some(s) = spec_named(texture::METHODS, name) {
+            return Some(Method::filtered((s.default)()));
+        }
         spec_named(envmap::METHODS, name)
             .or_else(|| spec_named(distance_impostor::METHODS, name))
             .map(|s| Method::environment_mapped((s.default)()))
@@ -353,6 +373,7 @@ impl Method {
             shadow: Some(shadow),
             detail: None,
             envmap: None,
+            texture: None,
         }
     }
 
@@ -365,6 +386,7 @@ impl Method {
             shadow: None,
             detail: Some(detail),
             envmap: None,
+            texture: None,
         }
     }
 
@@ -378,6 +400,21 @@ impl Method {
             shadow: None,
             detail: None,
             envmap: Some(envmap),
+            texture: None,
+        }
+    }
+
+    /// The texture filter `texture` over N×N quadrature (n = 8, env_n = 8), unshadowed,
+    /// without surface detail.
+    pub fn filtered(texture: TextureFilter) -> Self {
+        Method {
+            area: AreaMethod::Quadrature,
+            area_n: 8,
+            env_n: 8,
+            shadow: None,
+            detail: None,
+            envmap: None,
+            texture: Some(texture),
         }
     }
 
@@ -402,6 +439,9 @@ impl Method {
         }
         if let Some(d) = &self.detail {
             rows.extend(d.rows().map(Row::Detail));
+        }
+        if let Some(t) = &self.texture {
+            rows.extend(t.rows().map(Row::Texture));
         }
         rows
     }
@@ -469,6 +509,9 @@ impl Method {
 
     /// The method's name.
     pub fn name(&self) -> &'static str {
+        if let Some(t) = &self.texture {
+            return t.spec().name;
+        }
         if let Some(e) = &self.envmap {
             return envmap_spec(e).name;
         }
@@ -490,6 +533,11 @@ impl Method {
     /// The WGSL `DETAIL_METHOD` of this method (0: displaced shapes drawn flat).
     pub fn detail_code(&self) -> u32 {
         self.detail.map_or(0, |d| d.technique.shader_code())
+    }
+
+    /// The texture filter its lookups use.
+    pub fn texture_filter(&self) -> TextureFilter {
+        self.texture.unwrap_or(TextureFilter::BILINEAR)
     }
 
     /// The WGSL `ENVMAP_METHOD` of this method (0: no environment map).
@@ -701,6 +749,7 @@ pub fn wgsl_codes() -> String {
     family(&mut s, "SHADOW_", Some("NONE"), shadow::METHODS);
     family(&mut s, "DETAIL_", Some("FLAT"), detail::METHODS);
     family(&mut s, "ENVMAP_", Some("NONE"), envmap::METHODS);
+    family(&mut s, "TEX_", None, texture::METHODS);
     s
 }
 
@@ -768,7 +817,7 @@ mod tests {
             .collect();
         assert_eq!(
             codes,
-            [0, 0, 1, 2, 3, 4, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]
+            [0, 0, 1, 2, 3, 4, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]
         );
     }
 

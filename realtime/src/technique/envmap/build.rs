@@ -717,14 +717,8 @@ impl Build<'_> {
         let device = &self.gpu.device;
         let limits = self.gpu.limits();
         let max_binding = u64::from(limits.max_storage_buffer_binding_size);
-        let scene_gpu = SceneGpu::new(
-            device,
-            scene,
-            max_binding,
-            face_settings.method.detail.as_ref(),
-            self.cones,
-        )
-        .map_err(RasterError::Scene)?;
+        let scene_gpu = SceneGpu::new(device, scene, max_binding, &face_settings.method, self.cones)
+            .map_err(RasterError::Scene)?;
         let shadow = ShadowMaps::new(
             device,
             &self.pipelines.shadow_layout,
