@@ -26,6 +26,7 @@ const CROSSCHECKED: &[&str] = &[
     "studies/scenes/distance-room",
     "studies/scenes/distance-room-glass",
     "studies/scenes/distance-room-occluders",
+    "studies/scenes/texture-plane",
 ];
 
 /// Built-in scenes Mitsuba cannot express, with a phrase of the refusal (README.md lists them).
@@ -185,6 +186,14 @@ fn envmap_study_scenes_agree() {
     agrees("studies/scenes/envmap-ball", Variant::LlvmAdRgb, 64, 256);
     agrees("studies/scenes/envmap-locality", Variant::LlvmAdRgb, 64, 256);
     agrees("studies/scenes/envmap-room", Variant::LlvmAdRgb, 64, 256);
+}
+
+/// The texture-filtering study's checkerboard plane receding to the horizon (an emitter with a
+/// bitmap radiance, seen directly: Mitsuba's bilinear `bitmap` against the oracle's bilinear
+/// level 0, box pixel filter both).
+#[test]
+fn texture_study_scene_agrees() {
+    agrees("studies/scenes/texture-plane", Variant::LlvmAdRgb, 64, 256);
 }
 
 /// The distance-impostor studies' rooms (emissive checkerboards on black walls around a mirror

@@ -4,7 +4,8 @@
 //! of texels fall in a pixel, MIP-mapped filters give the checker's mean (0.5 in linear
 //! radiance) and the sRGB-space mistake its sRGB mean decoded (0.214), while point lookups
 //! scatter 0s and 1s; `tex_bilinear` is exactly the lookup of every other method; analytic
-//! derivatives need the forward pipeline. Accuracy against the oracle is the study's
+//! derivatives need the forward pipeline; a mesh and the rectangle it tessellates filter alike
+//! (the mesh's `dpdx` against the analytic shape's in-lane differences). Accuracy against the oracle is the study's
 //! (scenes/studies/texture-filtering.toml).
 
 mod support;
@@ -22,6 +23,10 @@ fn plane() -> scenes::Scene {
 }
 
 fn render(name: &str, params: &[(&str, &str)]) -> RasterOutput {
+    render_scene(&plane(), name, params)
+}
+
+fn render_scene(scene: &scenes::Scene, name: &str, params: &[(&str, &str)]) -> RasterOutput {
     let mut all = vec![("env_n", "0")];
     all.extend_from_slice(params);
     let settings = RasterSettings::new(SIZE, SIZE)
@@ -29,7 +34,7 @@ fn render(name: &str, params: &[(&str, &str)]) -> RasterOutput {
         .frames(0, 1)
         .counters(false);
     renderer()
-        .render(&plane(), &settings)
+        .render(scene, &settings)
         .unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
@@ -142,5 +147,49 @@ fn analytic_derivatives_need_the_forward_pipeline() {
     match renderer().render(&plane(), &settings) {
         Err(RasterError::Settings(m)) => assert!(m.contains("needs the forward pipeline"), "{m}"),
         other => panic!("expected a settings error, got {:?}", other.map(|_| ())),
+    }
+}
+
+/// The plane as a two-triangle mesh with the rectangle's uv (corner (s, t) at
+/// center + s·half_u + t·half_v has uv ((s + 1)/2, (t + 1)/2)): the mesh's hardware
+/// derivatives (`dpdx` of the interpolated uv) and the rectangle's in-lane differences give
+/// the same filtered image, with no line along the diagonal where the quads straddle the two
+/// triangles.
+#[test]
+fn a_mesh_and_the_rectangle_it_tessellates_filter_alike() {
+    let rectangle = plane();
+    let mut mesh = rectangle.clone();
+    let scenes::Geometry::Rectangle {
+        center,
+        half_u,
+        half_v,
+    } = rectangle.shapes[0].geometry
+    else {
+        panic!("the study's plane is a rectangle");
+    };
+    let corners = [(-1.0f32, -1.0f32), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+    mesh.shapes[0].geometry = scenes::Geometry::Mesh(std::sync::Arc::new(scenes::Mesh {
+        positions: corners
+            .iter()
+            .map(|&(s, t)| center + half_u * s + half_v * t)
+            .collect(),
+        uvs: corners
+            .iter()
+            .map(|&(s, t)| glam::Vec2::new((s + 1.0) / 2.0, (t + 1.0) / 2.0))
+            .collect(),
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        ..Default::default()
+    }));
+    for name in ["tex_trilinear", "tex_ewa"] {
+        let (a, ids) = rgb_id(&render_scene(&rectangle, name, &[]));
+        let (b, _) = rgb_id(&render_scene(&mesh, name, &[]));
+        let worst = (0..a.len())
+            .filter(|&i| ids[i] > 0.0)
+            .map(|i| (a[i][0] - b[i][0]).abs())
+            .fold(0.0f32, f32::max);
+        assert!(
+            worst < 0.05,
+            "{name}: mesh and rectangle differ by {worst} in a pixel"
+        );
     }
 }
