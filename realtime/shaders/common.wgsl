@@ -44,7 +44,9 @@ const ENV_MAP: u32 = 2u;
 // Pipeline-overridable constant: the area-light method (shade.wgsl dispatches on it).
 override AREA_METHOD: u32 = 0u;
 // The texture filter (TEX_*, texture/filter.wgsl) and the footprint's source (0 hardware
-// derivatives, 1 ray differentials).
+// derivatives, 1 ray differentials): pipeline constants, so each filter's pipeline holds its
+// own lookups only (as a uniform, every lookup site carried every filter's code and lavapipe's
+// frame time grew twelvefold).
 override TEXTURE_FILTER: u32 = 1u;
 override TEXTURE_DERIVATIVES: u32 = 0u;
 
@@ -160,6 +162,12 @@ struct TextureInfo {
 @group(0) @binding(6) var<storage, read> texels: array<vec4<f32>>;
 // Per target row: texel fetches, loop iterations (summed in u64 on the CPU).
 @group(0) @binding(7) var<storage, read_write> counters: array<atomic<u32>>;
+// `tex_anisotropic` (texture/anisotropic.wgsl): scene texture i is layer i, with its MIP
+// levels; one sampler per wrap mode (repeat, clamp to edge, mirror). A 1 × 1 stand-in otherwise.
+@group(0) @binding(9) var scene_texture_array: texture_2d_array<f32>;
+@group(0) @binding(10) var sampler_repeat: sampler;
+@group(0) @binding(11) var sampler_clamp: sampler;
+@group(0) @binding(12) var sampler_mirror: sampler;
 
 // Cost counters of the current invocation: texel fetches (x) and loop iterations (y); the
 // entry points hand them to `flush_counters` (counters_on.wgsl / counters_off.wgsl).

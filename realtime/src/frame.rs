@@ -60,7 +60,7 @@ impl Frame {
             &counters,
             &shadow.uniform,
         ];
-        let entries: Vec<_> = buffers
+        let mut entries: Vec<_> = buffers
             .iter()
             .enumerate()
             .map(|(i, b)| wgpu::BindGroupEntry {
@@ -68,6 +68,18 @@ impl Frame {
                 resource: b.as_entire_binding(),
             })
             .collect();
+        // The texture array of `tex_anisotropic` (a stand-in otherwise) and its samplers.
+        let array = &sg.texture_array;
+        entries.push(wgpu::BindGroupEntry {
+            binding: 9,
+            resource: wgpu::BindingResource::TextureView(&array.view),
+        });
+        for (k, sampler) in array.samplers.iter().enumerate() {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 10 + k as u32,
+                resource: wgpu::BindingResource::Sampler(sampler),
+            });
+        }
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("scene bind group"),
             layout,

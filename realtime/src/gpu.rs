@@ -45,6 +45,9 @@ pub struct Gpu {
     pub(crate) queue: wgpu::Queue,
     info: wgpu::AdapterInfo,
     timestamps: bool,
+    /// Whether samplers may filter anisotropically (WebGPU's `maxAnisotropy` above 1 is then
+    /// honoured; otherwise it is clamped to 1).
+    anisotropic: bool,
     limits: wgpu::Limits,
     /// wgpu's uncaptured errors since the last [`Gpu::check_errors`].
     errors: Arc<Mutex<Vec<String>>>,
@@ -78,6 +81,9 @@ impl Gpu {
             ));
         }
         let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let anisotropic = downlevel
+            .flags
+            .contains(wgpu::DownlevelFlags::ANISOTROPIC_FILTERING);
         let limits = wgpu::Limits {
             max_color_attachment_bytes_per_sample: COLOR_BYTES_PER_SAMPLE,
             max_texture_dimension_2d: supported.max_texture_dimension_2d,
@@ -108,6 +114,7 @@ impl Gpu {
             queue,
             info,
             timestamps,
+            anisotropic,
             limits,
             errors,
         })
@@ -158,6 +165,11 @@ impl Gpu {
     /// Whether per-pass GPU timestamps are available.
     pub fn has_timestamps(&self) -> bool {
         self.timestamps
+    }
+
+    /// Whether the adapter filters anisotropically (`tex_anisotropic` needs it).
+    pub fn anisotropic_filtering(&self) -> bool {
+        self.anisotropic
     }
 
     /// The device's limits.

@@ -62,7 +62,7 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// The WGSL sources in dependency order; WGSL has no includes, so they form one module, with
 /// `counters_on.wgsl` or `counters_off.wgsl` appended.
-const SHADER_SOURCES: [(&str, &str); 30] = [
+const SHADER_SOURCES: [(&str, &str); 31] = [
     ("common.wgsl", include_str!("../shaders/common.wgsl")),
     ("texture.wgsl", include_str!("../shaders/texture.wgsl")),
     ("surface.wgsl", include_str!("../shaders/surface.wgsl")),
@@ -145,6 +145,10 @@ const SHADER_SOURCES: [(&str, &str); 30] = [
         include_str!("../shaders/texture/footprint.wgsl"),
     ),
     ("texture/ewa.wgsl", include_str!("../shaders/texture/ewa.wgsl")),
+    (
+        "texture/anisotropic.wgsl",
+        include_str!("../shaders/texture/anisotropic.wgsl"),
+    ),
     ("shade.wgsl", include_str!("../shaders/shade.wgsl")),
     ("passes.wgsl", include_str!("../shaders/passes.wgsl")),
 ];
@@ -400,6 +404,23 @@ impl Pipelines {
         scene_entries.push(storage_entry(7, false));
         // The shadow uniform: settings, taps and every light's frustum (shadow/maps.rs).
         scene_entries.push(layout_entry(8, vf, uniform_type()));
+        // `tex_anisotropic`'s texture array and its samplers (repeat, clamp, mirror).
+        scene_entries.push(layout_entry(
+            9,
+            fragment,
+            wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                view_dimension: wgpu::TextureViewDimension::D2Array,
+                multisampled: false,
+            },
+        ));
+        scene_entries.extend((10..13).map(|b| {
+            layout_entry(
+                b,
+                fragment,
+                wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+            )
+        }));
         let scene_layout = bind_group_layout(device, "scene bind group layout", &scene_entries);
         let gbuffer_entries: Vec<_> = (0..3)
             .map(|b| {

@@ -83,9 +83,8 @@ impl Renderer {
         let _guard = self.lock.lock().unwrap_or_else(|p| p.into_inner());
         let device = &self.gpu.device;
         settings.check(self.gpu.limits().max_texture_dimension_2d)?;
-        let max_binding = u64::from(self.gpu.limits().max_storage_buffer_binding_size);
-        let scene_gpu = SceneGpu::new(device, scene, max_binding, &settings.method, &self.cones)
-            .map_err(RasterError::Scene)?;
+        let scene_gpu =
+            SceneGpu::new(&self.gpu, scene, &settings.method, &self.cones).map_err(RasterError::Scene)?;
         let shadow = ShadowMaps::new(
             device,
             &self.pipelines.shadow_layout,

@@ -24,8 +24,10 @@ use scenes::{
 };
 use wgpu::util::DeviceExt;
 
+use crate::gpu::Gpu;
 use crate::gpu_types::*;
 use crate::technique::detail::{derivative_map, ConeCache, Detail};
+use crate::technique::texture::gpu_array::TextureArray;
 use crate::technique::texture::{pyramid, sat, Needs, TextureFilter};
 use crate::technique::Method;
 
@@ -49,6 +51,8 @@ pub struct SceneGpu {
     pub(crate) env: (EnvKind, u32, [f32; 4]),
     /// Shapes that emit but light nothing here (emissive meshes).
     pub(crate) unlit_emitters: Vec<String>,
+    /// The scene's textures as a GPU texture array (`tex_anisotropic`; else a stand-in).
+    pub(crate) texture_array: TextureArray,
 }
 
 /// CPU-side arrays before upload.
@@ -69,13 +73,9 @@ impl SceneGpu {
     /// Checks and uploads `scene`; `max_binding` is the device's storage-binding limit. Displaced
     /// shapes get the maps the method's surface detail reads (a derivative map; a cone map from
     /// `cones` under `cone_step`), textures the levels its texture filter reads.
-    pub fn new(
-        device: &wgpu::Device,
-        scene: &Scene,
-        max_binding: u64,
-        method: &Method,
-        cones: &ConeCache,
-    ) -> Result<SceneGpu, String> {
+    pub fn new(gpu: &Gpu, scene: &Scene, method: &Method, cones: &ConeCache) -> Result<SceneGpu, String> {
+        let (device, queue) = (&gpu.device, &gpu.queue);
+        let max_binding = u64::from(gpu.limits().max_storage_buffer_binding_size);
         let detail = method.detail.as_ref();
         let src = scene.source.display().to_string();
         let mut a = Arrays::default();
@@ -102,11 +102,31 @@ impl SceneGpu {
                 "{src}: the textures need {bytes} bytes, more than the adapter's storage binding limit of {max_binding}"
             ));
         }
-        Ok(upload(device, a, env))
+        let filter = method.texture_filter();
+        let texture_array = if filter.filter.needs().gpu {
+            let colour = colour_textures(scene);
+            TextureArray::new(
+                device,
+                queue,
+                scene,
+                &filter,
+                &colour,
+                gpu.anisotropic_filtering(),
+            )
+            .map_err(|e| format!("{src}: {e}"))?
+        } else {
+            TextureArray::stand_in(device, queue)
+        };
+        Ok(upload(device, a, env, texture_array))
     }
 }
 
-fn upload(device: &wgpu::Device, a: Arrays, env: (EnvKind, u32, [f32; 4])) -> SceneGpu {
+fn upload(
+    device: &wgpu::Device,
+    a: Arrays,
+    env: (EnvKind, u32, [f32; 4]),
+    texture_array: TextureArray,
+) -> SceneGpu {
     fn storage<T: bytemuck::Pod + bytemuck::Zeroable>(
         device: &wgpu::Device,
         label: &str,
@@ -149,6 +169,7 @@ fn upload(device: &wgpu::Device, a: Arrays, env: (EnvKind, u32, [f32; 4])) -> Sc
         emitter_count: a.emitters.len() as u32,
         env,
         unlit_emitters: a.unlit_emitters,
+        texture_array,
     }
 }
 

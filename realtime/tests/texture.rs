@@ -193,3 +193,20 @@ fn a_mesh_and_the_rectangle_it_tessellates_filter_alike() {
         );
     }
 }
+
+/// The adapter's sampler at max_anisotropy 1 is trilinear over the same levels: the image is
+/// `tex_trilinear`'s but for f16 texels and the adapter's own λ (the right layer, levels and
+/// orientation are sampled).
+#[test]
+fn tex_anisotropic_at_1_is_the_adapters_trilinear() {
+    let (a, ids) = rgb_id(&render("tex_anisotropic", &[("max_anisotropy", "1")]));
+    let (b, _) = rgb_id(&render("tex_trilinear", &[]));
+    let plane: Vec<usize> = (0..a.len()).filter(|&i| ids[i] > 0.0).collect();
+    let diff: Vec<f32> = plane.iter().map(|&i| (a[i][0] - b[i][0]).abs()).collect();
+    let worst = diff.iter().copied().fold(0.0f32, f32::max);
+    let mean = diff.iter().sum::<f32>() / diff.len() as f32;
+    assert!(
+        worst < 0.05 && mean < 3e-3,
+        "hardware trilinear vs ours: worst {worst}, mean {mean}"
+    );
+}

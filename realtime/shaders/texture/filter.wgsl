@@ -129,6 +129,9 @@ fn texture_filtered(t: u32, uv: vec2<f32>) -> vec4<f32> {
         case TEX_EWA: {
             return texture_ewa(t, uv);
         }
+        case TEX_ANISOTROPIC: {
+            return texture_anisotropic(t, uv);
+        }
         default: {
             return texture_sample(t, uv);
         }

@@ -716,9 +716,8 @@ impl Build<'_> {
     ) -> Result<(SceneGpu, ShadowMaps), RasterError> {
         let device = &self.gpu.device;
         let limits = self.gpu.limits();
-        let max_binding = u64::from(limits.max_storage_buffer_binding_size);
-        let scene_gpu = SceneGpu::new(device, scene, max_binding, &face_settings.method, self.cones)
-            .map_err(RasterError::Scene)?;
+        let scene_gpu =
+            SceneGpu::new(self.gpu, scene, &face_settings.method, self.cones).map_err(RasterError::Scene)?;
         let shadow = ShadowMaps::new(
             device,
             &self.pipelines.shadow_layout,
