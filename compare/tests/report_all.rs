@@ -294,6 +294,34 @@ fn a_study_run_as_a_job_graph_gives_the_single_process_report() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// compare/python/run_plan.py on `plan` with `args` (after `--verity`) and `env`, bounded in
+/// time (a hung cluster fails the test with exit 124 instead of stalling CI); asserts exit 0
+/// and returns stdout and stderr.
+fn run_driver(plan: &Path, args: &[&str], env: &[(&str, &std::ffi::OsStr)]) -> (String, String) {
+    let driver = Path::new(env!("CARGO_MANIFEST_DIR")).join("python/run_plan.py");
+    let out = Command::new("timeout")
+        .arg("300")
+        .arg(venv_python())
+        .arg(&driver)
+        .arg(plan)
+        .args(["--verity", env!("CARGO_BIN_EXE_verity")])
+        .args(args)
+        .envs(env.iter().copied())
+        .stdin(std::process::Stdio::null())
+        .output()
+        .unwrap();
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout).to_string(),
+        String::from_utf8_lossy(&out.stderr).to_string(),
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "run_plan.py {args:?} (exit 3: run ./scripts/setup.sh for the venv; 124: timed out after 300 s):\n{stdout}\n{stderr}"
+    );
+    (stdout, stderr)
+}
+
 /// The project's venv Python (`$VERITY_PYTHON`, else `.venv/bin/python`), which
 /// scripts/setup.sh fills from compare/python/requirements.txt.
 fn venv_python() -> PathBuf {
@@ -321,26 +349,10 @@ fn a_study_job_graph_runs_on_a_local_dask_cluster_that_loses_a_worker() {
         "3 ground truths of 2 parts each, 1 raster job, the report: {out}"
     );
     let died = dir.join("a-worker-died");
-    let driver = Path::new(env!("CARGO_MANIFEST_DIR")).join("python/run_plan.py");
-    // Bounded in time: a hung cluster fails the test (exit 124) instead of stalling CI.
-    let out = Command::new("timeout")
-        .arg("300")
-        .arg(venv_python())
-        .arg(&driver)
-        .arg(&plan)
-        .args(["--verity", env!("CARGO_BIN_EXE_verity"), "--local", "2"])
-        .env("VERITY_DASK_DIE_ONCE", &died)
-        .stdin(std::process::Stdio::null())
-        .output()
-        .unwrap();
-    let (stdout, stderr) = (
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr),
-    );
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "run_plan.py (exit 3: run ./scripts/setup.sh for the venv; 124: timed out after 300 s):\n{stdout}\n{stderr}"
+    let (stdout, stderr) = run_driver(
+        &plan,
+        &["--local", "2"],
+        &[("VERITY_DASK_DIE_ONCE", died.as_os_str())],
     );
     assert!(died.exists(), "the fault injection did not run: {stderr}");
     for job in [
@@ -391,35 +403,20 @@ echo "Submitted batch job $!"
     for f in ["sbatch", "scancel"] {
         Command::new("chmod").arg("+x").arg(bin.join(f)).status().unwrap();
     }
-    let driver = Path::new(env!("CARGO_MANIFEST_DIR")).join("python/run_plan.py");
     let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
-    let out = Command::new("timeout")
-        .arg("300")
-        .arg(venv_python())
-        .arg(&driver)
-        .arg(&plan)
-        .args([
-            "--verity",
-            env!("CARGO_BIN_EXE_verity"),
-            "--jobqueue",
-            "slurm",
-            "--jobs",
-            "2",
-        ])
-        .args(["--cores", "1", "--memory", "2GB", "--host", "127.0.0.1"])
-        .env("PATH", path)
-        .stdin(std::process::Stdio::null())
-        .output()
-        .unwrap();
-    let (stdout, stderr) = (
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr),
-    );
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "run_plan.py --jobqueue slurm (exit 3: run ./scripts/setup.sh for the venv; 124: timed out after 300 s):\n{stdout}\n{stderr}"
-    );
+    let args = [
+        "--jobqueue",
+        "slurm",
+        "--jobs",
+        "2",
+        "--cores",
+        "1",
+        "--memory",
+        "2GB",
+        "--host",
+        "127.0.0.1",
+    ];
+    let (stdout, _) = run_driver(&plan, &args, &[("PATH", std::ffi::OsStr::new(&path))]);
     let scripts: Vec<String> = std::fs::read_dir(&jobs)
         .unwrap()
         .filter_map(|e| std::fs::read_to_string(e.unwrap().path()).ok())

@@ -59,16 +59,29 @@ fn half_texels(t: &Texture) -> Vec<u16> {
 impl TextureArray {
     /// A 1 × 1 stand-in (every method but `tex_anisotropic`).
     pub fn stand_in(device: &wgpu::Device, queue: &wgpu::Queue) -> TextureArray {
+        TextureArray::upload(device, queue, (1, 1, 1), 1, &[0; 4], 1)
+    }
+
+    /// A `width` × `height` × `layers` array of `levels` MIP levels from f16 `data` (layer
+    /// major), viewed as a 2D array, with samplers of `anisotropy`.
+    fn upload(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        (width, height, layers): (u32, u32, u32),
+        levels: u32,
+        data: &[u16],
+        anisotropy: u16,
+    ) -> TextureArray {
         let texture = device.create_texture_with_data(
             queue,
             &wgpu::TextureDescriptor {
-                label: Some("texture array stand-in"),
+                label: Some("scene texture array (tex_anisotropic)"),
                 size: wgpu::Extent3d {
-                    width: 1,
-                    height: 1,
-                    depth_or_array_layers: 1,
+                    width,
+                    height,
+                    depth_or_array_layers: layers,
                 },
-                mip_level_count: 1,
+                mip_level_count: levels,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
                 format: wgpu::TextureFormat::Rgba16Float,
@@ -76,14 +89,14 @@ impl TextureArray {
                 view_formats: &[],
             },
             wgpu::util::TextureDataOrder::LayerMajor,
-            bytemuck::cast_slice(&[0u16; 4]),
+            bytemuck::cast_slice(data),
         );
         TextureArray {
             view: texture.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::D2Array),
                 ..Default::default()
             }),
-            samplers: samplers(device, 1),
+            samplers: samplers(device, anisotropy),
         }
     }
 
@@ -132,31 +145,14 @@ impl TextureArray {
                 data.extend(half_texels(&level));
             }
         }
-        let texture = device.create_texture_with_data(
+        let layers = scene.textures.len() as u32;
+        Ok(TextureArray::upload(
+            device,
             queue,
-            &wgpu::TextureDescriptor {
-                label: Some("scene textures (tex_anisotropic)"),
-                size: wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: scene.textures.len() as u32,
-                },
-                mip_level_count: levels,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: wgpu::TextureFormat::Rgba16Float,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            },
-            wgpu::util::TextureDataOrder::LayerMajor,
-            bytemuck::cast_slice(&data),
-        );
-        Ok(TextureArray {
-            view: texture.create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::D2Array),
-                ..Default::default()
-            }),
-            samplers: samplers(device, filter.max_anisotropy as u16),
-        })
+            (w, h, layers),
+            levels,
+            &data,
+            filter.max_anisotropy as u16,
+        ))
     }
 }
