@@ -43,11 +43,11 @@ const ENV_MAP: u32 = 2u;
 
 // Pipeline-overridable constant: the area-light method (shade.wgsl dispatches on it).
 override AREA_METHOD: u32 = 0u;
-// The texture filter (TEX_*, texture/filter.wgsl) and the footprint's source (0 hardware
-// derivatives, 1 ray differentials): pipeline constants, so each filter's pipeline holds its
-// own lookups only (as a uniform, every lookup site carried every filter's code and lavapipe's
-// frame time grew twelvefold).
-override TEXTURE_FILTER: u32 = 1u;
+// The footprint's source of the texture filters (0 hardware derivatives, 1 ray
+// differentials). The filter itself, TEXTURE_FILTER and `texture_filtered`, is generated per
+// shader module (pipelines.rs `shader_source`): every lookup site calls the one filter the
+// method uses, rather than a switch over all of them inlined at each site (as a uniform, that
+// switch made lavapipe's frame time grow twelvefold).
 override TEXTURE_DERIVATIVES: u32 = 0u;
 
 struct FrameUniforms {

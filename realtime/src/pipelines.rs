@@ -33,6 +33,7 @@ use std::sync::{Arc, Mutex};
 
 use crate::gpu_types::{AnalyticVertex, MeshVertex};
 use crate::technique::area::AreaMethod;
+use crate::technique::texture::{self as texture_filter, Filter};
 use crate::technique::{self, Method};
 
 /// Forward shading or deferred shading (G-buffer + lighting pass).
@@ -153,9 +154,10 @@ const SHADER_SOURCES: [(&str, &str); 31] = [
     ("passes.wgsl", include_str!("../shaders/passes.wgsl")),
 ];
 
-/// The whole shader module's source, with or without the cost counters: the method codes
-/// ([`technique::wgsl_codes`]), then the files.
-pub fn shader_source(counters: bool) -> String {
+/// The whole shader module's source, with or without the cost counters, for the texture
+/// filter `filter`: the method codes ([`technique::wgsl_codes`]), the filter's dispatch
+/// ([`Filter::wgsl_dispatch`]), then the files.
+pub fn shader_source(counters: bool, filter: Filter) -> String {
     let tail = if counters {
         ("counters_on.wgsl", include_str!("../shaders/counters_on.wgsl"))
     } else {
@@ -166,7 +168,7 @@ pub fn shader_source(counters: bool) -> String {
         .chain([&tail])
         .map(|(name, src)| format!("// ---- {name} ----\n{src}\n"))
         .collect();
-    technique::wgsl_codes() + &sources
+    technique::wgsl_codes() + &filter.wgsl_dispatch() + &sources
 }
 
 /// Which pipeline.
@@ -272,8 +274,8 @@ pub struct Pipelines {
     lighting_layout: wgpu::PipelineLayout,
     aov_pipeline_layout: wgpu::PipelineLayout,
     shadow_pass_layout: wgpu::PipelineLayout,
-    module: wgpu::ShaderModule,
-    counting_module: wgpu::ShaderModule,
+    /// Shader modules by (counting, texture filter code), made when first needed.
+    modules: Mutex<HashMap<(bool, u32), Arc<wgpu::ShaderModule>>>,
     cache: Mutex<HashMap<Key, Arc<wgpu::RenderPipeline>>>,
 }
 
@@ -464,14 +466,6 @@ impl Pipelines {
             &[&scene_layout, &aov_layout, &shadow_layout],
         );
         let shadow_pass_layout = pipeline_layout(device, "shadow pass pipeline layout", &[&scene_layout]);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("verity realtime shaders"),
-            source: wgpu::ShaderSource::Wgsl(shader_source(false).into()),
-        });
-        let counting_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("verity realtime shaders (counting)"),
-            source: wgpu::ShaderSource::Wgsl(shader_source(true).into()),
-        });
         Pipelines {
             scene_layout,
             gbuffer_layout,
@@ -483,8 +477,7 @@ impl Pipelines {
             lighting_layout,
             aov_pipeline_layout,
             shadow_pass_layout,
-            module,
-            counting_module,
+            modules: Mutex::new(HashMap::new()),
             cache: Mutex::new(HashMap::new()),
         }
     }
@@ -547,6 +540,25 @@ impl Pipelines {
             .clone()
     }
 
+    /// The shader module with or without counters for the texture filter of WGSL code `filter`.
+    fn module(&self, device: &wgpu::Device, counters: bool, filter: u32) -> Arc<wgpu::ShaderModule> {
+        let mut modules = self.modules.lock().unwrap_or_else(|e| e.into_inner());
+        modules
+            .entry((counters, filter))
+            .or_insert_with(|| {
+                let f = (texture_filter::METHODS[filter as usize].default)().filter;
+                let label = format!(
+                    "verity realtime shaders ({}, counters {counters})",
+                    f.wgsl_function()
+                );
+                Arc::new(device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(&label),
+                    source: wgpu::ShaderSource::Wgsl(shader_source(counters, f).into()),
+                }))
+            })
+            .clone()
+    }
+
     fn build(
         &self,
         device: &wgpu::Device,
@@ -565,11 +577,7 @@ impl Pipelines {
             ("TEXTURE_FILTER", f64::from(texture & 0xff)),
             ("TEXTURE_DERIVATIVES", f64::from(texture >> 8)),
         ];
-        let module = if counters {
-            &self.counting_module
-        } else {
-            &self.module
-        };
+        let module = &*self.module(device, counters, texture & 0xff);
         let options = wgpu::PipelineCompilationOptions {
             constants: &constants,
             zero_initialize_workgroup_memory: false,
@@ -658,7 +666,7 @@ mod tests {
     /// Both shader modules' sources in one naga module (the filters' module is the shading
     /// sources plus envmap/filter.wgsl).
     fn module() -> naga::Module {
-        let source = shader_source(false) + include_str!("../shaders/envmap/filter.wgsl");
+        let source = shader_source(false, Filter::Bilinear) + include_str!("../shaders/envmap/filter.wgsl");
         naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)))
     }
 

@@ -1,6 +1,7 @@
 // texture/filter.wgsl — what the texture filters share: the pixel's footprint in texture
-// space, the levels, and the dispatch on TEXTURE_FILTER (technique/texture/mod.rs, one file per
-// filter beside this one).
+// space and the levels (technique/texture/mod.rs, one file per filter beside this one). The
+// dispatch, `texture_filtered(t, uv)`, and TEXTURE_FILTER are generated per shader module
+// for the method's filter (pipelines.rs `shader_source`).
 //
 // Technique: every lookup of a material texture, a normal map or the emission a camera ray
 // sees goes through `texture_filtered`, which integrates the texture over the pixel's
@@ -103,37 +104,4 @@ fn trilinear_at(t: u32, uv: vec2<f32>, lambda: f32) -> vec4<f32> {
         return a;
     }
     return mix(a, bilinear(mip_level(t, u32(l0) + 1u), uv), fl);
-}
-
-// Texture `t` over the pixel's footprint about uv, by the method's filter.
-fn texture_filtered(t: u32, uv: vec2<f32>) -> vec4<f32> {
-    switch TEXTURE_FILTER {
-        case TEX_NEAREST: {
-            return texture_nearest(t, uv);
-        }
-        case TEX_MIP_NEAREST: {
-            return texture_mip_nearest(t, uv);
-        }
-        case TEX_TRILINEAR: {
-            return texture_trilinear(t, uv);
-        }
-        case TEX_SAT: {
-            return texture_sat(t, uv);
-        }
-        case TEX_RIPMAP: {
-            return texture_ripmap(t, uv);
-        }
-        case TEX_FOOTPRINT: {
-            return texture_footprint(t, uv);
-        }
-        case TEX_EWA: {
-            return texture_ewa(t, uv);
-        }
-        case TEX_ANISOTROPIC: {
-            return texture_anisotropic(t, uv);
-        }
-        default: {
-            return texture_sample(t, uv);
-        }
-    }
 }

@@ -41,6 +41,7 @@ use crate::settings::RasterSettings;
 use crate::targets::Targets;
 use crate::technique::detail::ConeCache;
 use crate::technique::shadow::maps::ShadowMaps;
+use crate::technique::texture::Filter;
 use crate::technique::Method;
 use crate::upload::SceneGpu;
 
@@ -259,7 +260,7 @@ impl EnvMapBuilder {
     pub(crate) fn filters(&self, device: &wgpu::Device) -> Arc<FilterPipelines> {
         self.filters
             .get_or_init(|| {
-                let source = shader_source(false)
+                let source = shader_source(false, Filter::Bilinear)
                     + "// ---- envmap/filter.wgsl ----\n"
                     + include_str!("../../../shaders/envmap/filter.wgsl");
                 let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
