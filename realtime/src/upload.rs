@@ -14,7 +14,6 @@
 //! Checks mirror the oracle's: non-finite geometry, zero-area planar shapes, out-of-range
 //! indices, bad light parameters are errors naming the shape or light.
 
-use std::sync::Arc;
 
 use glam::{Vec2, Vec3, Vec4};
 use scenes::texture::Texture;
@@ -181,7 +180,7 @@ fn wrap_code(w: WrapMode) -> u32 {
     }
 }
 
-fn add_texture(a: &mut Arrays, t: &Arc<Texture>) -> Result<(), String> {
+fn add_texture(a: &mut Arrays, t: &Texture) -> Result<(), String> {
     let n = t.width as usize * t.height as usize;
     if n == 0 || t.texels.len() != n {
         return Err(format!(
@@ -192,18 +191,25 @@ fn add_texture(a: &mut Arrays, t: &Arc<Texture>) -> Result<(), String> {
         ));
     }
     let offset = u32::try_from(a.texels.len()).map_err(|_| "too many texels in total".to_string())?;
-    a.texture_infos.push(GpuTextureInfo {
+    let wrap = wrap_code(t.wrap[0]) | (wrap_code(t.wrap[1]) << 4);
+    a.texture_infos
+        .push(plain_record(offset, t.width, t.height, wrap));
+    a.texels.extend(t.texels.iter().map(|v| v.to_array()));
+    Ok(())
+}
+
+/// A texture record without levels or tables.
+fn plain_record(offset: u32, width: u32, height: u32, wrap: u32) -> GpuTextureInfo {
+    GpuTextureInfo {
         offset,
-        width: t.width,
-        height: t.height,
-        wrap: wrap_code(t.wrap[0]) | (wrap_code(t.wrap[1]) << 4),
+        width,
+        height,
+        wrap,
         mips: NONE,
         mip_count: 1,
         rip: NONE,
         sat: NONE,
-    });
-    a.texels.extend(t.texels.iter().map(|v| v.to_array()));
-    Ok(())
+    }
 }
 
 /// The levels and tables `filter` reads, for every scene texture (technique/texture: MIP
@@ -222,29 +228,22 @@ fn add_levels(a: &mut Arrays, scene: &Scene, filter: &TextureFilter) {
             a.texture_infos[i].mips = if levels.is_empty() { NONE } else { record };
             a.texture_infos[i].mip_count = 1 + levels.len() as u32;
             for level in &levels {
-                add_texture(a, &Arc::new(level.clone())).expect("a reduced level is well formed");
+                add_texture(a, level).expect("a reduced level is well formed");
             }
         }
         if needs.rip {
             a.texture_infos[i].rip = a.texture_infos.len() as u32;
             for level in pyramid::rip_levels(t) {
-                add_texture(a, &Arc::new(level)).expect("a reduced level is well formed");
+                add_texture(a, &level).expect("a reduced level is well formed");
             }
         }
         if needs.sat {
             let (mean, table) = sat::summed_area_table(t);
             a.texture_infos[i].sat = a.texture_infos.len() as u32;
             let offset = a.texels.len() as u32;
-            a.texture_infos.push(GpuTextureInfo {
-                offset,
-                width: t.width + 1,
-                height: t.height + 1,
-                wrap: a.texture_infos[i].wrap,
-                mips: NONE,
-                mip_count: 1,
-                rip: NONE,
-                sat: NONE,
-            });
+            let wrap = a.texture_infos[i].wrap;
+            a.texture_infos
+                .push(plain_record(offset, t.width + 1, t.height + 1, wrap));
             a.texels.push(mean.to_array());
             a.texels.extend(table.iter().map(|v| v.to_array()));
         }
@@ -525,7 +524,7 @@ fn add_displacement(
         NONE,
     ];
     g.detail_range = [d.scale, lo, hi, 0.0];
-    add_texture(a, &Arc::new(derivative_map(height, d.channel)))?;
+    add_texture(a, &derivative_map(height, d.channel))?;
     if let Some(kind) = detail.and_then(|m| m.technique.cone_kind()) {
         g.detail[3] = a.texture_infos.len() as u32;
         add_texture(a, &cones.get(height, d.channel, d.scale, kind))?;

@@ -144,23 +144,41 @@ fn needed(study: &Study, quick: bool) -> Result<Vec<Needed>, StudyError> {
 type RasterVisitor<'a> =
     dyn FnMut(&Variant, RasterKey, &Scene, &realtime::RasterSettings) -> Result<(), StudyError> + 'a;
 
-/// Calls `visit` with every raster render of the study (the variant, the render's key, its
-/// scene and settings), in the order a single run makes them: each scene point's variants,
-/// then, in a study with flicker, each variant of the first point at every flicker frame.
-/// The scenes are built one point at a time (a study's scenes may be large).
-fn for_each_raster(study: &Study, quick: bool, visit: &mut RasterVisitor) -> Result<(), StudyError> {
+/// Calls `visit` with every raster render of the study's variants that `wanted` selects (the
+/// variant, the render's key, its scene and settings), in the order a single run makes them:
+/// each scene point's variants, then, in a study with flicker, each variant of the first point
+/// at every flicker frame. The scenes are built one point at a time (a study's scenes may be
+/// large), and only at points with a wanted variant.
+fn for_each_raster(
+    study: &Study,
+    quick: bool,
+    wanted: &dyn Fn(&Variant) -> bool,
+    visit: &mut RasterVisitor,
+) -> Result<(), StudyError> {
     let points = study.scene_points();
+    let at = |point| -> Vec<Variant> {
+        study
+            .variants_at(point)
+            .into_iter()
+            .filter(|v| wanted(v))
+            .collect()
+    };
     for point in &points {
+        let variants = at(point);
+        if variants.is_empty() {
+            continue;
+        }
         let (scene, _) = prepare(study, quick, &point.overrides)?;
-        for v in study.variants_at(point) {
+        for v in variants {
             let settings = measured_raster_settings(study, &scene, &v, quick);
             visit(&v, RasterKey::measured(v.id()), &scene, &settings)?;
         }
     }
-    if let Some(f) = &study.stability.flicker {
+    let first = at(&points[0]);
+    if let (Some(f), false) = (&study.stability.flicker, first.is_empty()) {
         let (scene, _) = prepare(study, quick, &points[0].overrides)?;
         let frames = stability::flicker_frames(study, &scene, &points[0], f, quick)?;
-        for v in study.variants_at(&points[0]) {
+        for v in first {
             for (k, frame) in frames.iter().enumerate() {
                 visit(
                     &v,
@@ -238,7 +256,7 @@ pub fn plan(study: &Study, opts: &RunOptions, parts: u32) -> Result<JobPlan, Stu
     }
     jobs.extend(truths);
     let raster_dir = opts.out_dir.join("raster");
-    for_each_raster(study, opts.quick, &mut |v, key, _, _| {
+    for_each_raster(study, opts.quick, &|_| true, &mut |v, key, _, _| {
         let id = raster_job_id(&v.id());
         let entry = rasters::entry(&raster_dir, &key);
         let outputs = [entry.path().to_path_buf(), entry.checksum_path().to_path_buf()];
@@ -457,10 +475,8 @@ fn run_raster(
 ) -> Result<Outcome, StudyError> {
     let dir = raster_dir(plan);
     let (mut renderer_made, mut found, mut rendered) = (None, 0, 0);
-    for_each_raster(study, opts.quick, &mut |v, key, scene, settings| {
-        if raster_job_id(&v.id()) != job.id {
-            return Ok(());
-        }
+    let mine = |v: &Variant| raster_job_id(&v.id()) == job.id;
+    for_each_raster(study, opts.quick, &mine, &mut |_, key, scene, settings| {
         found += 1;
         if rasters::is_recorded(&dir, &key, &rasters::request_hash(scene, settings)) {
             return Ok(());

@@ -377,16 +377,20 @@ impl Method {
         }
     }
 
+    /// N×N quadrature with n = 8, env_n = 8, unshadowed: what the detail, environment-mapping
+    /// and texture-filtering methods are built on.
+    fn quadrature_8() -> Self {
+        Method {
+            area_n: 8,
+            ..Method::default()
+        }
+    }
+
     /// The surface-detail method `detail` over N×N quadrature (n = 8, env_n = 8), unshadowed.
     pub fn detailed(detail: Detail) -> Self {
         Method {
-            area: AreaMethod::Quadrature,
-            area_n: 8,
-            env_n: 8,
-            shadow: None,
             detail: Some(detail),
-            envmap: None,
-            texture: None,
+            ..Method::quadrature_8()
         }
     }
 
@@ -394,13 +398,8 @@ impl Method {
     /// unshadowed, without surface detail.
     pub fn environment_mapped(envmap: EnvMapping) -> Self {
         Method {
-            area: AreaMethod::Quadrature,
-            area_n: 8,
-            env_n: 8,
-            shadow: None,
-            detail: None,
             envmap: Some(envmap),
-            texture: None,
+            ..Method::quadrature_8()
         }
     }
 
@@ -408,13 +407,8 @@ impl Method {
     /// without surface detail.
     pub fn filtered(texture: TextureFilter) -> Self {
         Method {
-            area: AreaMethod::Quadrature,
-            area_n: 8,
-            env_n: 8,
-            shadow: None,
-            detail: None,
-            envmap: None,
             texture: Some(texture),
+            ..Method::quadrature_8()
         }
     }
 
