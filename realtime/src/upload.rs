@@ -14,7 +14,6 @@
 //! Checks mirror the oracle's: non-finite geometry, zero-area planar shapes, out-of-range
 //! indices, bad light parameters are errors naming the shape or light.
 
-
 use glam::{Vec2, Vec3, Vec4};
 use scenes::texture::Texture;
 use scenes::{
