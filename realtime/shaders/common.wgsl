@@ -62,7 +62,7 @@ struct FrameUniforms {
     cam_forward: vec4<f32>,
     // Final film width, height, tan(fov_y/2), aspect W/H (as f32, as the oracle computes it).
     film: vec4<f32>,
-    // Supersampling factor k (x), 1/k (y).
+    // Supersampling factor k (x), 1/k (y), TAA's sub-pixel jitter in film pixels (zw).
     ssaa: vec4<f32>,
     // Environment: constant radiance (rgb) or the map's scale (x).
     env_radiance: vec4<f32>,
@@ -195,8 +195,9 @@ fn camera_ray_direction(f: FrameUniforms, x: f32, y: f32) -> vec3<f32> {
 }
 
 // The raster position on the final film of a fragment of the k·W × k·H target.
+// Offset by TAA's jitter (zero otherwise), as the jittered projection places the fragment.
 fn film_position(f: FrameUniforms, frag: vec2<f32>) -> vec2<f32> {
-    return frag * f.ssaa.y;
+    return frag * f.ssaa.y + f.ssaa.zw;
 }
 
 // Orthonormal basis (t, b) around unit n: Duff et al. 2017, "Building an Orthonormal Basis,

@@ -6,8 +6,8 @@
 
 use std::sync::{Arc, Mutex};
 
-use glam::{Mat4, Vec3};
-use scenes::Scene;
+use glam::{Mat4, Vec2, Vec3};
+use scenes::{Camera, Scene};
 use wgpu::util::DeviceExt;
 
 use crate::camera::camera_near;
@@ -17,6 +17,7 @@ use crate::gpu_types::{vec4, FrameUniforms};
 use crate::pipelines::Stage;
 use crate::settings::RasterSettings;
 use crate::targets::Targets;
+use crate::technique::antialias::post::PostProcess;
 use crate::technique::shadow::maps::ShadowMaps;
 use crate::upload::SceneGpu;
 
@@ -24,6 +25,7 @@ use crate::upload::SceneGpu;
 pub(crate) struct Frame {
     pub(crate) bind_group: wgpu::BindGroup,
     pub(crate) counters: wgpu::Buffer,
+    uniform: wgpu::Buffer,
 }
 
 impl Frame {
@@ -37,11 +39,11 @@ impl Frame {
         settings: &RasterSettings,
         k: u32,
     ) -> Frame {
-        let uniforms = frame_uniforms(scene, sg, settings, k);
+        let uniforms = frame_uniforms(scene, &scene.camera, Vec2::ZERO, sg, settings, k);
         let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame uniforms"),
             contents: bytemuck::bytes_of(&uniforms),
-            usage: wgpu::BufferUsages::UNIFORM,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
         let counters = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("cost counters (per target row)"),
@@ -85,20 +87,60 @@ impl Frame {
             layout,
             entries: &entries,
         });
-        Frame { bind_group, counters }
+        Frame {
+            bind_group,
+            counters,
+            uniform,
+        }
+    }
+
+    /// Moves the frame's view to `camera`, its samples offset by `jitter` pixels of the final
+    /// film (TAA's frames; [`Frame::new`] is the scene's camera, unjittered).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn set_view(
+        &self,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        camera: &Camera,
+        jitter: Vec2,
+        sg: &SceneGpu,
+        settings: &RasterSettings,
+        k: u32,
+    ) {
+        let uniforms = frame_uniforms(scene, camera, jitter, sg, settings, k);
+        queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniforms));
     }
 }
 
+/// The view-projection of `camera` on a `w`×`h` film (reversed-Z, infinite far plane, near
+/// plane `near`), its image moved by `jitter` pixels (x right, y down).
+pub(crate) fn view_proj(camera: &Camera, w: u32, h: u32, near: f32, jitter: Vec2) -> Mat4 {
+    let aspect = w as f32 / h as f32;
+    let proj = Mat4::perspective_infinite_reverse_rh(camera.fov_y_deg.to_radians(), aspect, near);
+    // NDC spans the film's 2 units over W (x, up) and H (y, down) pixels.
+    let shift = Mat4::from_translation(Vec3::new(
+        2.0 * jitter.x / w as f32,
+        -2.0 * jitter.y / h as f32,
+        0.0,
+    ));
+    shift * proj * Mat4::from(camera.to_world.inverse())
+}
+
 /// The camera and counts for a k·W × k·H target (docs/ARCHITECTURE.md "Camera": the projection of
-/// `scenes::Camera::ray_direction`; reversed-Z, infinite far plane).
-fn frame_uniforms(scene: &Scene, sg: &SceneGpu, settings: &RasterSettings, k: u32) -> FrameUniforms {
-    let cam = &scene.camera;
+/// `scenes::Camera::ray_direction`; reversed-Z, infinite far plane), seen from `cam` with its
+/// samples offset by `jitter` pixels of the final film.
+fn frame_uniforms(
+    scene: &Scene,
+    cam: &Camera,
+    jitter: Vec2,
+    sg: &SceneGpu,
+    settings: &RasterSettings,
+    k: u32,
+) -> FrameUniforms {
     let (w, h) = (settings.width, settings.height);
     let aspect = w as f32 / h as f32;
     let fov = cam.fov_y_deg.to_radians();
     let near = camera_near(scene);
-    let proj = Mat4::perspective_infinite_reverse_rh(fov, aspect, near);
-    let view = Mat4::from(cam.to_world.inverse());
     let m = cam.to_world.matrix3;
     let (env_kind, env_tex, env_radiance) = sg.env;
     let (detail, detail_steps) = settings
@@ -106,14 +148,14 @@ fn frame_uniforms(scene: &Scene, sg: &SceneGpu, settings: &RasterSettings, k: u3
         .detail
         .map_or(([1.0, 0.0, 1.0, 0.0], [0; 4]), |d| d.uniforms());
     FrameUniforms {
-        view_proj: (proj * view).to_cols_array_2d(),
+        view_proj: view_proj(cam, w, h, near, jitter).to_cols_array_2d(),
         cam_pos: vec4(cam.position(), near),
         cam_x: vec4(Vec3::from(m.x_axis), 0.0),
         cam_y: vec4(Vec3::from(m.y_axis), 0.0),
         cam_z: vec4(Vec3::from(m.z_axis), 0.0),
         cam_forward: vec4(cam.forward(), 0.0),
         film: [w as f32, h as f32, (fov * 0.5).tan(), aspect],
-        ssaa: [k as f32, 1.0 / k as f32, 0.0, 0.0],
+        ssaa: [k as f32, 1.0 / k as f32, jitter.x, jitter.y],
         env_radiance,
         env_info: [env_kind as u32, env_tex, settings.method.env_n, 0],
         counts: [sg.light_count, sg.emitter_count, settings.method.area_n, 0],
@@ -144,7 +186,8 @@ pub(crate) struct ShadingGroups<'a> {
 /// 3. *G-buffer post-passes* (after `GBuffer`, before `Lighting`): passes that read depth and
 ///    normals and write an input of the lighting, e.g. screen-space AO and its blur;
 /// 4. [`Pass::Lighting`]: the deferred full-screen lighting;
-/// 5. *post-process passes* (last): passes that read the lit image, e.g. FXAA, SMAA, TAA.
+/// 5. [`Pass::Resolve`]: the MSAA resolve (under `aa_msaa`), then [`Pass::PostProcess`]: the
+///    anti-aliasing that reads the lit image (FXAA, MLAA's three passes, TAA), timed together.
 ///
 /// A new pass is a variant here, its encode function (called from [`encode_passes`]) and its
 /// place in [`Pass::of_frame`]; its timestamps and its timing entry follow from that place.
@@ -158,6 +201,10 @@ pub(crate) enum Pass {
     GBuffer,
     /// The full-screen deferred lighting reading the G-buffer.
     Lighting,
+    /// The MSAA resolve into the outputs.
+    Resolve,
+    /// The anti-aliasing post-process of the colour output.
+    PostProcess,
 }
 
 impl Pass {
@@ -168,6 +215,7 @@ impl Pass {
         stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
         shadow: &ShadowMaps,
         targets: &Targets,
+        post: bool,
     ) -> Vec<Pass> {
         let has = |wanted: fn(Stage) -> bool| stages.iter().any(|(s, _)| wanted(*s));
         let mut passes = Vec::with_capacity(3);
@@ -182,6 +230,12 @@ impl Pass {
         if has(|s| s == Stage::Lighting) {
             passes.push(Pass::Lighting);
         }
+        if targets.msaa.is_some() {
+            passes.push(Pass::Resolve);
+        }
+        if post {
+            passes.push(Pass::PostProcess);
+        }
         passes
     }
 
@@ -192,11 +246,14 @@ impl Pass {
             Pass::Forward => "forward pass",
             Pass::GBuffer => "G-buffer pass",
             Pass::Lighting => "lighting pass",
+            Pass::Resolve => "MSAA resolve pass",
+            Pass::PostProcess => "post-process pass",
         }
     }
 }
 
 /// Records the frame's render passes, [`Pass::of_frame`] in order; pass i writes query pair i.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn encode_passes(
     encoder: &mut wgpu::CommandEncoder,
     frame: &Frame,
@@ -204,9 +261,10 @@ pub(crate) fn encode_passes(
     stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
     sg: &SceneGpu,
     groups: &ShadingGroups<'_>,
+    post: Option<&PostProcess>,
     queries: Option<&Timestamps>,
 ) {
-    for (i, pass) in Pass::of_frame(stages, groups.shadow, targets)
+    for (i, pass) in Pass::of_frame(stages, groups.shadow, targets, post.is_some())
         .into_iter()
         .enumerate()
     {
@@ -220,6 +278,16 @@ pub(crate) fn encode_passes(
                 let lighting = stages.iter().find(|(s, _)| *s == Stage::Lighting);
                 if let Some((_, pipeline)) = lighting {
                     encode_lighting_pass(encoder, frame, targets, pipeline, groups, queries);
+                }
+            }
+            Pass::Resolve => {
+                if let Some(msaa) = &targets.msaa {
+                    msaa.encode_resolve(encoder, targets, pass.label(), queries);
+                }
+            }
+            Pass::PostProcess => {
+                if let Some(post) = post {
+                    post.encode(encoder, targets, pass.label(), queries);
                 }
             }
         }
@@ -286,16 +354,21 @@ fn encode_geometry_pass(
     queries: Option<(&Timestamps, u32)>,
 ) {
     let depth = wgpu::RenderPassDepthStencilAttachment {
-        view: &targets.depth_view,
+        view: targets
+            .msaa
+            .as_ref()
+            .map_or(&targets.depth_view, |m| &m.depth_view),
         depth_ops: Some(wgpu::Operations {
             load: wgpu::LoadOp::Clear(0.0),
             store: wgpu::StoreOp::Store,
         }),
         stencil_ops: None,
     };
-    let (color, label) = match &targets.gbuffer_views {
-        Some(views) => (attachments(views), Pass::GBuffer.label()),
-        None => (attachments(&targets.output_views), Pass::Forward.label()),
+    // Under MSAA the forward pass draws into the multisampled outputs the resolve reads.
+    let (color, label) = match (&targets.gbuffer_views, &targets.msaa) {
+        (Some(views), _) => (attachments(views), Pass::GBuffer.label()),
+        (None, Some(msaa)) => (attachments(&msaa.views), Pass::Forward.label()),
+        (None, None) => (attachments(&targets.output_views), Pass::Forward.label()),
     };
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
@@ -416,7 +489,7 @@ impl Timestamps {
         }
     }
 
-    fn writes(&self, pass: u32) -> wgpu::RenderPassTimestampWrites<'_> {
+    pub(crate) fn writes(&self, pass: u32) -> wgpu::RenderPassTimestampWrites<'_> {
         wgpu::RenderPassTimestampWrites {
             query_set: &self.set,
             beginning_of_pass_write_index: Some(2 * pass),
@@ -427,7 +500,12 @@ impl Timestamps {
     /// Timing entry `pass` spread over several render passes: its start written by the
     /// first, its end by the last, nothing by those between (wgpu refuses timestamp writes
     /// with neither index).
-    fn span_writes(&self, pass: u32, first: bool, last: bool) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+    pub(crate) fn span_writes(
+        &self,
+        pass: u32,
+        first: bool,
+        last: bool,
+    ) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
         (first || last).then(|| wgpu::RenderPassTimestampWrites {
             query_set: &self.set,
             beginning_of_pass_write_index: first.then_some(2 * pass),

@@ -10,8 +10,10 @@
 //!
 //! Only what the renderer uses is requested: 48 bytes of colour attachments per sample (three
 //! Rgba32Float targets), fragment-stage storage writes (the cost counters), the adapter's own
-//! texture and buffer size limits, and `TIMESTAMP_QUERY` when the adapter has it (without it,
-//! timings fall back to wall time around submit-and-wait).
+//! texture and buffer size limits, `TIMESTAMP_QUERY` when the adapter has it (without it,
+//! timings fall back to wall time around submit-and-wait), and
+//! `TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES` when it has that (WebGPU alone does not
+//! multisample Rgba32Float; without it `aa_msaa` is refused naming no sample count).
 
 use std::sync::{Arc, Mutex};
 
@@ -48,6 +50,8 @@ pub struct Gpu {
     /// Whether samplers may filter anisotropically (WebGPU's `maxAnisotropy` above 1 is then
     /// honoured; otherwise it is clamped to 1).
     anisotropic: bool,
+    /// Sample counts above 1 the adapter renders to Rgba32Float and Depth32Float targets.
+    msaa_counts: Vec<u32>,
     limits: wgpu::Limits,
     /// wgpu's uncaptured errors since the last [`Gpu::check_errors`].
     errors: Arc<Mutex<Vec<String>>>,
@@ -81,6 +85,21 @@ impl Gpu {
             ));
         }
         let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let format_features = adapter
+            .features()
+            .contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES);
+        let msaa_counts = if format_features {
+            let colour = adapter.get_texture_format_features(crate::pipelines::COLOR_FORMAT);
+            let depth = adapter.get_texture_format_features(crate::pipelines::DEPTH_FORMAT);
+            colour
+                .flags
+                .supported_sample_counts()
+                .into_iter()
+                .filter(|&n| n > 1 && depth.flags.sample_count_supported(n))
+                .collect()
+        } else {
+            Vec::new()
+        };
         let anisotropic = downlevel
             .flags
             .contains(wgpu::DownlevelFlags::ANISOTROPIC_FILTERING);
@@ -93,10 +112,14 @@ impl Gpu {
         };
         let desc = wgpu::DeviceDescriptor {
             label: Some("verity realtime device"),
-            required_features: if timestamps {
-                wgpu::Features::TIMESTAMP_QUERY
-            } else {
-                wgpu::Features::empty()
+            required_features: {
+                let mut f = wgpu::Features::empty();
+                f.set(wgpu::Features::TIMESTAMP_QUERY, timestamps);
+                f.set(
+                    wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES,
+                    format_features,
+                );
+                f
             },
             required_limits: limits.clone(),
             memory_hints: wgpu::MemoryHints::Performance,
@@ -115,6 +138,7 @@ impl Gpu {
             info,
             timestamps,
             anisotropic,
+            msaa_counts,
             limits,
             errors,
         })
@@ -170,6 +194,11 @@ impl Gpu {
     /// Whether the adapter filters anisotropically (`tex_anisotropic` needs it).
     pub fn anisotropic_filtering(&self) -> bool {
         self.anisotropic
+    }
+
+    /// MSAA sample counts (above 1) the adapter renders the targets with.
+    pub fn msaa_counts(&self) -> &[u32] {
+        &self.msaa_counts
     }
 
     /// The device's limits.

@@ -32,6 +32,7 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 use crate::gpu_types::{AnalyticVertex, MeshVertex};
+use crate::technique::antialias::post::PostPipelines;
 use crate::technique::area::AreaMethod;
 use crate::technique::texture::{self as texture_filter, Filter};
 use crate::technique::{self, Method};
@@ -255,8 +256,8 @@ impl Stage {
 /// Cache key: the pipeline, the area method, the shadow, detail and environment-mapping
 /// methods' WGSL codes, the texture filter's
 /// ([`crate::technique::texture::TextureFilter::pipeline_code`]), whether it is the counting
-/// variant.
-type Key = (Stage, AreaMethod, u32, u32, u32, u32, bool);
+/// variant, its sample count (MSAA).
+type Key = (Stage, AreaMethod, u32, u32, u32, u32, bool, u32);
 
 /// Layouts, the shader module and the pipeline cache.
 pub struct Pipelines {
@@ -270,6 +271,8 @@ pub struct Pipelines {
     pub(crate) envmap_layout: wgpu::BindGroupLayout,
     /// The empty group 1 of the geometry pipelines.
     pub(crate) empty_bind_group: wgpu::BindGroup,
+    /// The anti-aliasing passes after lighting (MSAA resolve, FXAA, MLAA, TAA).
+    pub(crate) post: PostPipelines,
     forward_layout: wgpu::PipelineLayout,
     lighting_layout: wgpu::PipelineLayout,
     aov_pipeline_layout: wgpu::PipelineLayout,
@@ -473,6 +476,7 @@ impl Pipelines {
             shadow_layout,
             envmap_layout,
             empty_bind_group,
+            post: PostPipelines::new(device),
             forward_layout,
             lighting_layout,
             aov_pipeline_layout,
@@ -483,13 +487,15 @@ impl Pipelines {
     }
 
     /// The pipelines one frame of `method` draws with under `pipeline`, in pass order: the
-    /// shadow pass's (under a shadow method), then the forward or the deferred ones.
+    /// shadow pass's (under a shadow method), then the forward or the deferred ones, the
+    /// geometry pass's drawing `samples` samples per pixel.
     pub(crate) fn stages(
         &self,
         device: &wgpu::Device,
         method: &Method,
         pipeline: PipelineKind,
         counters: bool,
+        samples: u32,
     ) -> Vec<(Stage, Arc<wgpu::RenderPipeline>)> {
         let shadow: &[Stage] = if method.shadow.is_some() {
             &[Stage::ShadowMesh, Stage::ShadowAnalytic]
@@ -503,7 +509,10 @@ impl Pipelines {
         shadow
             .iter()
             .chain(list)
-            .map(|&s| (s, self.get(device, s, method, counters)))
+            .map(|&s| {
+                let n = if s.is_shadow() { 1 } else { samples };
+                (s, self.get_multisampled(device, s, method, counters, n))
+            })
             .collect()
     }
 
@@ -517,9 +526,21 @@ impl Pipelines {
         method: &Method,
         counters: bool,
     ) -> Arc<wgpu::RenderPipeline> {
+        self.get_multisampled(device, stage, method, counters, 1)
+    }
+
+    /// [`Pipelines::get`] drawing `samples` samples per pixel.
+    fn get_multisampled(
+        &self,
+        device: &wgpu::Device,
+        stage: Stage,
+        method: &Method,
+        counters: bool,
+        samples: u32,
+    ) -> Arc<wgpu::RenderPipeline> {
         let texture = method.texture_filter().pipeline_code();
         let key = if stage.is_shadow() {
-            (stage, AreaMethod::Quadrature, 0, 0, 0, 0, false)
+            (stage, AreaMethod::Quadrature, 0, 0, 0, 0, false, 1)
         } else if stage.shades() {
             (
                 stage,
@@ -529,9 +550,19 @@ impl Pipelines {
                 method.envmap_code(),
                 texture,
                 counters,
+                samples,
             )
         } else {
-            (stage, method.area, 0, method.detail_code(), 0, texture, counters)
+            (
+                stage,
+                method.area,
+                0,
+                method.detail_code(),
+                0,
+                texture,
+                counters,
+                samples,
+            )
         };
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
         cache
@@ -562,12 +593,12 @@ impl Pipelines {
     fn build(
         &self,
         device: &wgpu::Device,
-        (stage, method, shadow, detail, envmap, texture, counters): Key,
+        (stage, method, shadow, detail, envmap, texture, counters, samples): Key,
     ) -> wgpu::RenderPipeline {
         let (vs, fs) = stage.entry_points();
         let label = format!(
             "{vs}/{fs} ({method:?}, shadow method {shadow}, detail method {detail}, environment map {envmap}, \
-             texture filter {texture:#x}, counters {counters})"
+             texture filter {texture:#x}, counters {counters}, {samples} samples)"
         );
         let constants = [
             ("AREA_METHOD", f64::from(method.shader_code())),
@@ -642,7 +673,10 @@ impl Pipelines {
                 ..Default::default()
             },
             depth_stencil: stage.depth_stencil(),
-            multisample: wgpu::MultisampleState::default(),
+            multisample: wgpu::MultisampleState {
+                count: samples,
+                ..Default::default()
+            },
             fragment,
             multiview: None,
             cache: None,

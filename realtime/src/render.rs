@@ -10,8 +10,13 @@
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
+use glam::Vec2;
 use scenes::layered::LayeredImage;
 use scenes::Scene;
+
+use crate::camera::camera_near;
+use crate::frame::view_proj;
+use crate::gpu_types::vec4;
 
 use crate::error::RasterError;
 use crate::frame::{encode_passes, Frame, Pass, ShadingGroups, Timestamps};
@@ -21,6 +26,8 @@ use crate::pipelines::PipelineKind;
 use crate::pipelines::{Pipelines, Stage};
 use crate::settings::RasterSettings;
 use crate::targets::Targets;
+use crate::technique::antialias::post::{MsaaTargets, PostParams, PostProcess};
+use crate::technique::antialias::{taa, AntiAliasing};
 use crate::technique::detail::ConeCache;
 use crate::technique::envmap::build::EnvMapBuilder;
 use crate::technique::shadow::maps::ShadowMaps;
@@ -82,7 +89,7 @@ impl Renderer {
     pub fn render(&self, scene: &Scene, settings: &RasterSettings) -> Result<RasterOutput, RasterError> {
         let _guard = self.lock.lock().unwrap_or_else(|p| p.into_inner());
         let device = &self.gpu.device;
-        settings.check(self.gpu.limits().max_texture_dimension_2d)?;
+        settings.check(self.gpu.limits().max_texture_dimension_2d, self.gpu.msaa_counts())?;
         let scene_gpu =
             SceneGpu::new(&self.gpu, scene, &settings.method, &self.cones).map_err(RasterError::Scene)?;
         let shadow = ShadowMaps::new(
@@ -102,18 +109,89 @@ impl Renderer {
             shadow: &shadow,
             envmap: &envmap.bind_group,
         };
-        let k = settings.ssaa;
+        let aa = settings.method.antialias.unwrap_or(AntiAliasing::None);
+        let k = settings.supersampling();
+        let samples = aa.msaa_samples();
         let (tw, th) = (settings.width * k, settings.height * k);
         let layout = &self.pipelines.scene_layout;
         let frame = Frame::new(device, layout, scene, &scene_gpu, &shadow, settings, k);
-        let targets = Targets::new(device, settings.pipeline, tw, th, &self.pipelines.gbuffer_layout);
+        let mut targets = Targets::new(device, settings.pipeline, tw, th, &self.pipelines.gbuffer_layout);
+        if samples > 1 {
+            targets.msaa = Some(MsaaTargets::new(device, &self.pipelines.post, tw, th, samples));
+        }
+        let post = PostProcess::new(device, &self.pipelines.post, &aa, &targets);
         let stages = self
             .pipelines
-            .stages(&self.gpu.device, &settings.method, settings.pipeline, false);
+            .stages(device, &settings.method, settings.pipeline, false, samples);
         self.gpu
             .check_errors("creating the scene buffers and pipelines")?;
 
-        let timing = self.timed_frames(&frame, &targets, &stages, &scene_gpu, &groups, settings)?;
+        let timing = match (&aa, &post) {
+            (AntiAliasing::Taa { frames, jitter, .. }, Some(post)) => {
+                let (w, h) = (settings.width, settings.height);
+                let near = camera_near(scene);
+                let tan = (scene.camera.fov_y_deg.to_radians() * 0.5).tan();
+                let view = |i: u32| {
+                    let camera = taa::camera(&aa, &scene.camera, i);
+                    frame.set_view(
+                        &self.gpu.queue,
+                        scene,
+                        &camera,
+                        taa::jitter(i, *jitter),
+                        &scene_gpu,
+                        settings,
+                        k,
+                    );
+                    let previous = taa::camera(&aa, &scene.camera, i.saturating_sub(1));
+                    post.set_frame(&self.gpu.queue, i == 0, |p: &mut PostParams| {
+                        let m = camera.to_world.matrix3;
+                        p.prev_view_proj = view_proj(&previous, w, h, near, Vec2::ZERO).to_cols_array_2d();
+                        p.cam_pos = vec4(camera.position(), near);
+                        p.cam_x = vec4(m.x_axis.into(), 0.0);
+                        p.cam_y = vec4(m.y_axis.into(), 0.0);
+                        p.cam_z = vec4(m.z_axis.into(), 0.0);
+                        p.cam_forward = vec4(camera.forward(), 0.0);
+                        p.film = [w as f32, h as f32, tan, w as f32 / h as f32];
+                    });
+                };
+                // Warm-up frames are the sequence's first frame, each starting the history anew.
+                let frames = (settings.warmup_frames, *frames);
+                let timing = self.timed_frames(
+                    &frame,
+                    &targets,
+                    &stages,
+                    &scene_gpu,
+                    &groups,
+                    Some(post),
+                    frames,
+                    &|i| view(i.saturating_sub(settings.warmup_frames)),
+                )?;
+                // The AOV frames below see the scene's own view, unjittered.
+                frame.set_view(
+                    &self.gpu.queue,
+                    scene,
+                    &scene.camera,
+                    Vec2::ZERO,
+                    &scene_gpu,
+                    settings,
+                    k,
+                );
+                timing
+            }
+            _ => {
+                let frames = (settings.warmup_frames, settings.timed_frames);
+                self.timed_frames(
+                    &frame,
+                    &targets,
+                    &stages,
+                    &scene_gpu,
+                    &groups,
+                    post.as_ref(),
+                    frames,
+                    &|_| {},
+                )?
+            }
+        };
         let main = self.read_back(&targets)?;
         let counters = if settings.counters {
             Some(self.counting_frame(&frame, &targets, &scene_gpu, &groups, settings)?)
@@ -132,7 +210,10 @@ impl Renderer {
                 settings.height,
                 &self.pipelines.gbuffer_layout,
             );
-            self.run_frame(&one, &t1, &stages, &scene_gpu, &groups, None)?;
+            let single = self
+                .pipelines
+                .stages(device, &settings.method, settings.pipeline, false, 1);
+            self.run_frame(&one, &t1, &single, &scene_gpu, &groups, None, None)?;
             Some(self.read_back(&t1)?.albedo_id.iter().map(|t| t[3]).collect())
         };
         let visibility = self.visibility_frame(&frame, &targets, &scene_gpu, &groups, settings)?;
@@ -168,7 +249,9 @@ impl Renderer {
         })
     }
 
-    /// Warm-up and timed frames; the last one's image stays in `targets`.
+    /// `frames` = (warm-up, timed) frames, each after `before(i)` (i counts every frame from
+    /// 0); the last one's image stays in `targets`.
+    #[allow(clippy::too_many_arguments)]
     fn timed_frames(
         &self,
         frame: &Frame,
@@ -176,9 +259,11 @@ impl Renderer {
         stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
         scene_gpu: &SceneGpu,
         groups: &ShadingGroups<'_>,
-        settings: &RasterSettings,
+        post: Option<&PostProcess>,
+        (warmup_frames, timed_frames): (u32, u32),
+        before: &dyn Fn(u32),
     ) -> Result<Timing, RasterError> {
-        let passes = Pass::of_frame(stages, groups.shadow, targets);
+        let passes = Pass::of_frame(stages, groups.shadow, targets, post.is_some());
         let queries = self
             .gpu
             .has_timestamps()
@@ -186,15 +271,16 @@ impl Renderer {
         let mut wall = Vec::new();
         let mut per_pass: Vec<Vec<f64>> = vec![Vec::new(); passes.len()];
         let mut gpu_total = Vec::new();
-        for i in 0..settings.warmup_frames + settings.timed_frames {
+        for i in 0..warmup_frames + timed_frames {
+            before(i);
             let t0 = Instant::now();
-            self.run_frame(frame, targets, stages, scene_gpu, groups, queries.as_ref())?;
+            self.run_frame(frame, targets, stages, scene_gpu, groups, post, queries.as_ref())?;
             let dt = t0.elapsed().as_secs_f64() * 1e3;
             let ticks = match &queries {
                 Some(q) => Some(q.read(&self.gpu)?),
                 None => None,
             };
-            if i < settings.warmup_frames {
+            if i < warmup_frames {
                 continue;
             }
             wall.push(dt);
@@ -232,12 +318,13 @@ impl Renderer {
             },
             gpu_ms,
             wall_ms: median(&wall),
-            warmup_frames: settings.warmup_frames,
-            timed_frames: settings.timed_frames,
+            warmup_frames,
+            timed_frames,
         })
     }
 
     /// Encodes, submits and waits for one frame.
+    #[allow(clippy::too_many_arguments)]
     fn run_frame(
         &self,
         frame: &Frame,
@@ -245,13 +332,23 @@ impl Renderer {
         stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
         scene_gpu: &SceneGpu,
         groups: &ShadingGroups<'_>,
+        post: Option<&PostProcess>,
         queries: Option<&Timestamps>,
     ) -> Result<(), RasterError> {
         let device = &self.gpu.device;
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("frame encoder"),
         });
-        encode_passes(&mut encoder, frame, targets, stages, scene_gpu, groups, queries);
+        encode_passes(
+            &mut encoder,
+            frame,
+            targets,
+            stages,
+            scene_gpu,
+            groups,
+            post,
+            queries,
+        );
         if let Some(q) = queries {
             q.encode_resolve(&mut encoder);
         }
@@ -397,7 +494,16 @@ impl Renderer {
             label: Some("counting frame encoder"),
         });
         encoder.clear_buffer(&frame.counters, 0, None);
-        encode_passes(&mut encoder, frame, targets, &stages, scene_gpu, groups, None);
+        encode_passes(
+            &mut encoder,
+            frame,
+            targets,
+            &stages,
+            scene_gpu,
+            groups,
+            None,
+            None,
+        );
         let bytes = self.submit_and_read(
             encoder,
             &frame.counters,
@@ -447,7 +553,16 @@ impl Renderer {
                 label: Some("visibility AOV encoder"),
             });
             if c == 0 {
-                encode_passes(&mut encoder, frame, targets, &stages, scene_gpu, groups, None);
+                encode_passes(
+                    &mut encoder,
+                    frame,
+                    targets,
+                    &stages,
+                    scene_gpu,
+                    groups,
+                    None,
+                    None,
+                );
             }
             let shadow_group = &groups.shadow.bind_group;
             encode_visibility_pass(
@@ -514,6 +629,7 @@ fn add_header(
         ("parameters", params.join(" ")),
         ("pipeline", s.pipeline.name().to_string()),
         ("ssaa", s.ssaa.to_string()),
+        ("samples_per_pixel", samples_per_pixel(s).to_string()),
         ("frame_ms", format!("{:.6}", timing.frame_ms())),
         ("wall_ms", format!("{:.6}", timing.wall_ms)),
         (
@@ -564,4 +680,16 @@ fn add_header(
         image.set_attribute(k, v);
     }
     image.set_object_names(scene.shapes.iter().map(|s| s.name.as_str()));
+}
+
+/// Samples taken in each pixel: k² shaded samples (`ssaa` × `aa_ssaa`), times the MSAA
+/// coverage samples, times TAA's frames (one jittered sample each).
+pub fn samples_per_pixel(s: &RasterSettings) -> u32 {
+    let k = s.supersampling();
+    let per_frame = match s.method.antialias {
+        Some(AntiAliasing::Msaa { samples }) => samples,
+        Some(AntiAliasing::Taa { frames, .. }) => frames,
+        _ => 1,
+    };
+    k * k * per_frame
 }

@@ -75,8 +75,15 @@ impl RasterSettings {
         RasterSettings { counters, ..self }
     }
 
-    /// Checks the settings against the adapter's largest texture side and the memory budget.
-    pub(crate) fn check(&self, max_dimension: u32) -> Result<(), RasterError> {
+    /// The supersampling factor of the targets: the raster's `ssaa` times `aa_ssaa`'s k.
+    pub fn supersampling(&self) -> u32 {
+        self.ssaa
+            .saturating_mul(self.method.antialias.map_or(1, |a| a.ssaa()))
+    }
+
+    /// Checks the settings against the adapter's largest texture side, the MSAA sample counts
+    /// it supports (for Rgba32Float targets and Depth32Float together) and the memory budget.
+    pub(crate) fn check(&self, max_dimension: u32, msaa_counts: &[u32]) -> Result<(), RasterError> {
         let bad = |m: String| Err(RasterError::Settings(m));
         if self.width == 0 || self.height == 0 {
             return bad(format!("resolution {}x{} is empty", self.width, self.height));
@@ -110,22 +117,47 @@ impl RasterSettings {
         if self.timed_frames == 0 {
             return bad("at least one timed frame is needed".into());
         }
+        let k = self.supersampling();
+        if k > MAX_SSAA {
+            return bad(format!(
+                "method {m} with ssaa {}: {k}×{k} samples per pixel exceed {MAX_SSAA}×{MAX_SSAA}",
+                self.ssaa
+            ));
+        }
+        let samples = m.antialias.map_or(1, |a| a.msaa_samples());
+        if samples > 1 {
+            if !msaa_counts.contains(&samples) {
+                let counts: Vec<String> = msaa_counts.iter().map(u32::to_string).collect();
+                return bad(format!(
+                    "method {m}: the adapter cannot render {samples} samples per pixel to Rgba32Float and \
+                     Depth32Float targets; it can do {}",
+                    counts.join(", ")
+                ));
+            }
+            if self.pipeline != PipelineKind::Forward {
+                return bad(format!(
+                    "method {m}: MSAA is built for the forward pipeline; the deferred one would light each \
+                     G-buffer sample of edge pixels, which is not written yet"
+                ));
+            }
+        }
         let (w, h) = (
-            u64::from(self.width) * u64::from(self.ssaa),
-            u64::from(self.height) * u64::from(self.ssaa),
+            u64::from(self.width) * u64::from(k),
+            u64::from(self.height) * u64::from(k),
         );
         if w > u64::from(max_dimension) || h > u64::from(max_dimension) {
             return bad(format!(
-                "{}x{} with ssaa {} needs a {w}x{h} target; the adapter allows at most {max_dimension} per side",
-                self.width, self.height, self.ssaa
+                "{}x{} with {k}×{k} supersampling needs a {w}x{h} target; the adapter allows at most {max_dimension} per side",
+                self.width, self.height
             ));
         }
         // The render targets (three Rgba32Float colour targets and a depth target per sample)
         // and, per output pixel, the read-back targets and the EXR's channels (about 26 f32)
         // and the shadow maps (one Depth32Float layer per light), before any is allocated.
+        // MSAA adds `samples` multisampled copies; a post-process up to three more images.
         let targets = w
             .saturating_mul(h)
-            .saturating_mul(u64::from(COLOR_BYTES_PER_SAMPLE) + 4);
+            .saturating_mul((u64::from(COLOR_BYTES_PER_SAMPLE) + 4) * (1 + u64::from(samples)) + 48);
         let output = u64::from(self.width) * u64::from(self.height) * (48 + 26 * 4);
         let maps = m.shadow.as_ref().map_or(0, |sh| u64::from(sh.map).pow(2) * 4);
         scenes::budget::check(

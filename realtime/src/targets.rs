@@ -6,6 +6,7 @@
 
 use crate::pipelines::PipelineKind;
 use crate::pipelines::{COLOR_FORMAT, DEPTH_FORMAT};
+use crate::technique::antialias::post::MsaaTargets;
 
 /// Bytes of one Rgba32Float texel.
 const TEXEL_BYTES: u32 = 16;
@@ -21,6 +22,9 @@ pub struct Targets {
     /// G-buffer (deferred only) and its bind group.
     pub(crate) gbuffer_views: Option<[wgpu::TextureView; 3]>,
     pub(crate) gbuffer_bind_group: Option<wgpu::BindGroup>,
+    /// The multisampled outputs the forward pass draws into under `aa_msaa`, resolved into
+    /// the outputs (None: it draws into the outputs).
+    pub(crate) msaa: Option<MsaaTargets>,
 }
 
 fn color_texture(
@@ -64,9 +68,11 @@ impl Targets {
         height: u32,
         gbuffer_layout: &wgpu::BindGroupLayout,
     ) -> Targets {
-        // Sampled too: the environment capture copies its colour target into a cube face.
+        // Sampled too: the environment capture copies its colour target into a cube face, and
+        // the anti-aliasing post-processes read it and copy their result back.
         let out_usage = wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST
             | wgpu::TextureUsages::TEXTURE_BINDING;
         let outputs = [
             "colour target (HDR)",
@@ -122,6 +128,7 @@ impl Targets {
             depth_view,
             gbuffer_views,
             gbuffer_bind_group,
+            msaa: None,
         }
     }
 

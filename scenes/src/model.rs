@@ -8,7 +8,7 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use glam::{Affine3A, Vec2, Vec3};
+use glam::{Affine3A, Quat, Vec2, Vec3};
 
 use crate::pixel_filter::PixelFilter;
 use crate::texture::Texture;
@@ -134,6 +134,22 @@ impl Camera {
     /// Unit view direction (the camera's −Z axis) in world space.
     pub fn forward(&self) -> Vec3 {
         (-Vec3::from(self.to_world.matrix3.z_axis)).normalize()
+    }
+
+    /// The camera turned by `degrees` about world +Y through the point `distance` ahead of it
+    /// (an orbit about what it looks at); 0° is this camera bit for bit.
+    pub fn orbited(&self, degrees: f32, distance: f32) -> Camera {
+        if degrees == 0.0 {
+            return *self;
+        }
+        let pivot = self.position() + self.forward() * distance;
+        let turn = Affine3A::from_translation(pivot)
+            * Affine3A::from_quat(Quat::from_rotation_y(degrees.to_radians()))
+            * Affine3A::from_translation(-pivot);
+        Camera {
+            to_world: turn * self.to_world,
+            fov_y_deg: self.fov_y_deg,
+        }
     }
 
     /// World-space direction of the ray through raster position (x, y) of a `width`×`height`

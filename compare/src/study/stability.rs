@@ -19,7 +19,7 @@
 //!   instead of being skipped, and a motion that leaves no pixel interior in two consecutive
 //!   frames is an error, not a flicker of 0.
 
-use glam::{Affine3A, DVec3, Quat, Vec3};
+use glam::{DVec3, Vec3};
 use scenes::{RenderSettings, Scene};
 
 use super::rasters::{RasterKey, Rasters};
@@ -165,18 +165,12 @@ pub fn breakpoint(errors: &[f64], non_finite: &[usize], factor: f64) -> (f64, Op
     (best, at)
 }
 
-/// The scene's camera orbited by `degrees` about world +Y through the point `distance` ahead.
+/// The scene's camera orbited by `degrees` about world +Y through the point `distance` ahead
+/// ([`scenes::Camera::orbited`]); frame 0 is the study's own view, bit for bit, so its ground
+/// truth is a cache hit.
 pub fn orbit(scene: &Scene, degrees: f32, distance: f32) -> Scene {
     let mut s = scene.clone();
-    if degrees == 0.0 {
-        // Frame 0 is the study's own view, bit for bit: its ground truth is a cache hit.
-        return s;
-    }
-    let pivot = scene.camera.position() + scene.camera.forward() * distance;
-    let turn = Affine3A::from_translation(pivot)
-        * Affine3A::from_quat(Quat::from_rotation_y(degrees.to_radians()))
-        * Affine3A::from_translation(-pivot);
-    s.camera.to_world = turn * scene.camera.to_world;
+    s.camera = scene.camera.orbited(degrees, distance);
     s
 }
 

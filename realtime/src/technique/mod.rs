@@ -9,7 +9,8 @@
 //! | surface detail | [`detail`] | `normal_mapping` … `cone_step` (8) | `direct` of the displaced surface |
 //! | environment mapping | [`envmap`] | `envmap_cube`, `envmap_sphere`, `envmap_paraboloid` | `direct` with the reflector's exact reflection |
 //! | distance impostors | [`distance_impostor`] | `distance_impostor`, `distance_search` | as environment mapping |
-//! | texture filtering | [`texture`] | `tex_nearest` … `tex_ewa` (8) | the pixel's box filter over level 0 |
+//! | texture filtering | [`texture`] | `tex_nearest` … `tex_anisotropic` (9) | the pixel's box filter over level 0 |
+//! | anti-aliasing | [`antialias`] | `aa_none`, `aa_ssaa`, `aa_msaa`, `aa_fxaa`, `aa_mlaa`, `aa_taa` | the pixel's box filter |
 //!
 //! Every method takes [`COMMON`]'s `n` (N×N quadrature of each area light and sun disk; not
 //! `area_representative_point`) and `env_n` (`env_n`×`env_n` cosine-weighted midpoint
@@ -17,6 +18,7 @@
 //! family's shared parameters, then its own. [`markdown`] writes all of it as
 //! docs/methods.md, [`param_help`] as `verity raster --help`'s.
 
+pub mod antialias;
 pub mod area;
 pub mod detail;
 pub mod distance_impostor;
@@ -27,6 +29,7 @@ pub mod texture;
 
 use std::fmt;
 
+use antialias::AntiAliasing;
 use area::AreaMethod;
 use detail::Detail;
 use envmap::localization::Localization;
@@ -56,6 +59,9 @@ pub struct Method {
     /// The texture filter of a `tex_*` method, or None: bilinear at level 0
     /// ([`TextureFilter::BILINEAR`]), the lookup of every other method.
     pub texture: Option<TextureFilter>,
+    /// The anti-aliasing of an `aa_*` method, or None: one sample at each pixel's centre
+    /// (the raster's `ssaa` apart).
+    pub antialias: Option<AntiAliasing>,
 }
 
 impl Default for Method {
@@ -69,6 +75,7 @@ impl Default for Method {
             detail: None,
             envmap: None,
             texture: None,
+            antialias: None,
         }
     }
 }
@@ -149,17 +156,20 @@ pub enum Family {
     DistanceImpostor,
     /// [`texture`].
     Texture,
+    /// [`antialias`].
+    AntiAliasing,
 }
 
 impl Family {
     /// Every family, in the order the docs list them.
-    pub const ALL: [Family; 6] = [
+    pub const ALL: [Family; 7] = [
         Family::Area,
         Family::Shadow,
         Family::Detail,
         Family::EnvMap,
         Family::DistanceImpostor,
         Family::Texture,
+        Family::AntiAliasing,
     ];
 
     /// Its heading in the docs.
@@ -171,6 +181,7 @@ impl Family {
             Family::EnvMap => "Environment mapping",
             Family::DistanceImpostor => "Distance impostors",
             Family::Texture => "Texture filtering",
+            Family::AntiAliasing => "Anti-aliasing",
         }
     }
 
@@ -193,6 +204,7 @@ impl Family {
             Family::EnvMap => infos(envmap::METHODS),
             Family::DistanceImpostor => infos(distance_impostor::METHODS),
             Family::Texture => infos(texture::METHODS),
+            Family::AntiAliasing => infos(antialias::METHODS),
         }
     }
 
@@ -200,7 +212,7 @@ impl Family {
     /// family's first method).
     fn shared_rows(self) -> Vec<Row> {
         match self {
-            Family::Area | Family::Texture => Vec::new(),
+            Family::Area | Family::Texture | Family::AntiAliasing => Vec::new(),
             Family::Shadow => shadow::COMMON.iter().map(Row::Shadow).collect(),
             Family::Detail => detail::COMMON.iter().map(Row::Detail).collect(),
             Family::EnvMap | Family::DistanceImpostor => envmap::COMMON
@@ -236,6 +248,8 @@ pub enum Row {
     EnvMap(&'static Param<EnvMapping>),
     /// A row of its texture filter.
     Texture(&'static Param<TextureFilter>),
+    /// A row of its anti-aliasing.
+    AntiAlias(&'static Param<AntiAliasing>),
 }
 
 /// The same field of whichever table a row is from.
@@ -247,6 +261,7 @@ macro_rules! row_field {
             Row::Detail(p) => p.$field,
             Row::EnvMap(p) => p.$field,
             Row::Texture(p) => p.$field,
+            Row::AntiAlias(p) => p.$field,
         }
     };
 }
@@ -290,6 +305,7 @@ impl Row {
             Row::Detail(p) => m.detail.as_ref().and_then(|d| (p.get)(d)),
             Row::EnvMap(p) => m.envmap.as_ref().and_then(|e| (p.get)(e)),
             Row::Texture(p) => m.texture.as_ref().and_then(|t| (p.get)(t)),
+            Row::AntiAlias(p) => m.antialias.as_ref().and_then(|a| (p.get)(a)),
         }
     }
 
@@ -301,6 +317,7 @@ impl Row {
             Row::Detail(p) => (p.set)(m.detail.as_mut()?, value),
             Row::EnvMap(p) => (p.set)(m.envmap.as_mut()?, value),
             Row::Texture(p) => (p.set)(m.texture.as_mut()?, value),
+            Row::AntiAlias(p) => (p.set)(m.antialias.as_mut()?, value),
         }
     }
 }
@@ -342,6 +359,9 @@ impl Method {
         if let Some(s) = spec_named(texture::METHODS, name) {
             return Some(Method::filtered((s.default)()));
         }
+        if let Some(s) = spec_named(antialias::METHODS, name) {
+            return Some(Method::antialiased((s.default)()));
+        }
         spec_named(envmap::METHODS, name)
             .or_else(|| spec_named(distance_impostor::METHODS, name))
             .map(|s| Method::environment_mapped((s.default)()))
@@ -374,6 +394,7 @@ impl Method {
             detail: None,
             envmap: None,
             texture: None,
+            antialias: None,
         }
     }
 
@@ -412,6 +433,14 @@ impl Method {
         }
     }
 
+    /// The anti-aliasing method `antialias` over N×N quadrature (n = 8, env_n = 8), unshadowed.
+    pub fn antialiased(antialias: AntiAliasing) -> Self {
+        Method {
+            antialias: Some(antialias),
+            ..Method::quadrature_8()
+        }
+    }
+
     /// The same method with environment quadrature N.
     pub fn with_env_n(self, env_n: u32) -> Self {
         Method { env_n, ..self }
@@ -436,6 +465,9 @@ impl Method {
         }
         if let Some(t) = &self.texture {
             rows.extend(t.rows().map(Row::Texture));
+        }
+        if let Some(a) = &self.antialias {
+            rows.extend(a.rows().map(Row::AntiAlias));
         }
         rows
     }
@@ -503,6 +535,9 @@ impl Method {
 
     /// The method's name.
     pub fn name(&self) -> &'static str {
+        if let Some(a) = &self.antialias {
+            return a.spec().name;
+        }
         if let Some(t) = &self.texture {
             return t.spec().name;
         }
@@ -811,7 +846,10 @@ mod tests {
             .collect();
         assert_eq!(
             codes,
-            [0, 0, 1, 2, 3, 4, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]
+            [
+                0, 0, 1, 2, 3, 4, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+                0, 0, 0, 0
+            ]
         );
     }
 

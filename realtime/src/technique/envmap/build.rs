@@ -762,7 +762,7 @@ impl Build<'_> {
         };
         let stages = self
             .pipelines
-            .stages(device, &face_settings.method, face_settings.pipeline, false);
+            .stages(device, &face_settings.method, face_settings.pipeline, false, 1);
         let filters = self.builder.filters(device);
         let mips = match (kind, peel) {
             (CaptureKind::Radiance, None) => size.ilog2() + 1,
@@ -809,7 +809,16 @@ impl Build<'_> {
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("environment capture"),
             });
-            encode_passes(&mut encoder, &frame, &targets, &stages, &scene_gpu, &groups, None);
+            encode_passes(
+                &mut encoder,
+                &frame,
+                &targets,
+                &stages,
+                &scene_gpu,
+                &groups,
+                None,
+                None,
+            );
             let dst = face_view(&cube, face as u32);
             encode_face_copy(device, &mut encoder, &filters, &targets, &dst, kind);
             self.gpu.queue.submit([encoder.finish()]);

@@ -1,0 +1,541 @@
+//! The anti-aliasing passes that run after the scene is lit: the MSAA resolve, and the
+//! post-processes of FXAA, MLAA and TAA over the colour target (docs/ARCHITECTURE.md "Passes of
+//! one frame", stage 5). Each technique is one shader module of its own
+//! (`shaders/antialias/<technique>.wgsl` after `common.wgsl`), built on first use.
+//!
+//! | pass | reads | writes |
+//! |---|---|---|
+//! | MSAA resolve | the three multisampled outputs | the three outputs |
+//! | FXAA | colour | colour |
+//! | MLAA edges → weights → blend | colour; edges; weights | edges; weights; colour |
+//! | TAA | colour, normal + depth, history | colour and the next history |
+//!
+//! A post-process renders into a target of its own, which is then copied into the colour
+//! output (and, for TAA, into the history the next frame reads).
+
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+use bytemuck::{Pod, Zeroable};
+use wgpu::util::DeviceExt;
+
+use super::{AntiAliasing, TaaClamp};
+use crate::frame::Timestamps;
+use crate::pipelines::COLOR_FORMAT;
+use crate::targets::Targets;
+
+const COMMON: &str = include_str!("../../../shaders/antialias/common.wgsl");
+const POST: &str = include_str!("../../../shaders/antialias/post.wgsl");
+
+/// A post-process entry point and the technique file that holds it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub(crate) enum Entry {
+    Fxaa,
+    MlaaEdges,
+    MlaaWeights,
+    MlaaBlend,
+    Taa,
+    MsaaResolve,
+}
+
+impl Entry {
+    fn fragment(self) -> &'static str {
+        match self {
+            Entry::Fxaa => "fs_fxaa",
+            Entry::MlaaEdges => "fs_mlaa_edges",
+            Entry::MlaaWeights => "fs_mlaa_weights",
+            Entry::MlaaBlend => "fs_mlaa_blend",
+            Entry::Taa => "fs_taa",
+            Entry::MsaaResolve => "fs_msaa_resolve",
+        }
+    }
+
+    /// The module's source: the shared helpers, the post-process bindings (not the resolve's)
+    /// and the technique's file.
+    fn source(self) -> String {
+        let technique = match self {
+            Entry::Fxaa => include_str!("../../../shaders/antialias/fxaa.wgsl"),
+            Entry::MlaaEdges | Entry::MlaaWeights | Entry::MlaaBlend => {
+                include_str!("../../../shaders/antialias/mlaa.wgsl")
+            }
+            Entry::Taa => include_str!("../../../shaders/antialias/taa.wgsl"),
+            Entry::MsaaResolve => include_str!("../../../shaders/antialias/msaa_resolve.wgsl"),
+        };
+        let bindings = if self == Entry::MsaaResolve { "" } else { POST };
+        format!("{COMMON}\n{bindings}\n{technique}")
+    }
+
+    /// Colour targets it writes.
+    fn targets(self) -> usize {
+        if self == Entry::MsaaResolve {
+            3
+        } else {
+            1
+        }
+    }
+}
+
+/// WGSL `PostParams` (shaders/antialias/post.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub(crate) struct PostParams {
+    pub(crate) size: [f32; 4],
+    pub(crate) p0: [f32; 4],
+    pub(crate) p1: [f32; 4],
+    pub(crate) prev_view_proj: [[f32; 4]; 4],
+    pub(crate) cam_pos: [f32; 4],
+    pub(crate) cam_x: [f32; 4],
+    pub(crate) cam_y: [f32; 4],
+    pub(crate) cam_z: [f32; 4],
+    pub(crate) cam_forward: [f32; 4],
+    pub(crate) film: [f32; 4],
+}
+
+/// The layouts and the pipelines of the passes, cached by entry point.
+pub(crate) struct PostPipelines {
+    pub(crate) layout: wgpu::BindGroupLayout,
+    pub(crate) resolve_layout: wgpu::BindGroupLayout,
+    post_pipeline_layout: wgpu::PipelineLayout,
+    resolve_pipeline_layout: wgpu::PipelineLayout,
+    cache: Mutex<HashMap<Entry, Arc<wgpu::RenderPipeline>>>,
+}
+
+fn texture_entry(binding: u32, multisampled: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled,
+        },
+        count: None,
+    }
+}
+
+impl PostPipelines {
+    pub(crate) fn new(device: &wgpu::Device) -> PostPipelines {
+        let mut entries: Vec<_> = (0..3).map(|b| texture_entry(b, false)).collect();
+        entries.push(wgpu::BindGroupLayoutEntry {
+            binding: 3,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("post-process bind group layout"),
+            entries: &entries,
+        });
+        let resolve_entries: Vec<_> = (0..3).map(|b| texture_entry(b, true)).collect();
+        let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("MSAA resolve bind group layout"),
+            entries: &resolve_entries,
+        });
+        let pipeline_layout = |label, layout| {
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(label),
+                bind_group_layouts: &[layout],
+                push_constant_ranges: &[],
+            })
+        };
+        PostPipelines {
+            post_pipeline_layout: pipeline_layout("post-process pipeline layout", &layout),
+            resolve_pipeline_layout: pipeline_layout("MSAA resolve pipeline layout", &resolve_layout),
+            layout,
+            resolve_layout,
+            cache: Mutex::new(HashMap::new()),
+        }
+    }
+
+    /// The pipeline of `entry`, built on first use.
+    pub(crate) fn get(&self, device: &wgpu::Device, entry: Entry) -> Arc<wgpu::RenderPipeline> {
+        let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
+        cache
+            .entry(entry)
+            .or_insert_with(|| {
+                let label = format!("anti-aliasing: {}", entry.fragment());
+                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(&label),
+                    source: wgpu::ShaderSource::Wgsl(entry.source().into()),
+                });
+                let target = Some(wgpu::ColorTargetState {
+                    format: COLOR_FORMAT,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                });
+                let targets = vec![target; entry.targets()];
+                let layout = match entry {
+                    Entry::MsaaResolve => &self.resolve_pipeline_layout,
+                    _ => &self.post_pipeline_layout,
+                };
+                Arc::new(device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(&label),
+                    layout: Some(layout),
+                    vertex: wgpu::VertexState {
+                        module: &module,
+                        entry_point: Some("vs_post"),
+                        compilation_options: Default::default(),
+                        buffers: &[],
+                    },
+                    primitive: wgpu::PrimitiveState::default(),
+                    depth_stencil: None,
+                    multisample: wgpu::MultisampleState::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module: &module,
+                        entry_point: Some(entry.fragment()),
+                        compilation_options: Default::default(),
+                        targets: &targets,
+                    }),
+                    multiview: None,
+                    cache: None,
+                }))
+            })
+            .clone()
+    }
+}
+
+/// One full-screen pass: its pipeline, inputs and target.
+struct PostPass {
+    pipeline: Arc<wgpu::RenderPipeline>,
+    bind_group: wgpu::BindGroup,
+    target: wgpu::TextureView,
+}
+
+/// The post-process of one render.
+pub(crate) struct PostProcess {
+    passes: Vec<PostPass>,
+    /// The last pass's target, copied into the colour output after the passes.
+    result: wgpu::Texture,
+    /// TAA's history (the previous output), or None.
+    history: Option<wgpu::Texture>,
+    params: wgpu::Buffer,
+    base: PostParams,
+}
+
+fn image(device: &wgpu::Device, label: &str, targets: &Targets) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: targets.width,
+            height: targets.height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: COLOR_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
+}
+
+fn view(t: &wgpu::Texture) -> wgpu::TextureView {
+    t.create_view(&wgpu::TextureViewDescriptor::default())
+}
+
+impl PostProcess {
+    /// The passes of `aa` over `targets`' colour output, or None if it has no post-process.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        pipelines: &PostPipelines,
+        aa: &AntiAliasing,
+        targets: &Targets,
+    ) -> Option<PostProcess> {
+        let (w, h) = (targets.width as f32, targets.height as f32);
+        let p0 = match *aa {
+            AntiAliasing::Fxaa {
+                edge_threshold,
+                edge_threshold_min,
+                subpixel,
+                search_steps,
+            } => [edge_threshold, edge_threshold_min, subpixel, search_steps as f32],
+            AntiAliasing::Mlaa {
+                threshold,
+                max_search,
+            } => [threshold, max_search as f32, 0.0, 0.0],
+            AntiAliasing::Taa { blend, clamp, .. } => {
+                let mode = match clamp {
+                    TaaClamp::None => 0.0,
+                    TaaClamp::Aabb => 1.0,
+                    TaaClamp::Clip => 2.0,
+                };
+                [blend, 1.0, mode, 0.0]
+            }
+            _ => return None,
+        };
+        let base = PostParams {
+            size: [w, h, 1.0 / w, 1.0 / h],
+            p0,
+            ..PostParams::zeroed()
+        };
+        let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("post-process parameters"),
+            contents: bytemuck::bytes_of(&base),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let colour = &targets.output_views[0];
+        let group = |label: &str, inputs: [&wgpu::TextureView; 3]| {
+            let mut entries: Vec<_> = inputs
+                .iter()
+                .enumerate()
+                .map(|(i, v)| wgpu::BindGroupEntry {
+                    binding: i as u32,
+                    resource: wgpu::BindingResource::TextureView(v),
+                })
+                .collect();
+            entries.push(wgpu::BindGroupEntry {
+                binding: 3,
+                resource: params.as_entire_binding(),
+            });
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout: &pipelines.layout,
+                entries: &entries,
+            })
+        };
+        let result = image(device, "post-process result", targets);
+        let result_view = view(&result);
+        let pass = |entry, bind_group, target| PostPass {
+            pipeline: pipelines.get(device, entry),
+            bind_group,
+            target,
+        };
+        let (passes, history) = match aa {
+            AntiAliasing::Fxaa { .. } => (
+                vec![pass(
+                    Entry::Fxaa,
+                    group("FXAA inputs", [colour, colour, colour]),
+                    result_view,
+                )],
+                None,
+            ),
+            AntiAliasing::Mlaa { .. } => {
+                let edges = view(&image(device, "MLAA edges", targets));
+                let weights = view(&image(device, "MLAA blend weights", targets));
+                let passes = vec![
+                    pass(
+                        Entry::MlaaEdges,
+                        group("MLAA edge inputs", [colour, colour, colour]),
+                        edges.clone(),
+                    ),
+                    pass(
+                        Entry::MlaaWeights,
+                        group("MLAA weight inputs", [colour, &edges, colour]),
+                        weights.clone(),
+                    ),
+                    pass(
+                        Entry::MlaaBlend,
+                        group("MLAA blend inputs", [colour, &weights, colour]),
+                        result_view,
+                    ),
+                ];
+                (passes, None)
+            }
+            _ => {
+                let history = image(device, "TAA history", targets);
+                let passes = vec![pass(
+                    Entry::Taa,
+                    group("TAA inputs", [colour, &targets.output_views[1], &view(&history)]),
+                    result_view,
+                )];
+                (passes, Some(history))
+            }
+        };
+        Some(PostProcess {
+            passes,
+            result,
+            history,
+            params,
+            base,
+        })
+    }
+
+    /// Writes TAA's per-frame parameters: whether this is the first frame (no history yet) and
+    /// the cameras (`view` fills the camera fields and `prev_view_proj`).
+    pub(crate) fn set_frame(&self, queue: &wgpu::Queue, first: bool, view: impl FnOnce(&mut PostParams)) {
+        let mut p = self.base;
+        p.p0[1] = if first { 1.0 } else { 0.0 };
+        view(&mut p);
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
+    }
+
+    /// Records the passes (timed together as one entry) and the copies of the result.
+    pub(crate) fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &Targets,
+        label: &str,
+        queries: Option<(&Timestamps, u32)>,
+    ) {
+        let last = self.passes.len() - 1;
+        for (i, pass) in self.passes.iter().enumerate() {
+            let attachment = wgpu::RenderPassColorAttachment {
+                view: &pass.target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            };
+            let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(label),
+                color_attachments: &[Some(attachment)],
+                depth_stencil_attachment: None,
+                timestamp_writes: queries.and_then(|(q, k)| q.span_writes(k, i == 0, i == last)),
+                occlusion_query_set: None,
+            });
+            rp.set_pipeline(&pass.pipeline);
+            rp.set_bind_group(0, &pass.bind_group, &[]);
+            rp.draw(0..3, 0..1);
+        }
+        let size = wgpu::Extent3d {
+            width: targets.width,
+            height: targets.height,
+            depth_or_array_layers: 1,
+        };
+        let copy_to = |encoder: &mut wgpu::CommandEncoder, dst: &wgpu::Texture| {
+            encoder.copy_texture_to_texture(self.result.as_image_copy(), dst.as_image_copy(), size);
+        };
+        copy_to(encoder, &targets.outputs[0]);
+        if let Some(history) = &self.history {
+            copy_to(encoder, history);
+        }
+    }
+}
+
+/// The multisampled outputs and depth of an MSAA render and their resolve into the outputs.
+pub(crate) struct MsaaTargets {
+    pub(crate) views: [wgpu::TextureView; 3],
+    pub(crate) depth_view: wgpu::TextureView,
+    resolve: Arc<wgpu::RenderPipeline>,
+    bind_group: wgpu::BindGroup,
+}
+
+impl MsaaTargets {
+    /// `samples`-sample targets of `width`×`height`.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        pipelines: &PostPipelines,
+        width: u32,
+        height: u32,
+        samples: u32,
+    ) -> MsaaTargets {
+        let texture = |label: &str, format, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: samples,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        let views = [
+            "colour target (MSAA)",
+            "normal + depth target (MSAA)",
+            "albedo + object id target (MSAA)",
+        ]
+        .map(|label| view(&texture(label, COLOR_FORMAT, usage)));
+        let depth = texture(
+            "depth buffer (MSAA, reversed-Z)",
+            crate::pipelines::DEPTH_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
+        let entries: Vec<_> = views
+            .iter()
+            .enumerate()
+            .map(|(i, v)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: wgpu::BindingResource::TextureView(v),
+            })
+            .collect();
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("MSAA resolve inputs"),
+            layout: &pipelines.resolve_layout,
+            entries: &entries,
+        });
+        MsaaTargets {
+            views,
+            depth_view: view(&depth),
+            resolve: pipelines.get(device, Entry::MsaaResolve),
+            bind_group,
+        }
+    }
+
+    /// Records the resolve into the outputs of `targets`.
+    pub(crate) fn encode_resolve(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &Targets,
+        label: &str,
+        queries: Option<(&Timestamps, u32)>,
+    ) {
+        let ops = wgpu::Operations {
+            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            store: wgpu::StoreOp::Store,
+        };
+        let color: Vec<_> = targets
+            .output_views
+            .iter()
+            .map(|view| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops,
+                })
+            })
+            .collect();
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &color,
+            depth_stencil_attachment: None,
+            timestamp_writes: queries.map(|(q, k)| q.writes(k)),
+            occlusion_query_set: None,
+        });
+        rp.set_pipeline(&self.resolve);
+        rp.set_bind_group(0, &self.bind_group, &[]);
+        rp.draw(0..3, 0..1);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every technique's module parses and validates on its own, as the device will see it.
+    #[test]
+    fn each_technique_module_validates() {
+        for entry in [Entry::Fxaa, Entry::MlaaEdges, Entry::Taa, Entry::MsaaResolve] {
+            let source = entry.source();
+            let module = naga::front::wgsl::parse_str(&source)
+                .unwrap_or_else(|e| panic!("{entry:?}: {}", e.emit_to_string(&source)));
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::all(),
+            )
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{entry:?}: {}", e.emit_to_string(&source)));
+            assert!(
+                module.entry_points.iter().any(|e| e.name == entry.fragment()),
+                "{entry:?}"
+            );
+        }
+        assert_eq!(std::mem::size_of::<PostParams>(), 10 * 16 + 64);
+    }
+}
