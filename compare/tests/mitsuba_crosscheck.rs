@@ -27,6 +27,7 @@ const CROSSCHECKED: &[&str] = &[
     "studies/scenes/distance-room-glass",
     "studies/scenes/distance-room-occluders",
     "studies/scenes/texture-plane",
+    "studies/scenes/thin-edges",
 ];
 
 /// Built-in scenes Mitsuba cannot express, with a phrase of the refusal (README.md lists them).
@@ -194,6 +195,14 @@ fn envmap_study_scenes_agree() {
 #[test]
 fn texture_study_scene_agrees() {
     agrees("studies/scenes/texture-plane", Variant::LlvmAdRgb, 64, 256);
+}
+
+/// The anti-aliasing study's thin geometry (emissive boxes, as triangle meshes, over an
+/// emissive bitmap): sub-pixel bars, wires and spokes are where the pixel's box filter is
+/// all there is to measure, so both renderers must integrate it alike.
+#[test]
+fn antialias_study_scene_agrees() {
+    agrees("studies/scenes/thin-edges", Variant::LlvmAdRgb, 64, 256);
 }
 
 /// The distance-impostor studies' rooms (emissive checkerboards on black walls around a mirror

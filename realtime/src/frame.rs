@@ -4,21 +4,20 @@
 //! render pass per map layer (`shadow pass: <light>`, or `<light> cascade i/k`), timed
 //! together as `shadow pass` (the first one's start to the last one's end).
 
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use glam::{Mat4, Vec2, Vec3};
 use scenes::{Camera, Scene};
 use wgpu::util::DeviceExt;
 
 use crate::camera::camera_near;
-use crate::error::RasterError;
-use crate::gpu::Gpu;
 use crate::gpu_types::{vec4, FrameUniforms};
 use crate::pipelines::Stage;
 use crate::settings::RasterSettings;
 use crate::targets::Targets;
-use crate::technique::antialias::post::PostProcess;
+use crate::technique::antialias::post::AntiAliasPasses;
 use crate::technique::shadow::maps::ShadowMaps;
+use crate::timestamps::Timestamps;
 use crate::upload::SceneGpu;
 
 /// The per-render uniform, counter buffer and scene bind group.
@@ -215,7 +214,7 @@ impl Pass {
         stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
         shadow: &ShadowMaps,
         targets: &Targets,
-        post: bool,
+        aa: Option<&AntiAliasPasses>,
     ) -> Vec<Pass> {
         let has = |wanted: fn(Stage) -> bool| stages.iter().any(|(s, _)| wanted(*s));
         let mut passes = Vec::with_capacity(3);
@@ -230,10 +229,10 @@ impl Pass {
         if has(|s| s == Stage::Lighting) {
             passes.push(Pass::Lighting);
         }
-        if targets.msaa.is_some() {
+        if aa.is_some_and(AntiAliasPasses::resolves) {
             passes.push(Pass::Resolve);
         }
-        if post {
+        if aa.is_some_and(AntiAliasPasses::post_processes) {
             passes.push(Pass::PostProcess);
         }
         passes
@@ -261,10 +260,10 @@ pub(crate) fn encode_passes(
     stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
     sg: &SceneGpu,
     groups: &ShadingGroups<'_>,
-    post: Option<&PostProcess>,
+    aa: Option<&AntiAliasPasses>,
     queries: Option<&Timestamps>,
 ) {
-    for (i, pass) in Pass::of_frame(stages, groups.shadow, targets, post.is_some())
+    for (i, pass) in Pass::of_frame(stages, groups.shadow, targets, aa)
         .into_iter()
         .enumerate()
     {
@@ -281,13 +280,13 @@ pub(crate) fn encode_passes(
                 }
             }
             Pass::Resolve => {
-                if let Some(msaa) = &targets.msaa {
-                    msaa.encode_resolve(encoder, targets, pass.label(), queries);
+                if let Some(aa) = aa {
+                    aa.encode_resolve(encoder, targets, pass.label(), queries);
                 }
             }
             Pass::PostProcess => {
-                if let Some(post) = post {
-                    post.encode(encoder, targets, pass.label(), queries);
+                if let Some(aa) = aa {
+                    aa.encode_post(encoder, targets, pass.label(), queries);
                 }
             }
         }
@@ -453,104 +452,4 @@ fn attachments(views: &[wgpu::TextureView; 3]) -> Vec<Option<wgpu::RenderPassCol
             })
         })
         .collect()
-}
-
-/// Timestamp queries of one frame: two per pass, resolved and read back after the frame.
-pub(crate) struct Timestamps {
-    set: wgpu::QuerySet,
-    resolve: wgpu::Buffer,
-    readback: wgpu::Buffer,
-    count: u32,
-}
-
-impl Timestamps {
-    pub(crate) fn new(device: &wgpu::Device, passes: u32) -> Timestamps {
-        let count = 2 * passes;
-        let size = 8 * u64::from(count);
-        Timestamps {
-            set: device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("pass timestamps"),
-                ty: wgpu::QueryType::Timestamp,
-                count,
-            }),
-            resolve: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("timestamp resolve"),
-                size,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            }),
-            readback: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("timestamp read-back"),
-                size,
-                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-                mapped_at_creation: false,
-            }),
-            count,
-        }
-    }
-
-    pub(crate) fn writes(&self, pass: u32) -> wgpu::RenderPassTimestampWrites<'_> {
-        wgpu::RenderPassTimestampWrites {
-            query_set: &self.set,
-            beginning_of_pass_write_index: Some(2 * pass),
-            end_of_pass_write_index: Some(2 * pass + 1),
-        }
-    }
-
-    /// Timing entry `pass` spread over several render passes: its start written by the
-    /// first, its end by the last, nothing by those between (wgpu refuses timestamp writes
-    /// with neither index).
-    pub(crate) fn span_writes(
-        &self,
-        pass: u32,
-        first: bool,
-        last: bool,
-    ) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        (first || last).then(|| wgpu::RenderPassTimestampWrites {
-            query_set: &self.set,
-            beginning_of_pass_write_index: first.then_some(2 * pass),
-            end_of_pass_write_index: last.then_some(2 * pass + 1),
-        })
-    }
-
-    pub(crate) fn encode_resolve(&self, encoder: &mut wgpu::CommandEncoder) {
-        encoder.resolve_query_set(&self.set, 0..self.count, &self.resolve, 0);
-        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, self.resolve.size());
-    }
-
-    /// Milliseconds of each pass of the last frame.
-    pub(crate) fn read(&self, gpu: &Gpu) -> Result<Vec<f64>, RasterError> {
-        let slice = self.readback.slice(..);
-        let status = Arc::new(Mutex::new(None));
-        let s = status.clone();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            *s.lock().unwrap_or_else(|p| p.into_inner()) = Some(r);
-        });
-        gpu.device
-            .poll(wgpu::PollType::Wait)
-            .map_err(|e| RasterError::Gpu {
-                context: "reading timestamps".into(),
-                message: e.to_string(),
-            })?;
-        if !matches!(
-            status.lock().unwrap_or_else(|p| p.into_inner()).take(),
-            Some(Ok(()))
-        ) {
-            return Err(RasterError::Gpu {
-                context: "reading timestamps".into(),
-                message: "the timestamp buffer could not be mapped".into(),
-            });
-        }
-        let ticks: Vec<u64> = slice
-            .get_mapped_range()
-            .chunks_exact(8)
-            .map(|c| u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
-            .collect();
-        self.readback.unmap();
-        let period_ms = f64::from(gpu.queue.get_timestamp_period()) * 1e-6;
-        Ok(ticks
-            .chunks_exact(2)
-            .map(|p| p[1].saturating_sub(p[0]) as f64 * period_ms)
-            .collect())
-    }
 }

@@ -22,6 +22,11 @@ use crate::error::{RasterError, INSTALL_HINT};
 /// Colour-attachment bytes per sample the passes write (three Rgba32Float targets).
 pub const COLOR_BYTES_PER_SAMPLE: u32 = 48;
 
+/// Format of every colour target and G-buffer layer.
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Depth buffer format.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
 /// Keeps Mesa's `VK_LAYER_MESA_device_select` implicit Vulkan layer from printing
 /// "error: XDG_RUNTIME_DIR is invalid or not set in the environment." (twice) on headless
 /// machines: to order GPUs by the one driving the display it connects to Wayland, whose
@@ -89,8 +94,8 @@ impl Gpu {
             .features()
             .contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES);
         let msaa_counts = if format_features {
-            let colour = adapter.get_texture_format_features(crate::pipelines::COLOR_FORMAT);
-            let depth = adapter.get_texture_format_features(crate::pipelines::DEPTH_FORMAT);
+            let colour = adapter.get_texture_format_features(COLOR_FORMAT);
+            let depth = adapter.get_texture_format_features(DEPTH_FORMAT);
             colour
                 .flags
                 .supported_sample_counts()

@@ -49,6 +49,7 @@ pub mod render;
 pub mod settings;
 mod targets;
 pub mod technique;
+mod timestamps;
 pub mod timing;
 mod upload;
 pub mod visibility;

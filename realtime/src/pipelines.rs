@@ -32,7 +32,6 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 use crate::gpu_types::{AnalyticVertex, MeshVertex};
-use crate::technique::antialias::post::PostPipelines;
 use crate::technique::area::AreaMethod;
 use crate::technique::texture::{self as texture_filter, Filter};
 use crate::technique::{self, Method};
@@ -57,10 +56,7 @@ impl PipelineKind {
     }
 }
 
-/// Format of every colour target and G-buffer layer.
-pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// Depth buffer format.
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+pub use crate::gpu::{COLOR_FORMAT, DEPTH_FORMAT};
 
 /// The WGSL sources in dependency order; WGSL has no includes, so they form one module, with
 /// `counters_on.wgsl` or `counters_off.wgsl` appended.
@@ -271,8 +267,6 @@ pub struct Pipelines {
     pub(crate) envmap_layout: wgpu::BindGroupLayout,
     /// The empty group 1 of the geometry pipelines.
     pub(crate) empty_bind_group: wgpu::BindGroup,
-    /// The anti-aliasing passes after lighting (MSAA resolve, FXAA, MLAA, TAA).
-    pub(crate) post: PostPipelines,
     forward_layout: wgpu::PipelineLayout,
     lighting_layout: wgpu::PipelineLayout,
     aov_pipeline_layout: wgpu::PipelineLayout,
@@ -476,7 +470,6 @@ impl Pipelines {
             shadow_layout,
             envmap_layout,
             empty_bind_group,
-            post: PostPipelines::new(device),
             forward_layout,
             lighting_layout,
             aov_pipeline_layout,

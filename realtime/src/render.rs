@@ -19,18 +19,19 @@ use crate::frame::view_proj;
 use crate::gpu_types::vec4;
 
 use crate::error::RasterError;
-use crate::frame::{encode_passes, Frame, Pass, ShadingGroups, Timestamps};
+use crate::frame::{encode_passes, Frame, Pass, ShadingGroups};
 use crate::gpu::Gpu;
 use crate::image::{assemble, box_filter, Readback};
 use crate::pipelines::PipelineKind;
 use crate::pipelines::{Pipelines, Stage};
 use crate::settings::RasterSettings;
-use crate::targets::Targets;
-use crate::technique::antialias::post::{MsaaTargets, PostParams, PostProcess};
+use crate::targets::{MultisampledOutputs, Targets};
+use crate::technique::antialias::post::{AntiAliasPasses, PostParams, PostPipelines};
 use crate::technique::antialias::{taa, AntiAliasing};
 use crate::technique::detail::ConeCache;
 use crate::technique::envmap::build::EnvMapBuilder;
 use crate::technique::shadow::maps::ShadowMaps;
+use crate::timestamps::Timestamps;
 use crate::timing::{median, Counters, PassTime, Timing, TimingSource};
 use crate::upload::SceneGpu;
 use crate::visibility::{encode_visibility_pass, named_sources, slots_per_chunk, Chunk, Source};
@@ -60,6 +61,8 @@ pub struct Renderer {
     pub(crate) cones: ConeCache,
     /// Environment maps: group 3 of renders without one, the filters, the builds.
     envmaps: EnvMapBuilder,
+    /// The anti-aliasing passes after shading (MSAA resolve, FXAA, MLAA, TAA), built on first use.
+    post: PostPipelines,
 }
 
 impl Renderer {
@@ -69,12 +72,14 @@ impl Renderer {
         let gpu = Gpu::new()?;
         let pipelines = Pipelines::new(&gpu.device);
         let envmaps = EnvMapBuilder::new(&gpu.device, &pipelines.envmap_layout);
+        let post = PostPipelines::new(&gpu.device);
         let r = Renderer {
             gpu,
             pipelines,
             lock: Mutex::new(()),
             cones: ConeCache::default(),
             envmaps,
+            post,
         };
         r.gpu.check_errors("compiling the shaders")?;
         Ok(r)
@@ -117,16 +122,16 @@ impl Renderer {
         let frame = Frame::new(device, layout, scene, &scene_gpu, &shadow, settings, k);
         let mut targets = Targets::new(device, settings.pipeline, tw, th, &self.pipelines.gbuffer_layout);
         if samples > 1 {
-            targets.msaa = Some(MsaaTargets::new(device, &self.pipelines.post, tw, th, samples));
+            targets.msaa = Some(MultisampledOutputs::new(device, tw, th, samples));
         }
-        let post = PostProcess::new(device, &self.pipelines.post, &aa, &targets);
+        let aa_passes = AntiAliasPasses::new(device, &self.post, &aa, &targets);
         let stages = self
             .pipelines
             .stages(device, &settings.method, settings.pipeline, false, samples);
         self.gpu
             .check_errors("creating the scene buffers and pipelines")?;
 
-        let timing = match (&aa, &post) {
+        let timing = match (&aa, aa_passes.post()) {
             (AntiAliasing::Taa { frames, jitter, .. }, Some(post)) => {
                 let (w, h) = (settings.width, settings.height);
                 let near = camera_near(scene);
@@ -162,7 +167,7 @@ impl Renderer {
                     &stages,
                     &scene_gpu,
                     &groups,
-                    Some(post),
+                    Some(&aa_passes),
                     frames,
                     &|i| view(i.saturating_sub(settings.warmup_frames)),
                 )?;
@@ -186,7 +191,7 @@ impl Renderer {
                     &stages,
                     &scene_gpu,
                     &groups,
-                    post.as_ref(),
+                    Some(&aa_passes),
                     frames,
                     &|_| {},
                 )?
@@ -259,11 +264,11 @@ impl Renderer {
         stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
         scene_gpu: &SceneGpu,
         groups: &ShadingGroups<'_>,
-        post: Option<&PostProcess>,
+        aa: Option<&AntiAliasPasses>,
         (warmup_frames, timed_frames): (u32, u32),
         before: &dyn Fn(u32),
     ) -> Result<Timing, RasterError> {
-        let passes = Pass::of_frame(stages, groups.shadow, targets, post.is_some());
+        let passes = Pass::of_frame(stages, groups.shadow, targets, aa);
         let queries = self
             .gpu
             .has_timestamps()
@@ -274,7 +279,7 @@ impl Renderer {
         for i in 0..warmup_frames + timed_frames {
             before(i);
             let t0 = Instant::now();
-            self.run_frame(frame, targets, stages, scene_gpu, groups, post, queries.as_ref())?;
+            self.run_frame(frame, targets, stages, scene_gpu, groups, aa, queries.as_ref())?;
             let dt = t0.elapsed().as_secs_f64() * 1e3;
             let ticks = match &queries {
                 Some(q) => Some(q.read(&self.gpu)?),
@@ -332,7 +337,7 @@ impl Renderer {
         stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
         scene_gpu: &SceneGpu,
         groups: &ShadingGroups<'_>,
-        post: Option<&PostProcess>,
+        aa: Option<&AntiAliasPasses>,
         queries: Option<&Timestamps>,
     ) -> Result<(), RasterError> {
         let device = &self.gpu.device;
@@ -346,7 +351,7 @@ impl Renderer {
             stages,
             scene_gpu,
             groups,
-            post,
+            aa,
             queries,
         );
         if let Some(q) = queries {

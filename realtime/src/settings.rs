@@ -6,8 +6,7 @@ use crate::gpu::COLOR_BYTES_PER_SAMPLE;
 use crate::pipelines::PipelineKind;
 use crate::technique::{Method, MAX_QUADRATURE_N};
 
-/// Largest supersampling factor accepted (k×k samples per pixel).
-pub const MAX_SSAA: u32 = 16;
+pub use crate::technique::antialias::MAX_SSAA;
 
 /// How to render.
 #[derive(Clone, Debug, PartialEq)]

@@ -4,9 +4,8 @@
 //! image comes back as the shader wrote it, bit for bit. The deferred pipeline adds a G-buffer
 //! of three more Rgba32Float layers; both share one Depth32Float buffer.
 
+use crate::gpu::{COLOR_FORMAT, DEPTH_FORMAT};
 use crate::pipelines::PipelineKind;
-use crate::pipelines::{COLOR_FORMAT, DEPTH_FORMAT};
-use crate::technique::antialias::post::MsaaTargets;
 
 /// Bytes of one Rgba32Float texel.
 const TEXEL_BYTES: u32 = 16;
@@ -24,7 +23,7 @@ pub struct Targets {
     pub(crate) gbuffer_bind_group: Option<wgpu::BindGroup>,
     /// The multisampled outputs the forward pass draws into under `aa_msaa`, resolved into
     /// the outputs (None: it draws into the outputs).
-    pub(crate) msaa: Option<MsaaTargets>,
+    pub(crate) msaa: Option<MultisampledOutputs>,
 }
 
 fn color_texture(
@@ -48,6 +47,51 @@ fn color_texture(
         usage,
         view_formats: &[],
     })
+}
+
+/// The multisampled outputs and depth buffer an MSAA forward pass draws into (`aa_msaa`).
+pub(crate) struct MultisampledOutputs {
+    /// Colour, normal + depth, albedo + id, `samples` samples per pixel.
+    pub(crate) views: [wgpu::TextureView; 3],
+    pub(crate) depth_view: wgpu::TextureView,
+}
+
+impl MultisampledOutputs {
+    /// `samples`-sample outputs of `width`×`height` (the resolve pass reads them).
+    pub(crate) fn new(device: &wgpu::Device, width: u32, height: u32, samples: u32) -> MultisampledOutputs {
+        let texture = |label: &str, format, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: samples,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        let views = [
+            "colour target (MSAA)",
+            "normal + depth target (MSAA)",
+            "albedo + object id target (MSAA)",
+        ]
+        .map(|label| labelled_view(&texture(label, COLOR_FORMAT, usage), label));
+        let depth = texture(
+            "depth buffer (MSAA, reversed-Z)",
+            DEPTH_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
+        MultisampledOutputs {
+            views,
+            depth_view: labelled_view(&depth, "depth view (MSAA)"),
+        }
+    }
 }
 
 /// A view of the whole texture, labelled.

@@ -25,6 +25,10 @@ pub mod taa;
 
 use super::param::{spec_named, Kind, MethodSpec, Param, Value};
 
+/// Largest supersampling factor accepted (k×k samples per pixel): the raster's `ssaa`, `aa_ssaa`'s
+/// k, and their product.
+pub const MAX_SSAA: u32 = 16;
+
 /// MSAA sample counts a study may ask for (the adapter may support fewer: checked at render).
 pub const MSAA_COUNTS: &[u32] = &[2, 4, 8];
 
@@ -187,7 +191,7 @@ const SSAA_K: Param<AntiAliasing> = aa_param!(
     "k",
     Ssaa,
     k,
-    Kind::Whole(1, crate::settings::MAX_SSAA),
+    Kind::Whole(1, MAX_SSAA),
     "",
     "k×k samples per pixel on a regular grid, each shaded (the raster's `ssaa` multiplies it)",
     "",

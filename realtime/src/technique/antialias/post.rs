@@ -20,9 +20,9 @@ use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
 use super::{AntiAliasing, TaaClamp};
-use crate::frame::Timestamps;
-use crate::pipelines::COLOR_FORMAT;
+use crate::gpu::COLOR_FORMAT;
 use crate::targets::Targets;
+use crate::timestamps::Timestamps;
 
 const COMMON: &str = include_str!("../../../shaders/antialias/common.wgsl");
 const POST: &str = include_str!("../../../shaders/antialias/post.wgsl");
@@ -242,7 +242,7 @@ fn view(t: &wgpu::Texture) -> wgpu::TextureView {
 
 impl PostProcess {
     /// The passes of `aa` over `targets`' colour output, or None if it has no post-process.
-    pub(crate) fn new(
+    fn new(
         device: &wgpu::Device,
         pipelines: &PostPipelines,
         aa: &AntiAliasing,
@@ -367,7 +367,7 @@ impl PostProcess {
     }
 
     /// Records the passes (timed together as one entry) and the copies of the result.
-    pub(crate) fn encode(
+    fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         targets: &Targets,
@@ -411,74 +411,14 @@ impl PostProcess {
     }
 }
 
-/// The multisampled outputs and depth of an MSAA render and their resolve into the outputs.
-pub(crate) struct MsaaTargets {
-    pub(crate) views: [wgpu::TextureView; 3],
-    pub(crate) depth_view: wgpu::TextureView,
-    resolve: Arc<wgpu::RenderPipeline>,
+/// The MSAA resolve of `targets.msaa` into the outputs.
+struct Resolve {
+    pipeline: Arc<wgpu::RenderPipeline>,
     bind_group: wgpu::BindGroup,
 }
 
-impl MsaaTargets {
-    /// `samples`-sample targets of `width`×`height`.
-    pub(crate) fn new(
-        device: &wgpu::Device,
-        pipelines: &PostPipelines,
-        width: u32,
-        height: u32,
-        samples: u32,
-    ) -> MsaaTargets {
-        let texture = |label: &str, format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: samples,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
-        let views = [
-            "colour target (MSAA)",
-            "normal + depth target (MSAA)",
-            "albedo + object id target (MSAA)",
-        ]
-        .map(|label| view(&texture(label, COLOR_FORMAT, usage)));
-        let depth = texture(
-            "depth buffer (MSAA, reversed-Z)",
-            crate::pipelines::DEPTH_FORMAT,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        );
-        let entries: Vec<_> = views
-            .iter()
-            .enumerate()
-            .map(|(i, v)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: wgpu::BindingResource::TextureView(v),
-            })
-            .collect();
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("MSAA resolve inputs"),
-            layout: &pipelines.resolve_layout,
-            entries: &entries,
-        });
-        MsaaTargets {
-            views,
-            depth_view: view(&depth),
-            resolve: pipelines.get(device, Entry::MsaaResolve),
-            bind_group,
-        }
-    }
-
-    /// Records the resolve into the outputs of `targets`.
-    pub(crate) fn encode_resolve(
+impl Resolve {
+    fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         targets: &Targets,
@@ -508,9 +448,91 @@ impl MsaaTargets {
             timestamp_writes: queries.map(|(q, k)| q.writes(k)),
             occlusion_query_set: None,
         });
-        rp.set_pipeline(&self.resolve);
+        rp.set_pipeline(&self.pipeline);
         rp.set_bind_group(0, &self.bind_group, &[]);
         rp.draw(0..3, 0..1);
+    }
+}
+
+/// The anti-aliasing passes of one render after its shading: the MSAA resolve (when the
+/// targets are multisampled) and the post-process (FXAA, MLAA, TAA), either or none.
+pub(crate) struct AntiAliasPasses {
+    resolve: Option<Resolve>,
+    post: Option<PostProcess>,
+}
+
+impl AntiAliasPasses {
+    /// The passes of `aa` over `targets`.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        pipelines: &PostPipelines,
+        aa: &AntiAliasing,
+        targets: &Targets,
+    ) -> AntiAliasPasses {
+        let resolve = targets.msaa.as_ref().map(|msaa| {
+            let entries: Vec<_> = msaa
+                .views
+                .iter()
+                .enumerate()
+                .map(|(i, v)| wgpu::BindGroupEntry {
+                    binding: i as u32,
+                    resource: wgpu::BindingResource::TextureView(v),
+                })
+                .collect();
+            Resolve {
+                pipeline: pipelines.get(device, Entry::MsaaResolve),
+                bind_group: device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("MSAA resolve inputs"),
+                    layout: &pipelines.resolve_layout,
+                    entries: &entries,
+                }),
+            }
+        });
+        AntiAliasPasses {
+            resolve,
+            post: PostProcess::new(device, pipelines, aa, targets),
+        }
+    }
+
+    /// Whether there is a resolve pass.
+    pub(crate) fn resolves(&self) -> bool {
+        self.resolve.is_some()
+    }
+
+    /// Whether there is a post-process.
+    pub(crate) fn post_processes(&self) -> bool {
+        self.post.is_some()
+    }
+
+    /// The post-process, if any (TAA's per-frame parameters are written through it).
+    pub(crate) fn post(&self) -> Option<&PostProcess> {
+        self.post.as_ref()
+    }
+
+    /// Records the resolve (if any) as the pass `label`.
+    pub(crate) fn encode_resolve(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &Targets,
+        label: &str,
+        queries: Option<(&Timestamps, u32)>,
+    ) {
+        if let Some(r) = &self.resolve {
+            r.encode(encoder, targets, label, queries);
+        }
+    }
+
+    /// Records the post-process (if any) as the pass `label`.
+    pub(crate) fn encode_post(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &Targets,
+        label: &str,
+        queries: Option<(&Timestamps, u32)>,
+    ) {
+        if let Some(p) = &self.post {
+            p.encode(encoder, targets, label, queries);
+        }
     }
 }
 
@@ -536,6 +558,16 @@ mod tests {
                 "{entry:?}"
             );
         }
-        assert_eq!(std::mem::size_of::<PostParams>(), 10 * 16 + 64);
+        // The uniform Rust uploads has its WGSL twin's size.
+        let source = Entry::Fxaa.source();
+        let module = naga::front::wgsl::parse_str(&source).expect("parsed above");
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).expect("layout");
+        let (handle, _) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some("PostParams"))
+            .expect("WGSL PostParams");
+        assert_eq!(layouter[handle].size as usize, std::mem::size_of::<PostParams>());
     }
 }

@@ -70,8 +70,8 @@ use wgpu::util::DeviceExt;
 
 use super::poisson::poisson_disk;
 use super::{BlockerDepth, Shadow, ShadowTechnique};
+use crate::gpu::DEPTH_FORMAT;
 use crate::gpu_types::NONE;
-use crate::pipelines::DEPTH_FORMAT;
 use crate::technique::Method;
 
 use super::cascades::cascades;
