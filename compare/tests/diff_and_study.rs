@@ -292,6 +292,13 @@ fn study_files_are_checked_whole_with_located_errors() {
             ),
             "invalid label `a b`",
         ),
+        (
+            GOOD.replace(
+                "sweep = { n = [4, 2] }",
+                "pipeline = \"sideways\"\nsweep = { n = [4, 2] }",
+            ),
+            "field `method[0].pipeline`",
+        ),
     ];
     for (text, want) in cases {
         let e = study_error(&text);
@@ -300,6 +307,32 @@ fn study_files_are_checked_whole_with_located_errors() {
             "expected `{want}` in: {e}"
         );
     }
+}
+
+/// A `[[method]]`'s `pipeline` overrides `[raster]`'s for its variants alone.
+#[test]
+fn a_method_entry_may_choose_its_pipeline() {
+    use realtime::PipelineKind;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/studies/test-bad.toml");
+    let text = GOOD.replace(
+        "[[threshold]]",
+        "[[method]]\nname = \"area_quadrature\"\nlabel = \"deferred\"\npipeline = \"deferred\"\n[[threshold]]",
+    );
+    let study = compare::study::load_str(&text, &path).unwrap();
+    let kinds: Vec<_> = study.variants().iter().map(|v| (v.label(), v.pipeline)).collect();
+    assert!(
+        kinds
+            .iter()
+            .any(|(l, p)| l == "deferred" && *p == Some(PipelineKind::Deferred)),
+        "{kinds:?}"
+    );
+    assert!(
+        kinds
+            .iter()
+            .filter(|(l, _)| l != "deferred")
+            .all(|(_, p)| p.is_none()),
+        "{kinds:?}"
+    );
 }
 
 /// `[ground_truth] pixel_filter`: `box` by default and never the scene file's; `centre` (or

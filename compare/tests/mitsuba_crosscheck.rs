@@ -51,6 +51,7 @@ const NOT_EXPRESSIBLE: &[(&str, &str)] = &[
     ),
     ("studies/scenes/relief-patch", "shape `patch`: displacement"),
     ("studies/scenes/relief-sphere", "shape `sphere/0`: displacement"),
+    ("studies/scenes/specular-bumps", "normal map"),
 ];
 
 fn agrees(name: &str, variant: Variant, size: u32, spp: u32) {

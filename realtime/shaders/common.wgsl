@@ -77,6 +77,9 @@ struct FrameUniforms {
     detail_steps: vec4<u32>,
     // Texture filter: lod_bias (levels), max_anisotropy, unused, unused.
     texture: vec4<f32>,
+    // Specular anti-aliasing (antialias/specular.wgsl): screen-space variance σ², clamp κ,
+    // unused, unused.
+    antialias: vec4<f32>,
 }
 
 struct Shape {

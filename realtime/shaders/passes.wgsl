@@ -84,6 +84,10 @@ struct GBufferDepthOut {
 @group(1) @binding(0) var gbuffer0: texture_2d<f32>;
 @group(1) @binding(1) var gbuffer1: texture_2d<f32>;
 @group(1) @binding(2) var gbuffer2: texture_2d<f32>;
+// The G-buffer under deferred MSAA (aa_msaa): `samples` samples per pixel.
+@group(1) @binding(3) var gbuffer_ms0: texture_multisampled_2d<f32>;
+@group(1) @binding(4) var gbuffer_ms1: texture_multisampled_2d<f32>;
+@group(1) @binding(5) var gbuffer_ms2: texture_multisampled_2d<f32>;
 
 @vertex
 fn vs_mesh(v: MeshVertexIn) -> MeshVarying {
@@ -143,9 +147,11 @@ fn background_output(f: FrameUniforms, frag: vec2<f32>) -> ShadedOut {
 }
 
 fn gbuffer_output(sp: SurfacePoint) -> GBufferOut {
+    // Toksvig's |n̄| travels as the stored normal's length (lit_sample divides it out).
+    let ns = select(sp.ns, sp.ns * normal_map_length, SPECULAR_AA == 2u);
     return GBufferOut(
         vec4<f32>(sp.p, gbuffer_tag(sp.shape)),
-        vec4<f32>(sp.ns, sp.uv.x),
+        vec4<f32>(ns, sp.uv.x),
         vec4<f32>(sp.ng, sp.uv.y),
     );
 }
@@ -202,6 +208,25 @@ fn set_analytic_shape_footprint(in: AnalyticVarying) {
     }
 }
 
+// Geometric specular AA's normal change of an analytic shape's fragment: the shading normal's
+// differences to the quad's other pixel in x and in y, traced in this invocation (as
+// set_analytic_shape_footprint, for the same reason); an axis whose neighbour misses the
+// shape counts no change.
+fn set_analytic_normal_change(in: AnalyticVarying, n: vec3<f32>) {
+    if SPECULAR_AA != 1u {
+        return;
+    }
+    let s = shapes[in.shape];
+    let px = vec2<i32>(floor(in.clip.xy));
+    let step = select(vec2<f32>(1.0), vec2<f32>(-1.0), (px & vec2<i32>(1)) == vec2<i32>(1));
+    let hx = trace_analytic(frame, s, in.shape, in.clip.xy + vec2<f32>(step.x, 0.0), 0.0);
+    let hy = trace_analytic(frame, s, in.shape, in.clip.xy + vec2<f32>(0.0, step.y), 0.0);
+    let dx = select(vec3<f32>(0.0), hx.surface.ns - n, hx.hit);
+    let dy = select(vec3<f32>(0.0), hy.surface.ns - n, hy.hit);
+    // The neighbours' normal-map lookups overwrote the pixel's own |n̄|; Toksvig is not this method.
+    set_normal_differences(dx, dy);
+}
+
 // The texture filters' hardware footprint of a mesh fragment (uniform control flow).
 fn set_mesh_footprint(in: MeshVarying) {
     if filter_reads_footprint() && TEXTURE_DERIVATIVES == 0u {
@@ -213,6 +238,7 @@ fn set_mesh_footprint(in: MeshVarying) {
 fn fs_mesh_forward(in: MeshVarying) -> ShadedOut {
     set_mesh_footprint(in);
     let hit = mesh_surface(in, shapes[in.shape]);
+    set_normal_derivatives(hit.surface.ns);
     if !hit.hit || distance(hit.surface.p, frame.cam_pos.xyz) <= peel_distance(in.clip.xy) {
         discard;
     }
@@ -226,6 +252,7 @@ fn fs_analytic_forward(in: AnalyticVarying) -> ShadedDepthOut {
     if !hit.hit {
         discard;
     }
+    set_analytic_normal_change(in, hit.surface.ns);
     let out = shaded_output(frame, hit.surface, in.clip.xy);
     return ShadedDepthOut(out.color, out.normal_depth, out.albedo_id, depth_of(frame, hit.surface.p));
 }
@@ -256,6 +283,20 @@ fn fs_analytic_gbuffer(in: AnalyticVarying) -> GBufferDepthOut {
     return GBufferDepthOut(out.g0, out.g1, out.g2, depth_of(frame, hit.surface.p));
 }
 
+// One G-buffer sample lit (or the background where it holds no surface).
+fn lit_sample(g0: vec4<f32>, g1: vec4<f32>, g2: vec4<f32>, pos: vec2<f32>) -> ShadedOut {
+    if g0.w < 0.5 {
+        return background_output(frame, pos);
+    }
+    var ns = g1.xyz;
+    if SPECULAR_AA == 2u {
+        normal_map_length = length(ns);
+        ns /= normal_map_length;
+    }
+    let sp = SurfacePoint(g0.xyz, g2.xyz, ns, vec2<f32>(g1.w, g2.w), gbuffer_shape(g0.w));
+    return shaded_output(frame, sp, pos);
+}
+
 @fragment
 fn fs_lighting(@builtin(position) pos: vec4<f32>) -> ShadedOut {
     let px = vec2<i32>(pos.xy);
@@ -268,12 +309,55 @@ fn fs_lighting(@builtin(position) pos: vec4<f32>) -> ShadedOut {
     if filter_reads_footprint() {
         set_hardware_footprint(vec2<f32>(g1.w, g2.w));
     }
-    var out: ShadedOut;
-    if g0.w < 0.5 {
-        out = background_output(frame, pos.xy);
-    } else {
-        let sp = SurfacePoint(g0.xyz, g2.xyz, g1.xyz, vec2<f32>(g1.w, g2.w), gbuffer_shape(g0.w));
-        out = shaded_output(frame, sp, pos.xy);
+    set_normal_derivatives(g1.xyz);
+    let out = lit_sample(g0, g1, g2, pos.xy);
+    flush_counters(u32(pos.y));
+    return out;
+}
+
+// Deferred MSAA: the G-buffer holds every coverage sample, and the lighting decides per pixel
+// how often to shade — once, from sample 0, where all samples see one surface (same shape tag,
+// normals within 8°), else every sample, averaged: the per-sample lighting of edge pixels that
+// keeps deferred MSAA's cost near forward MSAA's (Lauritzen 2010, "Deferred Rendering for
+// Current and Future Rendering Pipelines", SIGGRAPH course, §MSAA). The object id is sample
+// 0's, as the forward resolve's. Sample positions are not the pixel centre, but every sample
+// is lit with the centre's view direction (the standard shortcut).
+@fragment
+fn fs_lighting_msaa(@builtin(position) pos: vec4<f32>) -> ShadedOut {
+    let px = vec2<i32>(pos.xy);
+    let n = textureNumSamples(gbuffer_ms0);
+    let g0 = textureLoad(gbuffer_ms0, px, 0);
+    let g1 = textureLoad(gbuffer_ms1, px, 0);
+    let g2 = textureLoad(gbuffer_ms2, px, 0);
+    if filter_reads_footprint() {
+        set_hardware_footprint(vec2<f32>(g1.w, g2.w));
+    }
+    set_normal_derivatives(g1.xyz);
+    var edge = false;
+    for (var s = 1u; s < n; s += 1u) {
+        let t0 = textureLoad(gbuffer_ms0, px, i32(s));
+        let t1 = textureLoad(gbuffer_ms1, px, i32(s));
+        if t0.w != g0.w || dot(t1.xyz, g1.xyz) < 0.99 {
+            edge = true;
+        }
+    }
+    var out = lit_sample(g0, g1, g2, pos.xy);
+    if edge {
+        for (var s = 1u; s < n; s += 1u) {
+            let o = lit_sample(
+                textureLoad(gbuffer_ms0, px, i32(s)),
+                textureLoad(gbuffer_ms1, px, i32(s)),
+                textureLoad(gbuffer_ms2, px, i32(s)),
+                pos.xy,
+            );
+            out.color += o.color;
+            out.normal_depth += o.normal_depth;
+            out.albedo_id = vec4<f32>(out.albedo_id.rgb + o.albedo_id.rgb, out.albedo_id.w);
+        }
+        let inv = 1.0 / f32(n);
+        out.color *= inv;
+        out.normal_depth *= inv;
+        out.albedo_id = vec4<f32>(out.albedo_id.rgb * inv, out.albedo_id.w);
     }
     flush_counters(u32(pos.y));
     return out;

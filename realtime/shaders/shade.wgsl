@@ -47,7 +47,10 @@ struct Shaded {
 // target pixel `frag` (the shadow taps' rotation).
 fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>, frag: vec2<f32>) -> Shaded {
     let shape = shapes[sp.shape];
-    let b = resolve_bsdf(materials[shape.material], sp.uv);
+    var b = resolve_bsdf(materials[shape.material], sp.uv);
+    if b.kind == MAT_GGX || b.kind == MAT_METAL_ROUGH {
+        b.alpha = specular_aa_alpha(b.alpha);
+    }
     var color = vec3<f32>(0.0);
     // Emission seen directly, through the pixel's footprint: the front side only unless
     // two-sided (RectangleLight::emitted).

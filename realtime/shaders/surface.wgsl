@@ -192,6 +192,7 @@ fn shading_normal(d: Differential, map: u32, scale: f32) -> vec3<f32> {
     if !(l2 > 0.0) {
         return n;
     }
+    normal_map_length = sqrt(l2);
     n_ts *= inverseSqrt(l2);
     let m = t * n_ts.x + b * n_ts.y + n * n_ts.z;
     let m2 = dot(m, m);

@@ -161,6 +161,7 @@ fn frame_uniforms(
         detail,
         detail_steps,
         texture: settings.method.texture_filter().uniforms(),
+        antialias: settings.method.antialias.map_or([0.0; 4], |a| a.uniforms()),
     }
 }
 
@@ -364,8 +365,11 @@ fn encode_geometry_pass(
         stencil_ops: None,
     };
     // Under MSAA the forward pass draws into the multisampled outputs the resolve reads.
+    // Under MSAA the geometry pass draws into the multisampled outputs (forward) or
+    // G-buffer (deferred).
     let (color, label) = match (&targets.gbuffer_views, &targets.msaa) {
-        (Some(views), _) => (attachments(views), Pass::GBuffer.label()),
+        (Some(_), Some(msaa)) => (attachments(&msaa.views), Pass::GBuffer.label()),
+        (Some(views), None) => (attachments(views), Pass::GBuffer.label()),
         (None, Some(msaa)) => (attachments(&msaa.views), Pass::Forward.label()),
         (None, None) => (attachments(&targets.output_views), Pass::Forward.label()),
     };
@@ -425,7 +429,8 @@ fn encode_lighting_pass(
     });
     pass.push_debug_group("full-screen lighting");
     pass.set_bind_group(0, &frame.bind_group, &[]);
-    if let Some(bg) = &targets.gbuffer_bind_group {
+    let msaa_gbuffer = targets.msaa.as_ref().and_then(|m| m.gbuffer_bind_group.as_ref());
+    if let Some(bg) = msaa_gbuffer.or(targets.gbuffer_bind_group.as_ref()) {
         pass.set_bind_group(1, bg, &[]);
     }
     pass.set_bind_group(2, &groups.shadow.bind_group, &[]);

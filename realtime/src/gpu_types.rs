@@ -104,8 +104,11 @@ pub struct FrameUniforms {
     /// Texture filter: lod_bias, max_anisotropy, unused, unused
     /// ([`crate::technique::texture::TextureFilter::uniforms`]).
     pub texture: [f32; 4],
+    /// Specular anti-aliasing: screen-space variance σ², clamp κ, unused, unused
+    /// ([`crate::technique::antialias::AntiAliasing::uniforms`]).
+    pub antialias: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 64 + 13 * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 64 + 14 * 16);
 
 /// One shape (WGSL `Shape`).
 #[repr(C)]

@@ -60,7 +60,7 @@ pub use crate::gpu::{COLOR_FORMAT, DEPTH_FORMAT};
 
 /// The WGSL sources in dependency order; WGSL has no includes, so they form one module, with
 /// `counters_on.wgsl` or `counters_off.wgsl` appended.
-const SHADER_SOURCES: [(&str, &str); 31] = [
+const SHADER_SOURCES: [(&str, &str); 32] = [
     ("common.wgsl", include_str!("../shaders/common.wgsl")),
     ("texture.wgsl", include_str!("../shaders/texture.wgsl")),
     ("surface.wgsl", include_str!("../shaders/surface.wgsl")),
@@ -85,6 +85,10 @@ const SHADER_SOURCES: [(&str, &str); 31] = [
         include_str!("../shaders/detail/cone_step.wgsl"),
     ),
     ("bsdf.wgsl", include_str!("../shaders/bsdf.wgsl")),
+    (
+        "antialias/specular.wgsl",
+        include_str!("../shaders/antialias/specular.wgsl"),
+    ),
     (
         "lights_punctual.wgsl",
         include_str!("../shaders/lights_punctual.wgsl"),
@@ -252,13 +256,15 @@ impl Stage {
 /// Cache key: the pipeline, the area method, the shadow, detail and environment-mapping
 /// methods' WGSL codes, the texture filter's
 /// ([`crate::technique::texture::TextureFilter::pipeline_code`]), whether it is the counting
-/// variant, its sample count (MSAA).
-type Key = (Stage, AreaMethod, u32, u32, u32, u32, bool, u32);
+/// variant, its sample count (MSAA), its specular anti-aliasing (WGSL `SPECULAR_AA`).
+type Key = (Stage, AreaMethod, u32, u32, u32, u32, bool, u32, u32);
 
 /// Layouts, the shader module and the pipeline cache.
 pub struct Pipelines {
     pub(crate) scene_layout: wgpu::BindGroupLayout,
     pub(crate) gbuffer_layout: wgpu::BindGroupLayout,
+    /// Group 1 of the lighting pass under deferred MSAA: the multisampled G-buffer (bindings 3–5).
+    pub(crate) gbuffer_msaa_layout: wgpu::BindGroupLayout,
     /// Group 1 of the visibility AOV pass: the G-buffer, the AOV buffer, its dimensions.
     pub(crate) aov_layout: wgpu::BindGroupLayout,
     /// Group 2: the shadow-map array and its comparison samplers.
@@ -269,6 +275,7 @@ pub struct Pipelines {
     pub(crate) empty_bind_group: wgpu::BindGroup,
     forward_layout: wgpu::PipelineLayout,
     lighting_layout: wgpu::PipelineLayout,
+    lighting_msaa_layout: wgpu::PipelineLayout,
     aov_pipeline_layout: wgpu::PipelineLayout,
     shadow_pass_layout: wgpu::PipelineLayout,
     /// Shader modules by (counting, texture filter code), made when first needed.
@@ -435,6 +442,24 @@ impl Pipelines {
             })
             .collect();
         let gbuffer_layout = bind_group_layout(device, "G-buffer bind group layout", &gbuffer_entries);
+        let gbuffer_msaa_entries: Vec<_> = (3..6)
+            .map(|b| {
+                layout_entry(
+                    b,
+                    fragment,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: true,
+                    },
+                )
+            })
+            .collect();
+        let gbuffer_msaa_layout = bind_group_layout(
+            device,
+            "multisampled G-buffer bind group layout",
+            &gbuffer_msaa_entries,
+        );
         let mut aov_entries = gbuffer_entries.clone();
         aov_entries.push(storage_entry(3, false));
         aov_entries.push(layout_entry(4, fragment, uniform_type()));
@@ -457,6 +482,16 @@ impl Pipelines {
             "lighting pipeline layout",
             &[&scene_layout, &gbuffer_layout, &shadow_layout, &envmap_layout],
         );
+        let lighting_msaa_layout = pipeline_layout(
+            device,
+            "lighting pipeline layout (multisampled G-buffer)",
+            &[
+                &scene_layout,
+                &gbuffer_msaa_layout,
+                &shadow_layout,
+                &envmap_layout,
+            ],
+        );
         let aov_pipeline_layout = pipeline_layout(
             device,
             "visibility AOV pipeline layout",
@@ -466,12 +501,14 @@ impl Pipelines {
         Pipelines {
             scene_layout,
             gbuffer_layout,
+            gbuffer_msaa_layout,
             aov_layout,
             shadow_layout,
             envmap_layout,
             empty_bind_group,
             forward_layout,
             lighting_layout,
+            lighting_msaa_layout,
             aov_pipeline_layout,
             shadow_pass_layout,
             modules: Mutex::new(HashMap::new()),
@@ -533,7 +570,7 @@ impl Pipelines {
     ) -> Arc<wgpu::RenderPipeline> {
         let texture = method.texture_filter().pipeline_code();
         let key = if stage.is_shadow() {
-            (stage, AreaMethod::Quadrature, 0, 0, 0, 0, false, 1)
+            (stage, AreaMethod::Quadrature, 0, 0, 0, 0, false, 1, 0)
         } else if stage.shades() {
             (
                 stage,
@@ -544,6 +581,7 @@ impl Pipelines {
                 texture,
                 counters,
                 samples,
+                method.antialias.map_or(0, |a| a.specular_code()),
             )
         } else {
             (
@@ -555,6 +593,7 @@ impl Pipelines {
                 texture,
                 counters,
                 samples,
+                0,
             )
         };
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
@@ -586,12 +625,19 @@ impl Pipelines {
     fn build(
         &self,
         device: &wgpu::Device,
-        (stage, method, shadow, detail, envmap, texture, counters, samples): Key,
+        (stage, method, shadow, detail, envmap, texture, counters, samples, specular): Key,
     ) -> wgpu::RenderPipeline {
-        let (vs, fs) = stage.entry_points();
+        // Under deferred MSAA the lighting pass reads `samples` G-buffer samples per pixel
+        // and writes one: its own pipeline is single-sampled.
+        let msaa_lighting = stage == Stage::Lighting && samples > 1;
+        let (vs, fs) = if msaa_lighting {
+            ("vs_fullscreen", "fs_lighting_msaa")
+        } else {
+            stage.entry_points()
+        };
         let label = format!(
             "{vs}/{fs} ({method:?}, shadow method {shadow}, detail method {detail}, environment map {envmap}, \
-             texture filter {texture:#x}, counters {counters}, {samples} samples)"
+             texture filter {texture:#x}, counters {counters}, {samples} samples, specular AA {specular})"
         );
         let constants = [
             ("AREA_METHOD", f64::from(method.shader_code())),
@@ -600,6 +646,7 @@ impl Pipelines {
             ("ENVMAP_METHOD", f64::from(envmap)),
             ("TEXTURE_FILTER", f64::from(texture & 0xff)),
             ("TEXTURE_DERIVATIVES", f64::from(texture >> 8)),
+            ("SPECULAR_AA", f64::from(specular)),
         ];
         let module = &*self.module(device, counters, texture & 0xff);
         let options = wgpu::PipelineCompilationOptions {
@@ -639,6 +686,7 @@ impl Pipelines {
             _ => &three,
         };
         let layout = match stage {
+            Stage::Lighting if msaa_lighting => &self.lighting_msaa_layout,
             Stage::Lighting => &self.lighting_layout,
             Stage::VisibilityAov => &self.aov_pipeline_layout,
             Stage::ShadowMesh | Stage::ShadowAnalytic => &self.shadow_pass_layout,
@@ -667,7 +715,7 @@ impl Pipelines {
             },
             depth_stencil: stage.depth_stencil(),
             multisample: wgpu::MultisampleState {
-                count: samples,
+                count: if msaa_lighting { 1 } else { samples },
                 ..Default::default()
             },
             fragment,

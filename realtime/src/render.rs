@@ -122,7 +122,9 @@ impl Renderer {
         let frame = Frame::new(device, layout, scene, &scene_gpu, &shadow, settings, k);
         let mut targets = Targets::new(device, settings.pipeline, tw, th, &self.pipelines.gbuffer_layout);
         if samples > 1 {
-            targets.msaa = Some(MultisampledOutputs::new(device, tw, th, samples));
+            let deferred =
+                (settings.pipeline == PipelineKind::Deferred).then_some(&self.pipelines.gbuffer_msaa_layout);
+            targets.msaa = Some(MultisampledOutputs::new(device, tw, th, samples, deferred));
         }
         let aa_passes = AntiAliasPasses::new(device, &self.post, &aa, &targets);
         let stages = self
@@ -432,10 +434,10 @@ impl Renderer {
         }
     }
 
-    /// Deferred targets of `targets`' size: `targets` itself when it has a G-buffer, else new
-    /// ones kept in `holder`.
+    /// Single-sampled deferred targets of `targets`' size: `targets` itself when it has such a
+    /// G-buffer, else new ones kept in `holder`.
     fn gbuffer_targets<'a>(&self, targets: &'a Targets, holder: &'a mut Option<Targets>) -> &'a Targets {
-        if targets.gbuffer_views.is_some() {
+        if targets.gbuffer_views.is_some() && targets.msaa.is_none() {
             return targets;
         }
         holder.insert(Targets::new(

@@ -133,12 +133,6 @@ impl RasterSettings {
                     counts.join(", ")
                 ));
             }
-            if self.pipeline != PipelineKind::Forward {
-                return bad(format!(
-                    "method {m}: MSAA is built for the forward pipeline; the deferred one would light each \
-                     G-buffer sample of edge pixels, which is not written yet"
-                ));
-            }
         }
         let (w, h) = (
             u64::from(self.width) * u64::from(k),

@@ -49,16 +49,28 @@ fn color_texture(
     })
 }
 
-/// The multisampled outputs and depth buffer an MSAA forward pass draws into (`aa_msaa`).
+/// The multisampled targets and depth buffer the geometry pass draws into under `aa_msaa`:
+/// the outputs (forward; the resolve pass reads them) or the G-buffer (deferred; the lighting
+/// pass reads them through `gbuffer_bind_group`).
 pub(crate) struct MultisampledOutputs {
-    /// Colour, normal + depth, albedo + id, `samples` samples per pixel.
+    /// Colour, normal + depth, albedo + id (forward) or the three G-buffer layers (deferred),
+    /// `samples` samples per pixel.
     pub(crate) views: [wgpu::TextureView; 3],
     pub(crate) depth_view: wgpu::TextureView,
+    /// Group 1 of the deferred MSAA lighting pass (`gbuffer_msaa_layout`), or None (forward).
+    pub(crate) gbuffer_bind_group: Option<wgpu::BindGroup>,
 }
 
 impl MultisampledOutputs {
-    /// `samples`-sample outputs of `width`×`height` (the resolve pass reads them).
-    pub(crate) fn new(device: &wgpu::Device, width: u32, height: u32, samples: u32) -> MultisampledOutputs {
+    /// `samples`-sample targets of `width`×`height`; with `gbuffer_layout` (deferred) they are
+    /// the G-buffer, bound for the lighting pass.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        width: u32,
+        height: u32,
+        samples: u32,
+        gbuffer_layout: Option<&wgpu::BindGroupLayout>,
+    ) -> MultisampledOutputs {
         let texture = |label: &str, format, usage| {
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
@@ -87,9 +99,25 @@ impl MultisampledOutputs {
             DEPTH_FORMAT,
             wgpu::TextureUsages::RENDER_ATTACHMENT,
         );
+        let gbuffer_bind_group = gbuffer_layout.map(|layout| {
+            let entries: Vec<_> = views
+                .iter()
+                .enumerate()
+                .map(|(i, v)| wgpu::BindGroupEntry {
+                    binding: 3 + i as u32,
+                    resource: wgpu::BindingResource::TextureView(v),
+                })
+                .collect();
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("multisampled G-buffer bind group"),
+                layout,
+                entries: &entries,
+            })
+        });
         MultisampledOutputs {
             views,
             depth_view: labelled_view(&depth, "depth view (MSAA)"),
+            gbuffer_bind_group,
         }
     }
 }

@@ -14,6 +14,8 @@
 //! Checks mirror the oracle's: non-finite geometry, zero-area planar shapes, out-of-range
 //! indices, bad light parameters are errors naming the shape or light.
 
+use std::borrow::Cow;
+
 use glam::{Vec2, Vec3, Vec4};
 use scenes::texture::Texture;
 use scenes::{
@@ -24,6 +26,7 @@ use wgpu::util::DeviceExt;
 
 use crate::gpu::Gpu;
 use crate::gpu_types::*;
+use crate::technique::antialias::{toksvig_normal_map, AntiAliasing};
 use crate::technique::detail::{derivative_map, ConeCache, Detail};
 use crate::technique::texture::gpu_array::TextureArray;
 use crate::technique::texture::{pyramid, sat, Needs, TextureFilter};
@@ -77,7 +80,8 @@ impl SceneGpu {
         let detail = method.detail.as_ref();
         let src = scene.source.display().to_string();
         let mut a = Arrays::default();
-        for (i, t) in scene.textures.iter().enumerate() {
+        let textures = method_textures(scene, method);
+        for (i, t) in textures.iter().enumerate() {
             add_texture(&mut a, t).map_err(|e| format!("{src}: textures[{i}]: {e}"))?;
         }
         for (i, m) in scene.materials.iter().enumerate() {
@@ -92,7 +96,7 @@ impl SceneGpu {
             a.lights
                 .push(light(l).map_err(|e| format!("{src}: light '{}' (lights[{i}]): {e}", l.name()))?);
         }
-        add_levels(&mut a, scene, &method.texture_filter());
+        add_levels(&mut a, scene, &textures, &method.texture_filter());
         let env = environment(scene).map_err(|e| format!("{src}: environment: {e}"))?;
         let bytes = (a.texels.len() * 16) as u64;
         if bytes > max_binding {
@@ -214,13 +218,14 @@ fn plain_record(offset: u32, width: u32, height: u32, wrap: u32) -> GpuTextureIn
 /// The levels and tables `filter` reads, for every scene texture (technique/texture: MIP
 /// levels, RIP levels, the summed-area table), appended as records after every other; colour
 /// textures (base colour, reflectance, emission) are reduced in the filter's `mip_space`.
-fn add_levels(a: &mut Arrays, scene: &Scene, filter: &TextureFilter) {
+fn add_levels(a: &mut Arrays, scene: &Scene, textures: &[Cow<'_, Texture>], filter: &TextureFilter) {
     let needs = filter.filter.needs();
     if needs == Needs::default() {
         return;
     }
     let colour = colour_textures(scene);
-    for (i, t) in scene.textures.iter().enumerate() {
+    for (i, t) in textures.iter().enumerate() {
+        let t: &Texture = t;
         let record = a.texture_infos.len() as u32;
         if needs.mips {
             let levels = pyramid::mip_levels(t, filter.mip_space, colour.contains(&i));
@@ -251,6 +256,29 @@ fn add_levels(a: &mut Arrays, scene: &Scene, filter: &TextureFilter) {
 
 /// The scene textures holding colours (sRGB-encoded in their files): base colours,
 /// reflectances, emission.
+/// The scene's textures as the method uploads them: as loaded, except the normal maps of
+/// `aa_specular_toksvig`, renormalised texel by texel ([`toksvig_normal_map`]).
+fn method_textures<'a>(scene: &'a Scene, method: &Method) -> Vec<Cow<'a, Texture>> {
+    let toksvig = method.antialias == Some(AntiAliasing::SpecularToksvig);
+    let normal_maps: Vec<usize> = scene
+        .shapes
+        .iter()
+        .filter_map(|s| s.normal_map.as_ref().map(|m| m.texture))
+        .collect();
+    scene
+        .textures
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            if toksvig && normal_maps.contains(&i) {
+                Cow::Owned(toksvig_normal_map(t))
+            } else {
+                Cow::Borrowed(&**t)
+            }
+        })
+        .collect()
+}
+
 fn colour_textures(scene: &Scene) -> Vec<usize> {
     let image = |t: &TexRgb| match t {
         TexRgb::Image { texture, .. } => Some(*texture),

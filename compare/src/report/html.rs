@@ -189,8 +189,17 @@ fn failing(r: &StudyResult, v: &VariantResult) -> bool {
     v.non_finite_pixels > 0 || r.thresholds.iter().any(|t| !t.passed && t.variant == v.label)
 }
 
+/// "forward pass 12.3 ms; post-process pass 1.2 ms" (the ms/frame cell's tooltip).
+fn pass_times(passes: &[realtime::timing::PassTime]) -> String {
+    passes
+        .iter()
+        .map(|p| format!("{} {} ms", p.name, num(p.ms)))
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
 fn metric_table(h: &mut String, r: &StudyResult) {
-    h.push_str("<h2>Metrics (mask <code>all</code>; other masks in metrics.json)</h2><table><thead><tr><th class=l onclick=\"sortTable(this)\">variant</th><th onclick=\"sortTable(this)\">ms/frame</th><th onclick=\"sortTable(this)\">texel fetches/px</th><th onclick=\"sortTable(this)\">loop iterations/px</th><th onclick=\"sortTable(this)\">NaN/Inf px</th>");
+    h.push_str("<h2>Metrics (mask <code>all</code>; other masks in metrics.json)</h2><table><thead><tr><th class=l onclick=\"sortTable(this)\">variant</th><th onclick=\"sortTable(this)\">ms/frame</th><th onclick=\"sortTable(this)\">texel fetches/px</th><th onclick=\"sortTable(this)\">loop iterations/px</th><th onclick=\"sortTable(this)\">samples/px</th><th onclick=\"sortTable(this)\">NaN/Inf px</th>");
     for m in &r.metrics {
         let _ = write!(h, "<th onclick=\"sortTable(this)\">{m}</th>");
     }
@@ -201,12 +210,14 @@ fn metric_table(h: &mut String, r: &StudyResult) {
         let opt = |x: Option<f64>| x.map_or("–".into(), num);
         let _ = write!(
             h,
-            "<tr class=\"{}\"><td class=l>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>",
+            "<tr class=\"{}\"><td class=l>{}</td><td title=\"{}\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>",
             if failing(r, v) { "fail" } else { "" },
             esc(&v.label),
+            esc(&pass_times(&v.cost.passes)),
             num(v.cost.frame_ms),
             opt(v.cost.texel_fetches_per_pixel),
             opt(v.cost.loop_iterations_per_pixel),
+            v.cost.samples_per_pixel,
             v.non_finite_pixels
         );
         if let Some(all) = v.metrics.first() {
@@ -222,7 +233,7 @@ fn metric_table(h: &mut String, r: &StudyResult) {
         }
         h.push_str("</tr>\n");
     }
-    h.push_str("</tbody></table><p>Hover a value for the reference's noise floor of that metric.</p>\n");
+    h.push_str("</tbody></table><p>Hover a value for the reference's noise floor of that metric, a frame time for its passes.</p>\n");
 }
 
 /// The visibility-factor metrics over `all`, when the study measures them.

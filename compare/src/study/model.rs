@@ -257,6 +257,8 @@ pub struct MethodSpec {
     /// What the report calls it (default: `name`): tells apart two entries of one method
     /// with different fixed parameters.
     pub label: Option<String>,
+    /// Forward or deferred for this method's renders (default: the study's `[raster]`).
+    pub pipeline: Option<PipelineKind>,
     /// Fixed parameters ([`MethodSpec::set_params`] changes them).
     pub(crate) params: Vec<(String, String)>,
     /// Swept parameters, each with its values in the order listed (towards the failure regime).
@@ -275,6 +277,8 @@ pub struct Variant {
     pub method: String,
     /// The method entry's `label`, if it has one.
     pub label: Option<String>,
+    /// The method entry's `pipeline`, if it sets one (else the study's).
+    pub pipeline: Option<PipelineKind>,
     /// Fixed and swept parameters.
     pub params: Vec<(String, String)>,
     /// The swept parameters' values at this point.
@@ -399,6 +403,7 @@ impl MethodSpec {
                 Variant {
                     method: self.name.clone(),
                     label: self.label.clone(),
+                    pipeline: self.pipeline,
                     params,
                     swept,
                     scene: Vec::new(),

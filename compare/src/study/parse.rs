@@ -332,10 +332,7 @@ fn raster_options(t: Option<Table>) -> Result<RasterOptions, SceneError> {
         o.ssaa = f.int_in(1, realtime::settings::MAX_SSAA as i64)? as u32;
     }
     if let Some(f) = t.get("pipeline") {
-        o.pipeline = match f.keyword(&["forward", "deferred"])? {
-            "forward" => PipelineKind::Forward,
-            _ => PipelineKind::Deferred,
-        };
+        o.pipeline = pipeline(&f)?;
     }
     if let Some(f) = t.get("warmup_frames") {
         o.warmup_frames = f.int_in(0, 100)? as u32;
@@ -447,8 +444,16 @@ fn params(t: Option<Table>) -> Result<Vec<(String, String)>, SceneError> {
         .collect()
 }
 
+/// `pipeline = "forward" | "deferred"`.
+fn pipeline(f: &Field) -> Result<PipelineKind, SceneError> {
+    Ok(match f.keyword(&["forward", "deferred"])? {
+        "forward" => PipelineKind::Forward,
+        _ => PipelineKind::Deferred,
+    })
+}
+
 fn method(t: &Table) -> Result<MethodSpec, SceneError> {
-    t.only(&["name", "label", "params", "sweep"], "a [[method]]")?;
+    t.only(&["name", "label", "params", "sweep", "pipeline"], "a [[method]]")?;
     let name_field = t.req("name")?;
     let name = name_field.str()?.to_string();
     let label = match t.get("label") {
@@ -488,6 +493,7 @@ fn method(t: &Table) -> Result<MethodSpec, SceneError> {
     Ok(MethodSpec {
         name,
         label,
+        pipeline: t.get("pipeline").map(|f| pipeline(&f)).transpose()?,
         params,
         sweep,
         sweep_line: t.get("sweep").map_or(t.line, |f| f.line),

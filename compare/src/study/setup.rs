@@ -227,7 +227,7 @@ pub fn raster_settings(study: &Study, scene: &Scene, variant: &Variant) -> Raste
     let r = study.raster;
     RasterSettings::new(scene.film.width, scene.film.height)
         .method(variant.raster.clone())
-        .pipeline(r.pipeline)
+        .pipeline(variant.pipeline.unwrap_or(r.pipeline))
         .ssaa(r.ssaa)
         .frames(r.warmup_frames, r.timed_frames)
         .counters(true)

@@ -433,10 +433,16 @@ impl Method {
         }
     }
 
-    /// The anti-aliasing method `antialias` over N×N quadrature (n = 8, env_n = 8), unshadowed.
+    /// The anti-aliasing method `antialias` over N×N quadrature (n = 8, env_n = 8), unshadowed
+    /// (`aa_specular_toksvig` with its textures filtered trilinearly).
     pub fn antialiased(antialias: AntiAliasing) -> Self {
+        // Toksvig reads the shortening of MIP-filtered normals: its textures filter trilinearly.
+        let texture = (antialias == AntiAliasing::SpecularToksvig)
+            .then(|| TextureFilter::by_name("tex_trilinear"))
+            .flatten();
         Method {
             antialias: Some(antialias),
+            texture,
             ..Method::quadrature_8()
         }
     }
@@ -848,7 +854,7 @@ mod tests {
             codes,
             [
                 0, 0, 1, 2, 3, 4, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-                0, 0, 0, 0
+                0, 0, 0, 0, 0, 0
             ]
         );
     }

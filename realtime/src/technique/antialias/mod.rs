@@ -23,6 +23,9 @@
 pub mod post;
 pub mod taa;
 
+use glam::Vec4;
+use scenes::texture::Texture;
+
 use super::param::{spec_named, Kind, MethodSpec, Param, Value};
 
 /// Largest supersampling factor accepted (k×k samples per pixel): the raster's `ssaa`, `aa_ssaa`'s
@@ -108,6 +111,17 @@ pub enum AntiAliasing {
         /// Distance to the point the camera orbits, metres.
         orbit_distance: f32,
     },
+    /// Geometric specular anti-aliasing: GGX α² widened by the variance of the shading normal
+    /// over the pixel.
+    SpecularGeometric {
+        /// Screen-space variance σ² of the pixel filter.
+        variance: f32,
+        /// Most roughness² added (κ).
+        clamp: f32,
+    },
+    /// Toksvig's normal-map anti-aliasing: α² widened by the spread the MIP-filtered normal
+    /// map's shortened normals imply.
+    SpecularToksvig,
 }
 
 impl AntiAliasing {
@@ -120,6 +134,8 @@ impl AntiAliasing {
             AntiAliasing::Fxaa { .. } => 3,
             AntiAliasing::Mlaa { .. } => 4,
             AntiAliasing::Taa { .. } => 5,
+            AntiAliasing::SpecularGeometric { .. } => 6,
+            AntiAliasing::SpecularToksvig => 7,
         };
         &METHODS[index]
     }
@@ -150,6 +166,23 @@ impl AntiAliasing {
         }
     }
 
+    /// WGSL `SPECULAR_AA`: 0 none, 1 geometric, 2 Toksvig (shaders/antialias/specular.wgsl).
+    pub fn specular_code(&self) -> u32 {
+        match self {
+            AntiAliasing::SpecularGeometric { .. } => 1,
+            AntiAliasing::SpecularToksvig => 2,
+            _ => 0,
+        }
+    }
+
+    /// FrameUniforms `antialias`: σ², κ of the geometric method (zeros otherwise).
+    pub fn uniforms(&self) -> [f32; 4] {
+        match *self {
+            AntiAliasing::SpecularGeometric { variance, clamp } => [variance, clamp, 0.0, 0.0],
+            _ => [0.0; 4],
+        }
+    }
+
     /// Whether it runs a post-process pass over the lit image.
     pub fn has_post_process(&self) -> bool {
         matches!(
@@ -157,6 +190,28 @@ impl AntiAliasing {
             AntiAliasing::Fxaa { .. } | AntiAliasing::Mlaa { .. } | AntiAliasing::Taa { .. }
         )
     }
+}
+
+/// A normal map as `aa_specular_toksvig` reads it: every texel's tangent-space normal
+/// n = 2c − 1 renormalised, c' = (n̂ + 1)/2 (alpha kept). Toksvig reads spread from |n̄| < 1, and an
+/// 8-bit texel's own normal is already up to ~0.5 % short or long from quantisation alone,
+/// which would read as roughness where nothing is filtered; its MIP levels are then averages
+/// of unit normals (Toksvig 2005 §3 assumes exactly that). A texel of length 0 stays as it is.
+pub fn toksvig_normal_map(t: &Texture) -> Texture {
+    let texels = t
+        .texels
+        .iter()
+        .map(|c| {
+            let n = c.truncate() * 2.0 - 1.0;
+            let l = n.length();
+            if l > 0.0 && l.is_finite() {
+                ((n / l + 1.0) * 0.5).extend(c.w)
+            } else {
+                *c
+            }
+        })
+        .collect::<Vec<Vec4>>();
+    Texture { texels, ..t.clone() }
 }
 
 macro_rules! aa_param {
@@ -378,7 +433,34 @@ const TAA_ORBIT_DISTANCE: Param<AntiAliasing> = aa_param!(
     |v: Value| v.real()
 );
 
-/// The family's methods (WGSL needs no codes: each post-process is its own shader module).
+const SPECULAR_VARIANCE: Param<AntiAliasing> = aa_param!(
+    "variance",
+    SpecularGeometric,
+    variance,
+    Kind::Real(0.0, 4.0),
+    "",
+    "σ² of the pixel filter in screen space (0.25: a Gaussian of σ = ½ pixel; a box pixel has 1/12): the normal's variance over the pixel is σ²·(|∂n/∂x|² + |∂n/∂y|²)",
+    "Tokuyoshi & Kaplanyan 2019, Listing 1 (SIGMA2 = 0.5²)",
+    Real,
+    same,
+    |v: Value| v.real()
+);
+
+const SPECULAR_CLAMP: Param<AntiAliasing> = aa_param!(
+    "clamp",
+    SpecularGeometric,
+    clamp,
+    Kind::Real(0.0, 1.0),
+    "",
+    "most α² the kernel adds (κ): keeps silhouettes and creases, whose normals jump, from turning matte",
+    "Tokuyoshi & Kaplanyan 2019, Listing 1 (KAPPA)",
+    Real,
+    same,
+    |v: Value| v.real()
+);
+
+/// The family's methods (WGSL needs no codes: each post-process is its own shader module, and
+/// the specular methods' `SPECULAR_AA` is [`AntiAliasing::specular_code`]).
 pub static METHODS: &[MethodSpec<AntiAliasing>] = &[
     MethodSpec {
         name: "aa_none",
@@ -454,5 +536,25 @@ pub static METHODS: &[MethodSpec<AntiAliasing>] = &[
             TAA_ORBIT_DEGREES,
             TAA_ORBIT_DISTANCE,
         ],
+    },
+    MethodSpec {
+        name: "aa_specular_geometric",
+        summary: "GGX α² + min(2σ²·(|∂n/∂x|² + |∂n/∂y|²), κ): the lobe widened by how much the shading normal turns \
+                  across the pixel, so a highlight too small for the pixel spreads instead of flickering",
+        source: "Kaplanyan, Hill, Patney & Lefohn 2016, \"Filtering Distributions of Normals for Shading Antialiasing\", \
+                 HPG; Tokuyoshi & Kaplanyan 2019, \"Improved Geometric Specular Antialiasing\", I3D",
+        default: || AntiAliasing::SpecularGeometric {
+            variance: 0.25,
+            clamp: 0.18,
+        },
+        params: &[SPECULAR_VARIANCE, SPECULAR_CLAMP],
+    },
+    MethodSpec {
+        name: "aa_specular_toksvig",
+        summary: "normal maps MIP-filtered (trilinear), and GGX α² + 2(1 − |n̄|)/|n̄| from the shortening of their \
+                  averaged normal n̄: the bumps a pixel averages become roughness",
+        source: "Toksvig 2005, \"Mipmapping Normal Maps\", JGT 10(3)",
+        default: || AntiAliasing::SpecularToksvig,
+        params: &[],
     },
 ];

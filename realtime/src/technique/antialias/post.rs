@@ -469,7 +469,9 @@ impl AntiAliasPasses {
         aa: &AntiAliasing,
         targets: &Targets,
     ) -> AntiAliasPasses {
-        let resolve = targets.msaa.as_ref().map(|msaa| {
+        // Deferred MSAA needs no resolve: its lighting pass averages the samples.
+        let forward_msaa = targets.msaa.as_ref().filter(|m| m.gbuffer_bind_group.is_none());
+        let resolve = forward_msaa.map(|msaa| {
             let entries: Vec<_> = msaa
                 .views
                 .iter()
