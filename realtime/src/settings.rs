@@ -124,15 +124,17 @@ impl RasterSettings {
             ));
         }
         let samples = m.antialias.map_or(1, |a| a.msaa_samples());
-        if samples > 1 {
-            if !msaa_counts.contains(&samples) {
-                let counts: Vec<String> = msaa_counts.iter().map(u32::to_string).collect();
-                return bad(format!(
-                    "method {m}: the adapter cannot render {samples} samples per pixel to Rgba32Float and \
-                     Depth32Float targets; it can do {}",
-                    counts.join(", ")
-                ));
-            }
+        if samples > 1 && !msaa_counts.contains(&samples) {
+            let counts: Vec<String> = msaa_counts.iter().map(u32::to_string).collect();
+            let can = if counts.is_empty() {
+                "none (it lacks TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)".to_string()
+            } else {
+                counts.join(", ")
+            };
+            return bad(format!(
+                "method {m}: the adapter cannot render {samples} samples per pixel to Rgba32Float and \
+                 Depth32Float targets; it can do {can}"
+            ));
         }
         let (w, h) = (
             u64::from(self.width) * u64::from(k),
