@@ -14,7 +14,7 @@ use crate::camera::camera_near;
 use crate::gpu_types::{vec4, FrameUniforms};
 use crate::pipelines::Stage;
 use crate::settings::RasterSettings;
-use crate::targets::Targets;
+use crate::targets::{cleared_attachments, Targets};
 use crate::technique::antialias::post::AntiAliasPasses;
 use crate::technique::shadow::maps::ShadowMaps;
 use crate::timestamps::Timestamps;
@@ -368,10 +368,10 @@ fn encode_geometry_pass(
     // Under MSAA the geometry pass draws into the multisampled outputs (forward) or
     // G-buffer (deferred).
     let (color, label) = match (&targets.gbuffer_views, &targets.msaa) {
-        (Some(_), Some(msaa)) => (attachments(&msaa.views), Pass::GBuffer.label()),
-        (Some(views), None) => (attachments(views), Pass::GBuffer.label()),
-        (None, Some(msaa)) => (attachments(&msaa.views), Pass::Forward.label()),
-        (None, None) => (attachments(&targets.output_views), Pass::Forward.label()),
+        (Some(_), Some(msaa)) => (cleared_attachments(&msaa.views), Pass::GBuffer.label()),
+        (Some(views), None) => (cleared_attachments(views), Pass::GBuffer.label()),
+        (None, Some(msaa)) => (cleared_attachments(&msaa.views), Pass::Forward.label()),
+        (None, None) => (cleared_attachments(&targets.output_views), Pass::Forward.label()),
     };
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
@@ -419,7 +419,7 @@ fn encode_lighting_pass(
     groups: &ShadingGroups<'_>,
     queries: Option<(&Timestamps, u32)>,
 ) {
-    let color = attachments(&targets.output_views);
+    let color = cleared_attachments(&targets.output_views);
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(Pass::Lighting.label()),
         color_attachments: &color,
@@ -438,23 +438,4 @@ fn encode_lighting_pass(
     pass.set_pipeline(pipeline);
     pass.draw(0..3, 0..1);
     pass.pop_debug_group();
-}
-
-/// Colour attachments cleared to zero.
-fn attachments(views: &[wgpu::TextureView; 3]) -> Vec<Option<wgpu::RenderPassColorAttachment<'_>>> {
-    let ops = wgpu::Operations {
-        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-        store: wgpu::StoreOp::Store,
-    };
-    views
-        .iter()
-        .map(|view| {
-            Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops,
-            })
-        })
-        .collect()
 }

@@ -201,7 +201,10 @@ impl Renderer {
         };
         let main = self.read_back(&targets)?;
         let counters = if settings.counters {
-            Some(self.counting_frame(&frame, &targets, &scene_gpu, &groups, settings)?)
+            let taps = self.post_taps(&aa_passes, &targets, settings)?;
+            let mut c = self.counting_frame(&frame, &targets, &scene_gpu, &groups, settings)?;
+            c.post_taps_per_pixel = taps;
+            Some(c)
         } else {
             None
         };
@@ -525,7 +528,39 @@ impl Renderer {
         Ok(Counters {
             texel_fetches_per_pixel: sums[0] as f64 / pixels,
             loop_iterations_per_pixel: sums[1] as f64 / pixels,
+            post_taps_per_pixel: None,
         })
+    }
+
+    /// Texel loads per final pixel of the anti-aliasing passes after shading, counted by
+    /// running them once more on the last frame (`AntiAliasPasses::encode_tap_count`); None
+    /// without such passes.
+    fn post_taps(
+        &self,
+        aa: &AntiAliasPasses,
+        targets: &Targets,
+        settings: &RasterSettings,
+    ) -> Result<Option<f64>, RasterError> {
+        let device = &self.gpu.device;
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("post-process tap count encoder"),
+        });
+        let Some(taps) = aa.encode_tap_count(device, &self.post, &mut encoder, targets) else {
+            return Ok(None);
+        };
+        let bytes = self.submit_and_read(
+            encoder,
+            taps,
+            "post-process taps read-back",
+            "counting the post-process taps",
+        )?;
+        let sum: u64 = bytes
+            .chunks_exact(4)
+            .map(|c| u64::from(u32::from_le_bytes([c[0], c[1], c[2], c[3]])))
+            .sum();
+        Ok(Some(
+            sum as f64 / (f64::from(settings.width) * f64::from(settings.height)),
+        ))
     }
 
     /// The visibility AOV frame (visibility.rs): a G-buffer pass, then the visibility pass per
@@ -665,6 +700,9 @@ fn add_header(
             "loop_iterations_per_pixel",
             format!("{:.4}", c.loop_iterations_per_pixel),
         ));
+        if let Some(t) = c.post_taps_per_pixel {
+            attrs.push(("post_taps_per_pixel", format!("{t:.4}")));
+        }
     }
     if !shadow.frusta.is_empty() {
         let maps: Vec<String> = shadow.frusta.iter().map(|f| f.describe()).collect();

@@ -100,18 +100,10 @@ impl MultisampledOutputs {
             wgpu::TextureUsages::RENDER_ATTACHMENT,
         );
         let gbuffer_bind_group = gbuffer_layout.map(|layout| {
-            let entries: Vec<_> = views
-                .iter()
-                .enumerate()
-                .map(|(i, v)| wgpu::BindGroupEntry {
-                    binding: 3 + i as u32,
-                    resource: wgpu::BindingResource::TextureView(v),
-                })
-                .collect();
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("multisampled G-buffer bind group"),
                 layout,
-                entries: &entries,
+                entries: &view_entries(&views, 3),
             })
         });
         MultisampledOutputs {
@@ -120,6 +112,42 @@ impl MultisampledOutputs {
             gbuffer_bind_group,
         }
     }
+}
+
+/// Colour attachments of `views`, cleared to zero and stored.
+pub(crate) fn cleared_attachments<'a>(
+    views: impl IntoIterator<Item = &'a wgpu::TextureView>,
+) -> Vec<Option<wgpu::RenderPassColorAttachment<'a>>> {
+    let ops = wgpu::Operations {
+        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+        store: wgpu::StoreOp::Store,
+    };
+    views
+        .into_iter()
+        .map(|view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops,
+            })
+        })
+        .collect()
+}
+
+/// Bind-group entries of texture `views` at bindings `first`, `first` + 1, ….
+pub(crate) fn view_entries<'a>(
+    views: impl IntoIterator<Item = &'a wgpu::TextureView>,
+    first: u32,
+) -> Vec<wgpu::BindGroupEntry<'a>> {
+    views
+        .into_iter()
+        .enumerate()
+        .map(|(i, v)| wgpu::BindGroupEntry {
+            binding: first + i as u32,
+            resource: wgpu::BindingResource::TextureView(v),
+        })
+        .collect()
 }
 
 /// A view of the whole texture, labelled.
@@ -177,12 +205,7 @@ impl Targets {
             ]
             .map(|label| color_texture(device, label, width, height, usage));
             let views = [0, 1, 2].map(|i| labelled_view(&layers[i], "G-buffer view"));
-            let entries: Vec<_> = (0..3)
-                .map(|i| wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource: wgpu::BindingResource::TextureView(&views[i]),
-                })
-                .collect();
+            let entries = view_entries(&views, 0);
             let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("G-buffer bind group"),
                 layout: gbuffer_layout,

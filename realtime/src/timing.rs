@@ -93,13 +93,21 @@ pub struct Counters {
     pub texel_fetches_per_pixel: f64,
     /// Iterations of the shading loops (lights, emitters, quadrature samples).
     pub loop_iterations_per_pixel: f64,
+    /// Texel loads of the anti-aliasing passes after shading (MSAA resolve, FXAA, MLAA, TAA)
+    /// of the last frame, or None without such a pass.
+    #[serde(default)]
+    pub post_taps_per_pixel: Option<f64>,
 }
 
 impl Counters {
-    /// `0.0 texel fetches, 257.0 loop iterations per pixel`.
+    /// `0.0 texel fetches, 257.0 loop iterations per pixel` (`, 31.2 post-process taps` after
+    /// it when the method has such passes).
     pub fn summary(&self) -> String {
+        let taps = self
+            .post_taps_per_pixel
+            .map_or(String::new(), |t| format!(", {t:.1} post-process taps"));
         format!(
-            "{:.1} texel fetches, {:.1} loop iterations per pixel",
+            "{:.1} texel fetches, {:.1} loop iterations per pixel{taps}",
             self.texel_fetches_per_pixel, self.loop_iterations_per_pixel
         )
     }

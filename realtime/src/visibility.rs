@@ -15,7 +15,7 @@ use bytemuck::{Pod, Zeroable};
 use scenes::{Geometry, Scene};
 use wgpu::util::DeviceExt;
 
-use crate::targets::Targets;
+use crate::targets::{view_entries, Targets};
 
 /// Dimensions of one visibility chunk (WGSL `AovInfo`).
 #[repr(C)]
@@ -103,14 +103,7 @@ impl Chunk {
             .gbuffer_views
             .as_ref()
             .unwrap_or_else(|| unreachable!("the visibility AOV reads a G-buffer"));
-        let mut entries: Vec<_> = views
-            .iter()
-            .enumerate()
-            .map(|(i, v)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: wgpu::BindingResource::TextureView(v),
-            })
-            .collect();
+        let mut entries = view_entries(views, 0);
         entries.push(wgpu::BindGroupEntry {
             binding: 3,
             resource: output.as_entire_binding(),

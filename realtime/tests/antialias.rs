@@ -234,3 +234,34 @@ fn specular_aa_widens_the_lobe_by_the_normals_spread() {
         .fold(0f32, f32::max);
     assert!(worst < 1e-3, "variance 0 changed a pixel by {worst} (relative)");
 }
+
+/// The post-process taps (texel loads of the passes after shading) are counted in a rerun
+/// of the last frame's passes: none without such passes; exactly 3 outputs × 4 samples + the
+/// object id for the 4× MSAA resolve; FXAA's 5 loads where it finds no edge and more where it
+/// searches one; MLAA's three passes at least 8 per pixel.
+#[test]
+fn post_process_taps_are_counted() {
+    let taps = |name: &str, params: &[(&str, &str)]| {
+        renderer()
+            .render(&edges(), &settings(name, params).counters(true))
+            .unwrap_or_else(|e| panic!("{name}: {e}"))
+            .counters
+            .expect("counters were asked for")
+            .post_taps_per_pixel
+    };
+    assert_eq!(taps("aa_none", &[]), None);
+    assert_eq!(taps("aa_msaa", &[("samples", "4")]), Some(13.0));
+    let fxaa = taps("aa_fxaa", &[]).expect("FXAA taps");
+    let blind = taps("aa_fxaa", &[("edge_threshold", "1")]).expect("FXAA taps");
+    let mlaa = taps("aa_mlaa", &[]).expect("MLAA taps");
+    let taa = taps("aa_taa", &[("frames", "4")]).expect("TAA taps");
+    eprintln!("post-process taps per pixel: FXAA {fxaa:.1} (edge_threshold 1: {blind:.1}), MLAA {mlaa:.1}, TAA {taa:.1}");
+    assert!(
+        blind >= 5.0 && blind < fxaa,
+        "FXAA: {blind} (threshold 1) vs {fxaa}"
+    );
+    assert!(fxaa < 60.0, "FXAA: {fxaa}");
+    assert!(mlaa >= 8.0, "MLAA: {mlaa}");
+    // The current pixel, its depth, the bilinear history and the 3×3 neighbourhood.
+    assert!((13.0..=15.0).contains(&taa), "TAA: {taa}");
+}

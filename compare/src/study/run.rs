@@ -337,6 +337,7 @@ fn measure_variant(
             wall_ms: out.timing.wall_ms,
             texel_fetches_per_pixel: out.counters.map(|c| c.texel_fetches_per_pixel),
             loop_iterations_per_pixel: out.counters.map(|c| c.loop_iterations_per_pixel),
+            post_taps_per_pixel: out.counters.and_then(|c| c.post_taps_per_pixel),
             samples_per_pixel: realtime::render::samples_per_pixel(&settings),
             passes: out.timing.passes.clone(),
         },

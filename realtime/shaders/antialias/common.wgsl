@@ -1,6 +1,24 @@
 // Shared by the anti-aliasing passes after lighting (technique/antialias/): the full-screen
-// triangle, texel loads clamped to the image, bilinear interpolation of unfilterable targets
-// and the luma the edge detectors compare. No bindings: each pass declares its own.
+// triangle, texel loads clamped to the image, bilinear interpolation of unfilterable targets,
+// the luma the edge detectors compare, and the count of texel loads (the post-process taps,
+// a hardware-independent cost). Each pass declares its own inputs; binding 4 of every pass
+// is the tap counter.
+
+// Counts the taps into `tap_rows` (one counter per target row) when true: the counting pass
+// only (post.rs `AntiAliasPasses::count_taps`); the timed frames skip the atomics.
+override COUNT_TAPS: bool = false;
+
+@group(0) @binding(4) var<storage, read_write> tap_rows: array<atomic<u32>>;
+
+// Texel loads of the pixel being processed.
+var<private> taps: u32;
+
+// Adds the pixel's taps to its row's counter (under COUNT_TAPS). Call once, last.
+fn flush_taps(y: f32) {
+    if COUNT_TAPS {
+        atomicAdd(&tap_rows[u32(y)], taps);
+    }
+}
 
 // One triangle covering the target (vertices 0, 1, 2 → (−1, −1), (3, −1), (−1, 3)).
 @vertex
@@ -11,12 +29,14 @@ fn vs_post(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
 
 // Texel p of t, the nearest edge texel outside the image.
 fn load_clamped(t: texture_2d<f32>, p: vec2<i32>) -> vec4<f32> {
+    taps += 1u;
     let size = vec2<i32>(textureDimensions(t));
     return textureLoad(t, clamp(p, vec2<i32>(0), size - 1), 0);
 }
 
 // Texel p of t, zero outside the image.
 fn load_or_zero(t: texture_2d<f32>, p: vec2<i32>) -> vec4<f32> {
+    taps += 1u;
     let size = vec2<i32>(textureDimensions(t));
     if any(p < vec2<i32>(0)) || any(p >= size) {
         return vec4<f32>(0.0);

@@ -21,8 +21,7 @@ fn luma_at(p: vec2<i32>) -> f32 {
     return luma(load_clamped(src, p).rgb);
 }
 
-@fragment
-fn fs_fxaa(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+fn fxaa_pixel(frag: vec4<f32>) -> vec4<f32> {
     let p = vec2<i32>(frag.xy);
     let centre = load_clamped(src, p);
     let m = luma(centre.rgb);
@@ -93,4 +92,11 @@ fn fs_fxaa(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let edge_offset = select(0.0, 0.5 - min(d1, d2) / (d1 + d2), bends_here);
     let offset = max(edge_offset, sub_offset);
     return vec4<f32>(bilinear(src, frag.xy + across_dir * (side * offset)).rgb, centre.a);
+}
+
+@fragment
+fn fs_fxaa(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let out = fxaa_pixel(frag);
+    flush_taps(frag.y);
+    return out;
 }

@@ -15,8 +15,7 @@
 // that the single sample missed, and below the threshold.
 // post.p0 = (threshold, max_search, 0, 0).
 
-@fragment
-fn fs_mlaa_edges(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+fn mlaa_edges_pixel(frag: vec4<f32>) -> vec4<f32> {
     let p = vec2<i32>(frag.xy);
     let l = luma(load_clamped(src, p).rgb);
     let t = post.p0.x;
@@ -87,8 +86,7 @@ fn crossing(below: bool, above: bool, found: bool) -> f32 {
 
 // r: the share of the pixel above blended into this one; g: this pixel's share into the pixel
 // above; b, a: the same with the pixel on the left.
-@fragment
-fn fs_mlaa_weights(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+fn mlaa_weights_pixel(frag: vec4<f32>) -> vec4<f32> {
     let p = vec2<i32>(frag.xy);
     let max_search = i32(post.p0.y);
     var out = vec4<f32>(0.0);
@@ -131,8 +129,7 @@ fn fs_mlaa_weights(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32>
     return out;
 }
 
-@fragment
-fn fs_mlaa_blend(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+fn mlaa_blend_pixel(frag: vec4<f32>) -> vec4<f32> {
     let p = vec2<i32>(frag.xy);
     let own = load_or_zero(aux, p);
     // Shares of the four neighbours' colours in this pixel: from above and from the left by its
@@ -155,4 +152,25 @@ fn fs_mlaa_blend(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         + w.w * load_clamped(src, p + vec2<i32>(1, 0)).rgb;
     let kept = max(1.0 - total * scale, 0.0);
     return vec4<f32>(centre.rgb * kept + mixed * scale, centre.a);
+}
+
+@fragment
+fn fs_mlaa_edges(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let out = mlaa_edges_pixel(frag);
+    flush_taps(frag.y);
+    return out;
+}
+
+@fragment
+fn fs_mlaa_weights(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let out = mlaa_weights_pixel(frag);
+    flush_taps(frag.y);
+    return out;
+}
+
+@fragment
+fn fs_mlaa_blend(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let out = mlaa_blend_pixel(frag);
+    flush_taps(frag.y);
+    return out;
 }

@@ -23,11 +23,14 @@ fn fs_msaa_resolve(@builtin(position) frag: vec4<f32>) -> Resolved {
     var normal_depth = vec4<f32>(0.0);
     var albedo = vec3<f32>(0.0);
     for (var s = 0u; s < n; s += 1u) {
+        taps += 3u;
         color += textureLoad(ms_color, p, i32(s));
         normal_depth += textureLoad(ms_normal_depth, p, i32(s));
         albedo += textureLoad(ms_albedo_id, p, i32(s)).rgb;
     }
     let inv = 1.0 / f32(n);
     let id = textureLoad(ms_albedo_id, p, 0).w;
+    taps += 1u;
+    flush_taps(frag.y);
     return Resolved(color * inv, normal_depth * inv, vec4<f32>(albedo * inv, id));
 }

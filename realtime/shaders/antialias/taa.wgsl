@@ -44,8 +44,7 @@ fn clip_to_box(lo: vec3<f32>, hi: vec3<f32>, h: vec3<f32>) -> vec3<f32> {
     return select(h, centre + v / m, m > 1.0);
 }
 
-@fragment
-fn fs_taa(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+fn taa_pixel(frag: vec4<f32>) -> vec4<f32> {
     let p = vec2<i32>(frag.xy);
     let current = load_clamped(src, p);
     if post.p0.y > 0.5 {
@@ -92,4 +91,11 @@ fn fs_taa(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         }
     }
     return vec4<f32>(mix(h, current.rgb, post.p0.x), current.a);
+}
+
+@fragment
+fn fs_taa(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let out = taa_pixel(frag);
+    flush_taps(frag.y);
+    return out;
 }

@@ -21,7 +21,7 @@ use wgpu::util::DeviceExt;
 
 use super::{AntiAliasing, TaaClamp};
 use crate::gpu::COLOR_FORMAT;
-use crate::targets::Targets;
+use crate::targets::{cleared_attachments, view_entries, Targets};
 use crate::timestamps::Timestamps;
 
 const COMMON: &str = include_str!("../../../shaders/antialias/common.wgsl");
@@ -97,7 +97,22 @@ pub(crate) struct PostPipelines {
     pub(crate) resolve_layout: wgpu::BindGroupLayout,
     post_pipeline_layout: wgpu::PipelineLayout,
     resolve_pipeline_layout: wgpu::PipelineLayout,
-    cache: Mutex<HashMap<Entry, Arc<wgpu::RenderPipeline>>>,
+    /// By entry point and whether it counts its taps (`COUNT_TAPS`).
+    cache: Mutex<HashMap<(Entry, bool), Arc<wgpu::RenderPipeline>>>,
+}
+
+/// Binding 4 of every pass: the tap counters, one per target row.
+fn taps_entry() -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding: 4,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: false },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
 }
 
 fn texture_entry(binding: u32, multisampled: bool) -> wgpu::BindGroupLayoutEntry {
@@ -126,11 +141,13 @@ impl PostPipelines {
             },
             count: None,
         });
+        entries.push(taps_entry());
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("post-process bind group layout"),
             entries: &entries,
         });
-        let resolve_entries: Vec<_> = (0..3).map(|b| texture_entry(b, true)).collect();
+        let mut resolve_entries: Vec<_> = (0..3).map(|b| texture_entry(b, true)).collect();
+        resolve_entries.push(taps_entry());
         let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("MSAA resolve bind group layout"),
             entries: &resolve_entries,
@@ -151,13 +168,18 @@ impl PostPipelines {
         }
     }
 
-    /// The pipeline of `entry`, built on first use.
-    pub(crate) fn get(&self, device: &wgpu::Device, entry: Entry) -> Arc<wgpu::RenderPipeline> {
+    /// The pipeline of `entry`, counting its taps or not, built on first use.
+    fn get(&self, device: &wgpu::Device, entry: Entry, counting: bool) -> Arc<wgpu::RenderPipeline> {
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
         cache
-            .entry(entry)
+            .entry((entry, counting))
             .or_insert_with(|| {
-                let label = format!("anti-aliasing: {}", entry.fragment());
+                let label = format!("anti-aliasing: {} (counting {counting})", entry.fragment());
+                let constants = [("COUNT_TAPS", if counting { 1.0 } else { 0.0 })];
+                let options = wgpu::PipelineCompilationOptions {
+                    constants: &constants,
+                    zero_initialize_workgroup_memory: false,
+                };
                 let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                     label: Some(&label),
                     source: wgpu::ShaderSource::Wgsl(entry.source().into()),
@@ -178,7 +200,7 @@ impl PostPipelines {
                     vertex: wgpu::VertexState {
                         module: &module,
                         entry_point: Some("vs_post"),
-                        compilation_options: Default::default(),
+                        compilation_options: options.clone(),
                         buffers: &[],
                     },
                     primitive: wgpu::PrimitiveState::default(),
@@ -187,7 +209,7 @@ impl PostPipelines {
                     fragment: Some(wgpu::FragmentState {
                         module: &module,
                         entry_point: Some(entry.fragment()),
-                        compilation_options: Default::default(),
+                        compilation_options: options,
                         targets: &targets,
                     }),
                     multiview: None,
@@ -198,8 +220,9 @@ impl PostPipelines {
     }
 }
 
-/// One full-screen pass: its pipeline, inputs and target.
+/// One full-screen pass: its entry point and pipeline, inputs and target.
 struct PostPass {
+    entry: Entry,
     pipeline: Arc<wgpu::RenderPipeline>,
     bind_group: wgpu::BindGroup,
     target: wgpu::TextureView,
@@ -247,6 +270,7 @@ impl PostProcess {
         pipelines: &PostPipelines,
         aa: &AntiAliasing,
         targets: &Targets,
+        taps: &wgpu::Buffer,
     ) -> Option<PostProcess> {
         let (w, h) = (targets.width as f32, targets.height as f32);
         let p0 = match *aa {
@@ -282,17 +306,14 @@ impl PostProcess {
         });
         let colour = &targets.output_views[0];
         let group = |label: &str, inputs: [&wgpu::TextureView; 3]| {
-            let mut entries: Vec<_> = inputs
-                .iter()
-                .enumerate()
-                .map(|(i, v)| wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource: wgpu::BindingResource::TextureView(v),
-                })
-                .collect();
+            let mut entries = view_entries(inputs, 0);
             entries.push(wgpu::BindGroupEntry {
                 binding: 3,
                 resource: params.as_entire_binding(),
+            });
+            entries.push(wgpu::BindGroupEntry {
+                binding: 4,
+                resource: taps.as_entire_binding(),
             });
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some(label),
@@ -303,7 +324,8 @@ impl PostProcess {
         let result = image(device, "post-process result", targets);
         let result_view = view(&result);
         let pass = |entry, bind_group, target| PostPass {
-            pipeline: pipelines.get(device, entry),
+            entry,
+            pipeline: pipelines.get(device, entry, false),
             bind_group,
             target,
         };
@@ -366,6 +388,30 @@ impl PostProcess {
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
     }
 
+    /// Records the passes, each with the pipeline `pipeline_of` gives it, timed together as
+    /// one entry.
+    fn draw(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        label: &str,
+        queries: Option<(&Timestamps, u32)>,
+        pipeline_of: impl Fn(&PostPass) -> Arc<wgpu::RenderPipeline>,
+    ) {
+        let last = self.passes.len() - 1;
+        for (i, pass) in self.passes.iter().enumerate() {
+            let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(label),
+                color_attachments: &cleared_attachments([&pass.target]),
+                depth_stencil_attachment: None,
+                timestamp_writes: queries.and_then(|(q, k)| q.span_writes(k, i == 0, i == last)),
+                occlusion_query_set: None,
+            });
+            rp.set_pipeline(&pipeline_of(pass));
+            rp.set_bind_group(0, &pass.bind_group, &[]);
+            rp.draw(0..3, 0..1);
+        }
+    }
+
     /// Records the passes (timed together as one entry) and the copies of the result.
     fn encode(
         &self,
@@ -374,28 +420,7 @@ impl PostProcess {
         label: &str,
         queries: Option<(&Timestamps, u32)>,
     ) {
-        let last = self.passes.len() - 1;
-        for (i, pass) in self.passes.iter().enumerate() {
-            let attachment = wgpu::RenderPassColorAttachment {
-                view: &pass.target,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            };
-            let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some(label),
-                color_attachments: &[Some(attachment)],
-                depth_stencil_attachment: None,
-                timestamp_writes: queries.and_then(|(q, k)| q.span_writes(k, i == 0, i == last)),
-                occlusion_query_set: None,
-            });
-            rp.set_pipeline(&pass.pipeline);
-            rp.set_bind_group(0, &pass.bind_group, &[]);
-            rp.draw(0..3, 0..1);
-        }
+        self.draw(encoder, label, queries, |p| p.pipeline.clone());
         let size = wgpu::Extent3d {
             width: targets.width,
             height: targets.height,
@@ -424,23 +449,9 @@ impl Resolve {
         targets: &Targets,
         label: &str,
         queries: Option<(&Timestamps, u32)>,
+        pipeline: &wgpu::RenderPipeline,
     ) {
-        let ops = wgpu::Operations {
-            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-            store: wgpu::StoreOp::Store,
-        };
-        let color: Vec<_> = targets
-            .output_views
-            .iter()
-            .map(|view| {
-                Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops,
-                })
-            })
-            .collect();
+        let color = cleared_attachments(&targets.output_views);
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(label),
             color_attachments: &color,
@@ -448,7 +459,7 @@ impl Resolve {
             timestamp_writes: queries.map(|(q, k)| q.writes(k)),
             occlusion_query_set: None,
         });
-        rp.set_pipeline(&self.pipeline);
+        rp.set_pipeline(pipeline);
         rp.set_bind_group(0, &self.bind_group, &[]);
         rp.draw(0..3, 0..1);
     }
@@ -459,6 +470,8 @@ impl Resolve {
 pub(crate) struct AntiAliasPasses {
     resolve: Option<Resolve>,
     post: Option<PostProcess>,
+    /// Texel loads of the counting run, one counter per target row.
+    taps: wgpu::Buffer,
 }
 
 impl AntiAliasPasses {
@@ -469,20 +482,22 @@ impl AntiAliasPasses {
         aa: &AntiAliasing,
         targets: &Targets,
     ) -> AntiAliasPasses {
+        let taps = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("post-process taps (per target row)"),
+            size: 4 * u64::from(targets.height.max(1)),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         // Deferred MSAA needs no resolve: its lighting pass averages the samples.
         let forward_msaa = targets.msaa.as_ref().filter(|m| m.gbuffer_bind_group.is_none());
         let resolve = forward_msaa.map(|msaa| {
-            let entries: Vec<_> = msaa
-                .views
-                .iter()
-                .enumerate()
-                .map(|(i, v)| wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource: wgpu::BindingResource::TextureView(v),
-                })
-                .collect();
+            let mut entries = view_entries(&msaa.views, 0);
+            entries.push(wgpu::BindGroupEntry {
+                binding: 4,
+                resource: taps.as_entire_binding(),
+            });
             Resolve {
-                pipeline: pipelines.get(device, Entry::MsaaResolve),
+                pipeline: pipelines.get(device, Entry::MsaaResolve, false),
                 bind_group: device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("MSAA resolve inputs"),
                     layout: &pipelines.resolve_layout,
@@ -490,10 +505,35 @@ impl AntiAliasPasses {
                 }),
             }
         });
-        AntiAliasPasses {
-            resolve,
-            post: PostProcess::new(device, pipelines, aa, targets),
+        let post = PostProcess::new(device, pipelines, aa, targets, &taps);
+        AntiAliasPasses { resolve, post, taps }
+    }
+
+    /// Records the counting run: the resolve and the post-process once more, each pass
+    /// compiled with `COUNT_TAPS`, counting its texel loads into the buffer it returns (one u32
+    /// per target row) — without copying a result anywhere, so the image and TAA's history
+    /// stay as the last frame left them. None without any pass.
+    pub(crate) fn encode_tap_count(
+        &self,
+        device: &wgpu::Device,
+        pipelines: &PostPipelines,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &Targets,
+    ) -> Option<&wgpu::Buffer> {
+        if self.resolve.is_none() && self.post.is_none() {
+            return None;
         }
+        encoder.clear_buffer(&self.taps, 0, None);
+        if let Some(r) = &self.resolve {
+            let counting = pipelines.get(device, Entry::MsaaResolve, true);
+            r.encode(encoder, targets, "MSAA resolve (counting taps)", None, &counting);
+        }
+        if let Some(p) = &self.post {
+            p.draw(encoder, "post-process (counting taps)", None, |pass| {
+                pipelines.get(device, pass.entry, true)
+            });
+        }
+        Some(&self.taps)
     }
 
     /// Whether there is a resolve pass.
@@ -520,7 +560,7 @@ impl AntiAliasPasses {
         queries: Option<(&Timestamps, u32)>,
     ) {
         if let Some(r) = &self.resolve {
-            r.encode(encoder, targets, label, queries);
+            r.encode(encoder, targets, label, queries, &r.pipeline);
         }
     }
 
