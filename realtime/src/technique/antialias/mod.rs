@@ -16,8 +16,9 @@
 //! restore geometry thinner than a pixel that the sample missed (a wire, the tips of a star);
 //! FXAA and MLAA only blend across edges their luma threshold finds; MSAA shades once per pixel,
 //! so it does nothing for aliasing inside a surface (textures, highlights) nor for silhouettes
-//! the shader decides (the ray-traced analytic shapes' outlines, as alpha-tested geometry:
-//! MSAA's coverage is the proxy's); TAA converges to the box filter of a static view, but under
+//! the shader decides (a sphere's or a disk's outline, traced inside a bounding proxy, is
+//! alpha-tested geometry to MSAA: its coverage is the proxy's; a rectangle's proxy is the
+//! rectangle, so its edges are resolved like a mesh's); TAA converges to the box filter of a static view, but under
 //! motion the history it reprojects blurs and, where the view uncovers what was hidden, ghosts.
 
 pub mod post;
