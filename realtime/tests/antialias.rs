@@ -265,3 +265,46 @@ fn post_process_taps_are_counted() {
     // The current pixel, its depth, the bilinear history and the 3×3 neighbourhood.
     assert!((13.0..=15.0).contains(&taa), "TAA: {taa}");
 }
+
+/// MSAA's coverage is the rasterised proxy's: a rectangle's proxy is the rectangle, so its
+/// edges are resolved; a sphere is traced inside a bounding proxy, so its outline is decided
+/// per pixel like alpha-tested geometry and MSAA leaves it as one sample draws it.
+#[test]
+fn msaa_resolves_rectangle_edges_but_not_traced_sphere_outlines() {
+    let dir = std::env::temp_dir().join(format!("verity-msaa-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = |shape: &str| {
+        let path = dir.join("scene.toml");
+        let text = format!(
+            "[camera]\neye = [0.0, 0.0, 3.0]\ntarget = [0.0, 0.0, 0.0]\nfov = 40.0\n\n\
+             [film]\nwidth = 64\nheight = 64\n\n\
+             [[material]]\nname = \"black\"\ntype = \"diffuse\"\nalbedo = [0.0, 0.0, 0.0]\n\n\
+             [[shape]]\nname = \"lamp\"\nmaterial = \"black\"\nemission = {{ radiance = [1.0, 1.0, 1.0] }}\n{shape}\n"
+        );
+        std::fs::write(&path, text).unwrap();
+        scenes::load(&path).unwrap_or_else(|e| panic!("{e}"))
+    };
+    let sphere = scene("type = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 0.6");
+    let square = scene(
+        "type = \"rectangle\"\ncenter = [0.0, 0.0, 0.0]\nsize = [1.0, 1.0]\nnormal = [0.0, 0.0, 1.0]\n\
+         transform = [{ rotate = { axis = [0, 0, 1], angle = 17 } }]",
+    );
+    let differing = |s: &scenes::Scene| {
+        let one = rgb_id(&renderer().render(s, &settings("aa_none", &[])).unwrap()).0;
+        let msaa = rgb_id(&renderer().render(s, &settings("aa_msaa", &[])).unwrap()).0;
+        one.iter()
+            .zip(&msaa)
+            .filter(|(a, b)| (a[0] - b[0]).abs() > 1e-6)
+            .count()
+    };
+    let (on_sphere, on_square) = (differing(&sphere), differing(&square));
+    std::fs::remove_dir_all(&dir).ok();
+    assert_eq!(
+        on_sphere, 0,
+        "MSAA changed {on_sphere} pixels of a traced sphere's outline"
+    );
+    assert!(
+        on_square > 40,
+        "MSAA resolved only {on_square} pixels of a turned square's edges"
+    );
+}
