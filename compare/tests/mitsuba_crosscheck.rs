@@ -28,6 +28,7 @@ const CROSSCHECKED: &[&str] = &[
     "studies/scenes/distance-room-occluders",
     "studies/scenes/texture-plane",
     "studies/scenes/thin-edges",
+    "studies/scenes/shading-sphere",
 ];
 
 /// Built-in scenes Mitsuba cannot express, with a phrase of the refusal (README.md lists them).
@@ -196,6 +197,14 @@ fn envmap_study_scenes_agree() {
 #[test]
 fn texture_study_scene_agrees() {
     agrees("studies/scenes/texture-plane", Variant::LlvmAdRgb, 64, 256);
+}
+
+/// The shading-frequency scene: a glossy icosphere (a generated triangle mesh with the
+/// sphere's normals at its vertices, interpolated: Mitsuba's PLY mesh with vertex normals)
+/// under a point and an area light.
+#[test]
+fn shading_study_scene_agrees() {
+    agrees("studies/scenes/shading-sphere", Variant::LlvmAdRgb, 64, 256);
 }
 
 /// The anti-aliasing study's thin geometry (emissive boxes, as triangle meshes, over an

@@ -14,6 +14,7 @@ pub mod displacement;
 pub mod error;
 pub mod glob;
 pub mod gltf;
+pub mod icosphere;
 pub mod layered;
 pub mod model;
 pub mod pixel_filter;

@@ -242,3 +242,60 @@ fn sphere_takes_similarities() {
     assert_vec("centre", c, Vec3::Y);
     assert!((r - 1.5).abs() < 1e-6, "radius: expected 1.5, got {r}");
 }
+
+/// An icosphere is a closed mesh of 20·4^s triangles on the sphere, with the sphere's own
+/// normals at its vertices (or none: faceted), mapped by any transform; subdivisions beyond
+/// the limit and a normal map (it has no uvs) are errors at their fields.
+#[test]
+fn icosphere_is_a_closed_tessellated_sphere() {
+    let g = shape(
+        "ico-a",
+        "type = \"icosphere\"\ncenter = [1, 2, 3]\nradius = 0.5\nsubdivisions = 2",
+    );
+    let m = mesh(&g);
+    let c = Vec3::new(1.0, 2.0, 3.0);
+    assert_eq!((m.indices.len(), m.positions.len()), (320, 162));
+    assert!(m.uvs.is_empty());
+    for (p, n) in m.positions.iter().zip(&m.normals) {
+        assert!(
+            ((*p - c).length() - 0.5).abs() < 1e-5,
+            "vertex {p} off the sphere"
+        );
+        assert_vec("vertex normal", *n, (*p - c) / 0.5);
+    }
+    for &[a, b, k] in &m.indices {
+        let [p0, p1, p2] = [a, b, k].map(|i| m.positions[i as usize]);
+        assert!(
+            (p1 - p0).cross(p2 - p0).dot(p0 + p1 + p2 - 3.0 * c) > 0.0,
+            "a face points inward"
+        );
+    }
+    let faceted = shape(
+        "ico-b",
+        "type = \"icosphere\"\ncenter = [0, 0, 0]\nradius = 1\nsubdivisions = 0\nnormals = \"face\"\n\
+         transform = [{ scale = [-2, 1, 1] }]",
+    );
+    let f = mesh(&faceted);
+    assert!(f.normals.is_empty() && f.indices.len() == 20);
+    for &[a, b, k] in &f.indices {
+        let [p0, p1, p2] = [a, b, k].map(|i| f.positions[i as usize]);
+        assert!(
+            (p1 - p0).cross(p2 - p0).dot(p0 + p1 + p2) > 0.0,
+            "mirrored: a face points inward"
+        );
+    }
+    let dir = toml_support::scratch("ico-bad");
+    for (extra, want) in [
+        ("subdivisions = 8", "subdivisions"),
+        ("subdivisions = 1\nnormals = \"smooth\"", "normals"),
+        (
+            "subdivisions = 1\nnormal_map = { texture = \"n.png\" }",
+            "no texture coordinates",
+        ),
+    ] {
+        let text = toml_support::append(&format!(
+            "[[shape]]\nname = \"x\"\nmaterial = \"m\"\ntype = \"icosphere\"\ncenter = [0, 0, 0]\nradius = 1\n{extra}\n"
+        ));
+        toml_support::expect_error(toml_support::load_text(&dir, &text), &[want]);
+    }
+}

@@ -1,5 +1,5 @@
-//! `[[shape]]` tables → [`Shape`]s in world space: spheres, rectangles, disks and boxes
-//! (boxes become 12-triangle meshes). Triangle meshes come from glTF files (`[[include]]`).
+//! `[[shape]]` tables → [`Shape`]s in world space: spheres, rectangles, disks, boxes (which
+//! become 12-triangle meshes) and icospheres (tessellated spheres, [`crate::icosphere`]). Triangle meshes come from glTF files (`[[include]]`).
 //! Rectangles may be displaced (heightfield patches, [`super::displacement`]).
 
 use std::collections::HashMap;
@@ -14,7 +14,7 @@ use super::transform;
 use crate::model::{Displacement, Emission, Geometry, Mesh, Shape};
 use crate::SceneError;
 
-const TYPES: &[&str] = &["sphere", "rectangle", "disk", "box", "mesh"];
+const TYPES: &[&str] = &["sphere", "rectangle", "disk", "box", "icosphere", "mesh"];
 const COMMON: &[&str] = &[
     "name",
     "type",
@@ -84,6 +84,7 @@ fn read_one(
         "rectangle" => &["center", "half_u", "half_v", "size", "normal", "up"],
         "disk" => &["center", "half_u", "half_v", "radius", "size", "normal", "up"],
         "box" => &["center", "size"],
+        "icosphere" => &["center", "radius", "subdivisions", "normals"],
         _ => {
             return Err(type_field
                 .err("triangle meshes cannot be written in a scene file")
@@ -98,6 +99,11 @@ fn read_one(
         None => None,
     };
     let normal_map = match t.get("normal_map") {
+        Some(f) if kind == "icosphere" => {
+            return Err(f
+                .err("an icosphere has no texture coordinates for a normal map")
+                .hint("use a sphere, or a glTF mesh with uvs"))
+        }
         Some(f) => Some(normal_map(&f, textures)?),
         None => None,
     };
@@ -112,6 +118,7 @@ fn read_one(
     let geometry = match kind {
         "sphere" => sphere(t, m, emission.is_some())?,
         "rectangle" | "disk" => planar(t, kind, m)?,
+        "icosphere" => tessellated_sphere(t, m)?,
         _ => cuboid(t, m)?,
     };
     let shape = Shape {
@@ -352,6 +359,50 @@ fn cuboid(t: &Table, m: Option<(Affine3A, Field)>) -> Result<Geometry, SceneErro
         }
         None => box_mesh(center, size / 2.0, &Affine3A::IDENTITY),
     };
+    Ok(Geometry::Mesh(Arc::new(mesh)))
+}
+
+/// An icosphere: `center`, `radius`, `subdivisions` (0 to
+/// [`crate::icosphere::MAX_SUBDIVISIONS`]), `normals = "vertex"` (the sphere's own normal at
+/// each vertex, interpolated across the faces: smooth shading) or `"face"` (none: each face
+/// shades with its own normal). It has no texture coordinates, so no normal map (refused in
+/// `read_one` before its file is read).
+fn tessellated_sphere(t: &Table, m: Option<(Affine3A, Field)>) -> Result<Geometry, SceneError> {
+    use crate::icosphere::{unit_icosphere, MAX_SUBDIVISIONS};
+    let center = t.req("center")?.position()?;
+    let radius = t.req("radius")?.positive()?;
+    let subdivisions = t.req("subdivisions")?.int_in(0, i64::from(MAX_SUBDIVISIONS))? as u32;
+    let smooth = match t.get("normals") {
+        Some(f) => f.keyword(&["vertex", "face"])? == "vertex",
+        None => true,
+    };
+    let (unit, triangles) = unit_icosphere(subdivisions);
+    let (matrix, field) = match m {
+        Some((m, f)) => (m, Some(f)),
+        None => (Affine3A::IDENTITY, None),
+    };
+    let flip = matrix.matrix3.determinant() < 0.0;
+    let normal_matrix = matrix.matrix3.inverse().transpose();
+    let mesh = Mesh {
+        positions: unit
+            .iter()
+            .map(|&d| matrix.transform_point3(center + d * radius))
+            .collect(),
+        normals: if smooth {
+            unit.iter().map(|&d| (normal_matrix * d).normalize()).collect()
+        } else {
+            Vec::new()
+        },
+        uvs: Vec::new(),
+        tangents: Vec::new(),
+        indices: triangles
+            .into_iter()
+            .map(|[a, b, c]| if flip { [a, c, b] } else { [a, b, c] })
+            .collect(),
+    };
+    if let Some(f) = field {
+        finite(&f, &mesh.positions)?;
+    }
     Ok(Geometry::Mesh(Arc::new(mesh)))
 }
 
