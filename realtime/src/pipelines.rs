@@ -60,7 +60,7 @@ pub use crate::gpu::{COLOR_FORMAT, DEPTH_FORMAT};
 
 /// The WGSL sources in dependency order; WGSL has no includes, so they form one module, with
 /// `counters_on.wgsl` or `counters_off.wgsl` appended.
-const SHADER_SOURCES: [(&str, &str); 32] = [
+const SHADER_SOURCES: [(&str, &str); 33] = [
     ("common.wgsl", include_str!("../shaders/common.wgsl")),
     ("texture.wgsl", include_str!("../shaders/texture.wgsl")),
     ("surface.wgsl", include_str!("../shaders/surface.wgsl")),
@@ -153,6 +153,10 @@ const SHADER_SOURCES: [(&str, &str); 32] = [
     ),
     ("shade.wgsl", include_str!("../shaders/shade.wgsl")),
     ("passes.wgsl", include_str!("../shaders/passes.wgsl")),
+    (
+        "shading/vertex.wgsl",
+        include_str!("../shaders/shading/vertex.wgsl"),
+    ),
 ];
 
 /// The whole shader module's source, with or without the cost counters, for the texture
@@ -256,8 +260,9 @@ impl Stage {
 /// Cache key: the pipeline, the area method, the shadow, detail and environment-mapping
 /// methods' WGSL codes, the texture filter's
 /// ([`crate::technique::texture::TextureFilter::pipeline_code`]), whether it is the counting
-/// variant, its sample count (MSAA), its specular anti-aliasing (WGSL `SPECULAR_AA`).
-type Key = (Stage, AreaMethod, u32, u32, u32, u32, bool, u32, u32);
+/// variant, its sample count (MSAA), its specular anti-aliasing (WGSL `SPECULAR_AA`) and its
+/// shading frequency (WGSL `SHADING_FREQUENCY`).
+type Key = (Stage, AreaMethod, u32, u32, u32, u32, bool, u32, u32, u32);
 
 /// Layouts, the shader module and the pipeline cache.
 pub struct Pipelines {
@@ -283,10 +288,16 @@ pub struct Pipelines {
     cache: Mutex<HashMap<Key, Arc<wgpu::RenderPipeline>>>,
 }
 
+/// A storage buffer: read-only ones are visible to the vertex stage too (the vertex-lit
+/// shading frequencies shade there), writable ones to fragments only.
 fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
+        visibility: if read_only {
+            wgpu::ShaderStages::VERTEX_FRAGMENT
+        } else {
+            wgpu::ShaderStages::FRAGMENT
+        },
         ty: wgpu::BindingType::Buffer {
             ty: wgpu::BufferBindingType::Storage { read_only },
             has_dynamic_offset: false,
@@ -342,7 +353,8 @@ fn pipeline_layout(
 
 /// Group 2: the shadow maps (a depth array) with their comparison samplers (shadow/maps.rs).
 fn shadow_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let fragment = wgpu::ShaderStages::FRAGMENT;
+    // The vertex-lit shading frequencies shade in the vertex stage too.
+    let shading = wgpu::ShaderStages::VERTEX_FRAGMENT;
     let comparison = wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison);
     bind_group_layout(
         device,
@@ -350,26 +362,27 @@ fn shadow_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         &[
             layout_entry(
                 0,
-                fragment,
+                shading,
                 wgpu::BindingType::Texture {
                     sample_type: wgpu::TextureSampleType::Depth,
                     view_dimension: wgpu::TextureViewDimension::D2Array,
                     multisampled: false,
                 },
             ),
-            layout_entry(1, fragment, comparison),
-            layout_entry(2, fragment, comparison),
+            layout_entry(1, shading, comparison),
+            layout_entry(2, shading, comparison),
         ],
     )
 }
 
 /// Group 3: the environment maps (envmap/build.rs `bind_maps` lists what each binding holds).
 fn envmap_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
-    let fragment = wgpu::ShaderStages::FRAGMENT;
+    // The vertex-lit shading frequencies shade in the vertex stage too.
+    let shading = wgpu::ShaderStages::VERTEX_FRAGMENT;
     let texture = |binding, view_dimension| {
         layout_entry(
             binding,
-            fragment,
+            shading,
             wgpu::BindingType::Texture {
                 sample_type: wgpu::TextureSampleType::Float { filterable: true },
                 view_dimension,
@@ -389,11 +402,11 @@ fn envmap_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             texture(3, array),
             layout_entry(
                 4,
-                fragment,
+                shading,
                 wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
             ),
             storage_entry(5, true),
-            layout_entry(6, fragment, uniform_type()),
+            layout_entry(6, shading, uniform_type()),
             texture(7, cube),
             texture(8, wgpu::TextureViewDimension::CubeArray),
         ],
@@ -404,7 +417,6 @@ impl Pipelines {
     /// Compiles the shader module (validation errors come back from the caller's error scope).
     pub fn new(device: &wgpu::Device) -> Pipelines {
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
-        let fragment = wgpu::ShaderStages::FRAGMENT;
         let mut scene_entries = vec![layout_entry(0, vf, uniform_type())];
         scene_entries.extend((1..=6).map(|b| storage_entry(b, true)));
         scene_entries.push(storage_entry(7, false));
@@ -413,7 +425,7 @@ impl Pipelines {
         // `tex_anisotropic`'s texture array and its samplers (repeat, clamp, mirror).
         scene_entries.push(layout_entry(
             9,
-            fragment,
+            vf,
             wgpu::BindingType::Texture {
                 sample_type: wgpu::TextureSampleType::Float { filterable: true },
                 view_dimension: wgpu::TextureViewDimension::D2Array,
@@ -423,7 +435,7 @@ impl Pipelines {
         scene_entries.extend((10..13).map(|b| {
             layout_entry(
                 b,
-                fragment,
+                vf,
                 wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
             )
         }));
@@ -432,7 +444,7 @@ impl Pipelines {
             .map(|b| {
                 layout_entry(
                     b,
-                    fragment,
+                    vf,
                     wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Float { filterable: false },
                         view_dimension: wgpu::TextureViewDimension::D2,
@@ -446,7 +458,7 @@ impl Pipelines {
             .map(|b| {
                 layout_entry(
                     b,
-                    fragment,
+                    vf,
                     wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Float { filterable: false },
                         view_dimension: wgpu::TextureViewDimension::D2,
@@ -462,7 +474,7 @@ impl Pipelines {
         );
         let mut aov_entries = gbuffer_entries.clone();
         aov_entries.push(storage_entry(3, false));
-        aov_entries.push(layout_entry(4, fragment, uniform_type()));
+        aov_entries.push(layout_entry(4, vf, uniform_type()));
         let aov_layout = bind_group_layout(device, "visibility AOV bind group layout", &aov_entries);
         let shadow_layout = shadow_group_layout(device);
         let envmap_layout = envmap_group_layout(device);
@@ -570,7 +582,7 @@ impl Pipelines {
     ) -> Arc<wgpu::RenderPipeline> {
         let texture = method.texture_filter().pipeline_code();
         let key = if stage.is_shadow() {
-            (stage, AreaMethod::Quadrature, 0, 0, 0, 0, false, 1, 0)
+            (stage, AreaMethod::Quadrature, 0, 0, 0, 0, false, 1, 0, 0)
         } else if stage.shades() {
             (
                 stage,
@@ -582,6 +594,7 @@ impl Pipelines {
                 counters,
                 samples,
                 method.antialias.map_or(0, |a| a.specular_code()),
+                method.shading_code(),
             )
         } else {
             (
@@ -593,6 +606,7 @@ impl Pipelines {
                 texture,
                 counters,
                 samples,
+                0,
                 0,
             )
         };
@@ -625,19 +639,22 @@ impl Pipelines {
     fn build(
         &self,
         device: &wgpu::Device,
-        (stage, method, shadow, detail, envmap, texture, counters, samples, specular): Key,
+        (stage, method, shadow, detail, envmap, texture, counters, samples, specular, shading): Key,
     ) -> wgpu::RenderPipeline {
         // Under deferred MSAA the lighting pass reads `samples` G-buffer samples per pixel
         // and writes one: its own pipeline is single-sampled.
         let msaa_lighting = stage == Stage::Lighting && samples > 1;
+        // Vertex-lit shading frequencies light the forward pass's meshes in the vertex stage.
         let (vs, fs) = if msaa_lighting {
             ("vs_fullscreen", "fs_lighting_msaa")
+        } else if stage == Stage::ForwardMesh && shading != 0 {
+            ("vs_mesh_vertex_lit", "fs_mesh_vertex_lit")
         } else {
             stage.entry_points()
         };
         let label = format!(
             "{vs}/{fs} ({method:?}, shadow method {shadow}, detail method {detail}, environment map {envmap}, \
-             texture filter {texture:#x}, counters {counters}, {samples} samples, specular AA {specular})"
+             texture filter {texture:#x}, counters {counters}, {samples} samples, specular AA {specular}, shading frequency {shading})"
         );
         let constants = [
             ("AREA_METHOD", f64::from(method.shader_code())),
@@ -647,6 +664,7 @@ impl Pipelines {
             ("TEXTURE_FILTER", f64::from(texture & 0xff)),
             ("TEXTURE_DERIVATIVES", f64::from(texture >> 8)),
             ("SPECULAR_AA", f64::from(specular)),
+            ("SHADING_FREQUENCY", f64::from(shading)),
         ];
         let module = &*self.module(device, counters, texture & 0xff);
         let options = wgpu::PipelineCompilationOptions {

@@ -107,6 +107,12 @@ impl RasterSettings {
                 ));
             }
         }
+        if m.shading_code() != 0 && self.pipeline != PipelineKind::Forward {
+            return bad(format!(
+                "method {m}: vertex lighting runs in the forward pass's vertex stage; the deferred pipeline lights \
+                 every pixel of its G-buffer"
+            ));
+        }
         let analytic = crate::technique::texture::Derivatives::Analytic;
         if m.texture_filter().derivatives == analytic && self.pipeline != PipelineKind::Forward {
             return bad(format!(

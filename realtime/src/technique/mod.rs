@@ -10,6 +10,7 @@
 //! | environment mapping | [`envmap`] | `envmap_cube`, `envmap_sphere`, `envmap_paraboloid` | `direct` with the reflector's exact reflection |
 //! | distance impostors | [`distance_impostor`] | `distance_impostor`, `distance_search` | as environment mapping |
 //! | texture filtering | [`texture`] | `tex_nearest` … `tex_anisotropic` (9) | the pixel's box filter over level 0 |
+//! | shading frequency | [`shading`] | `shading_phong`, `shading_gouraud`, `shading_flat` | `direct-unshadowed` of the same mesh |
 //! | anti-aliasing | [`antialias`] | `aa_none`, `aa_ssaa`, `aa_msaa`, `aa_fxaa`, `aa_mlaa`, `aa_taa` | the pixel's box filter |
 //!
 //! Every method takes [`COMMON`]'s `n` (N×N quadrature of each area light and sun disk; not
@@ -24,6 +25,7 @@ pub mod detail;
 pub mod distance_impostor;
 pub mod envmap;
 pub mod param;
+pub mod shading;
 pub mod shadow;
 pub mod texture;
 
@@ -35,6 +37,7 @@ use detail::Detail;
 use envmap::localization::Localization;
 use envmap::EnvMapping;
 use param::{spec_named, Kind, MethodSpec, Param, Value};
+use shading::ShadingFrequency;
 use shadow::Shadow;
 use texture::TextureFilter;
 
@@ -62,6 +65,8 @@ pub struct Method {
     /// The anti-aliasing of an `aa_*` method, or None: one sample at each pixel's centre
     /// (the raster's `ssaa` apart).
     pub antialias: Option<AntiAliasing>,
+    /// The shading frequency of a `shading_*` method, or None: per pixel.
+    pub shading: Option<ShadingFrequency>,
 }
 
 impl Default for Method {
@@ -76,6 +81,7 @@ impl Default for Method {
             envmap: None,
             texture: None,
             antialias: None,
+            shading: None,
         }
     }
 }
@@ -156,19 +162,22 @@ pub enum Family {
     DistanceImpostor,
     /// [`texture`].
     Texture,
+    /// [`shading`].
+    Shading,
     /// [`antialias`].
     AntiAliasing,
 }
 
 impl Family {
     /// Every family, in the order the docs list them.
-    pub const ALL: [Family; 7] = [
+    pub const ALL: [Family; 8] = [
         Family::Area,
         Family::Shadow,
         Family::Detail,
         Family::EnvMap,
         Family::DistanceImpostor,
         Family::Texture,
+        Family::Shading,
         Family::AntiAliasing,
     ];
 
@@ -181,6 +190,7 @@ impl Family {
             Family::EnvMap => "Environment mapping",
             Family::DistanceImpostor => "Distance impostors",
             Family::Texture => "Texture filtering",
+            Family::Shading => "Shading frequency",
             Family::AntiAliasing => "Anti-aliasing",
         }
     }
@@ -204,6 +214,7 @@ impl Family {
             Family::EnvMap => infos(envmap::METHODS),
             Family::DistanceImpostor => infos(distance_impostor::METHODS),
             Family::Texture => infos(texture::METHODS),
+            Family::Shading => infos(shading::METHODS),
             Family::AntiAliasing => infos(antialias::METHODS),
         }
     }
@@ -212,7 +223,7 @@ impl Family {
     /// family's first method).
     fn shared_rows(self) -> Vec<Row> {
         match self {
-            Family::Area | Family::Texture | Family::AntiAliasing => Vec::new(),
+            Family::Area | Family::Texture | Family::Shading | Family::AntiAliasing => Vec::new(),
             Family::Shadow => shadow::COMMON.iter().map(Row::Shadow).collect(),
             Family::Detail => detail::COMMON.iter().map(Row::Detail).collect(),
             Family::EnvMap | Family::DistanceImpostor => envmap::COMMON
@@ -362,6 +373,12 @@ impl Method {
         if let Some(s) = spec_named(antialias::METHODS, name) {
             return Some(Method::antialiased((s.default)()));
         }
+        if let Some(s) = spec_named(shading::METHODS, name) {
+            return Some(Method {
+                shading: Some((s.default)()),
+                ..Method::quadrature_8()
+            });
+        }
         spec_named(envmap::METHODS, name)
             .or_else(|| spec_named(distance_impostor::METHODS, name))
             .map(|s| Method::environment_mapped((s.default)()))
@@ -395,6 +412,7 @@ impl Method {
             envmap: None,
             texture: None,
             antialias: None,
+            shading: None,
         }
     }
 
@@ -541,6 +559,9 @@ impl Method {
 
     /// The method's name.
     pub fn name(&self) -> &'static str {
+        if let Some(s) = self.shading {
+            return s.spec().name;
+        }
         if let Some(a) = &self.antialias {
             return a.spec().name;
         }
@@ -557,6 +578,11 @@ impl Method {
             (Some(s), _) => s.technique.name(),
             (None, area) => area::METHODS[area.shader_code() as usize].name,
         }
+    }
+
+    /// WGSL `SHADING_FREQUENCY` (0: per pixel).
+    pub fn shading_code(&self) -> u32 {
+        self.shading.map_or(0, |s| s.shader_code())
     }
 
     /// The WGSL `SHADOW_METHOD` of this method (0: unshadowed).
@@ -785,6 +811,7 @@ pub fn wgsl_codes() -> String {
     family(&mut s, "DETAIL_", Some("FLAT"), detail::METHODS);
     family(&mut s, "ENVMAP_", Some("NONE"), envmap::METHODS);
     family(&mut s, "TEX_", None, texture::METHODS);
+    family(&mut s, "SHADING_", None, shading::METHODS);
     s
 }
 
@@ -854,7 +881,7 @@ mod tests {
             codes,
             [
                 0, 0, 1, 2, 3, 4, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-                0, 0, 0, 0, 0, 0
+                0, 0, 0, 0, 0, 0, 0, 0, 0
             ]
         );
     }
