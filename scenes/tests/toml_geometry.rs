@@ -299,3 +299,24 @@ fn icosphere_is_a_closed_tessellated_sphere() {
         toml_support::expect_error(toml_support::load_text(&dir, &text), &[want]);
     }
 }
+
+/// A generated mesh whose sides vanish in f32 where it stands (found by the hostile-input
+/// mutations: a 5 mm box moved 4.3·10⁹ m out) is an error at its size field, not a mesh of
+/// zero area that the renderers would refuse later without a line.
+#[test]
+fn a_box_too_small_for_its_position_is_an_error() {
+    let dir = toml_support::scratch("box-collapsed");
+    for (shape, want) in [
+        (
+            "type = \"box\"\ncenter = [4294967296, 4294967296, 4294967296]\nsize = [0.02, 0.005, 0.02]",
+            "field `shape \"x\".size`",
+        ),
+        (
+            "type = \"icosphere\"\ncenter = [4294967296, 4294967296, 4294967296]\nradius = 0.001\nsubdivisions = 1",
+            "field `shape \"x\".radius`",
+        ),
+    ] {
+        let text = toml_support::append(&format!("[[shape]]\nname = \"x\"\nmaterial = \"m\"\n{shape}\n"));
+        toml_support::expect_error(toml_support::load_text(&dir, &text), &[want, "zero area"]);
+    }
+}

@@ -359,7 +359,28 @@ fn cuboid(t: &Table, m: Option<(Affine3A, Field)>) -> Result<Geometry, SceneErro
         }
         None => box_mesh(center, size / 2.0, &Affine3A::IDENTITY),
     };
+    not_collapsed(&sf, &mesh, "box")?;
     Ok(Geometry::Mesh(Arc::new(mesh)))
+}
+
+/// Fails when every triangle of a generated mesh has zero area in f32: sides too small for
+/// the coordinates' precision where the shape stands (a 5 mm side 4·10⁹ m from the origin),
+/// or a transform that flattens it. `f` is the size field to blame.
+fn not_collapsed(f: &Field, mesh: &Mesh, kind: &str) -> Result<(), SceneError> {
+    let area: f64 = mesh
+        .indices
+        .iter()
+        .map(|&[a, b, c]| {
+            let [p0, p1, p2] = [a, b, c].map(|i| mesh.positions[i as usize].as_dvec3());
+            (p1 - p0).cross(p2 - p0).length()
+        })
+        .sum();
+    if area > 0.0 && area.is_finite() {
+        return Ok(());
+    }
+    Err(f
+        .err(format!("the {kind} has zero area: its vertices coincide in f32 where it stands"))
+        .hint("its sides are below the coordinates' precision there (about 1e-7 of the distance from the origin), or its transform flattens it"))
 }
 
 /// An icosphere: `center`, `radius`, `subdivisions` (0 to
@@ -403,6 +424,7 @@ fn tessellated_sphere(t: &Table, m: Option<(Affine3A, Field)>) -> Result<Geometr
     if let Some(f) = field {
         finite(&f, &mesh.positions)?;
     }
+    not_collapsed(&t.req("radius")?, &mesh, "icosphere")?;
     Ok(Geometry::Mesh(Arc::new(mesh)))
 }
 
