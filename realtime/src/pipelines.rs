@@ -320,6 +320,23 @@ fn layout_entry(
     }
 }
 
+/// A 2D texture of unfilterable floats (the Rgba32Float targets: read with textureLoad).
+pub(crate) fn unfilterable_texture(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    multisampled: bool,
+) -> wgpu::BindGroupLayoutEntry {
+    layout_entry(
+        binding,
+        visibility,
+        wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled,
+        },
+    )
+}
+
 fn uniform_type() -> wgpu::BindingType {
     wgpu::BindingType::Buffer {
         ty: wgpu::BufferBindingType::Uniform,
@@ -440,33 +457,9 @@ impl Pipelines {
             )
         }));
         let scene_layout = bind_group_layout(device, "scene bind group layout", &scene_entries);
-        let gbuffer_entries: Vec<_> = (0..3)
-            .map(|b| {
-                layout_entry(
-                    b,
-                    vf,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                )
-            })
-            .collect();
+        let gbuffer_entries: Vec<_> = (0..3).map(|b| unfilterable_texture(b, vf, false)).collect();
         let gbuffer_layout = bind_group_layout(device, "G-buffer bind group layout", &gbuffer_entries);
-        let gbuffer_msaa_entries: Vec<_> = (3..6)
-            .map(|b| {
-                layout_entry(
-                    b,
-                    vf,
-                    wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: true,
-                    },
-                )
-            })
-            .collect();
+        let gbuffer_msaa_entries: Vec<_> = (3..6).map(|b| unfilterable_texture(b, vf, true)).collect();
         let gbuffer_msaa_layout = bind_group_layout(
             device,
             "multisampled G-buffer bind group layout",

@@ -21,6 +21,9 @@ use wgpu::util::DeviceExt;
 
 use super::{AntiAliasing, TaaClamp};
 use crate::gpu::COLOR_FORMAT;
+use crate::pipelines::unfilterable_texture;
+
+const FRAGMENT: wgpu::ShaderStages = wgpu::ShaderStages::FRAGMENT;
 use crate::targets::{cleared_attachments, view_entries, Targets};
 use crate::timestamps::Timestamps;
 
@@ -115,22 +118,9 @@ fn taps_entry() -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-fn texture_entry(binding: u32, multisampled: bool) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled,
-        },
-        count: None,
-    }
-}
-
 impl PostPipelines {
     pub(crate) fn new(device: &wgpu::Device) -> PostPipelines {
-        let mut entries: Vec<_> = (0..3).map(|b| texture_entry(b, false)).collect();
+        let mut entries: Vec<_> = (0..3).map(|b| unfilterable_texture(b, FRAGMENT, false)).collect();
         entries.push(wgpu::BindGroupLayoutEntry {
             binding: 3,
             visibility: wgpu::ShaderStages::FRAGMENT,
@@ -146,7 +136,7 @@ impl PostPipelines {
             label: Some("post-process bind group layout"),
             entries: &entries,
         });
-        let mut resolve_entries: Vec<_> = (0..3).map(|b| texture_entry(b, true)).collect();
+        let mut resolve_entries: Vec<_> = (0..3).map(|b| unfilterable_texture(b, FRAGMENT, true)).collect();
         resolve_entries.push(taps_entry());
         let resolve_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("MSAA resolve bind group layout"),
