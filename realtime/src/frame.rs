@@ -6,11 +6,11 @@
 
 use std::sync::Arc;
 
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 use scenes::{Camera, Scene};
 use wgpu::util::DeviceExt;
 
-use crate::camera::camera_near;
+use crate::camera::{camera_near, view_proj};
 use crate::gpu_types::{vec4, FrameUniforms};
 use crate::pipelines::Stage;
 use crate::settings::RasterSettings;
@@ -109,20 +109,6 @@ impl Frame {
         let uniforms = frame_uniforms(scene, camera, jitter, sg, settings, k);
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&uniforms));
     }
-}
-
-/// The view-projection of `camera` on a `w`×`h` film (reversed-Z, infinite far plane, near
-/// plane `near`), its image moved by `jitter` pixels (x right, y down).
-pub(crate) fn view_proj(camera: &Camera, w: u32, h: u32, near: f32, jitter: Vec2) -> Mat4 {
-    let aspect = w as f32 / h as f32;
-    let proj = Mat4::perspective_infinite_reverse_rh(camera.fov_y_deg.to_radians(), aspect, near);
-    // NDC spans the film's 2 units over W (x, up) and H (y, down) pixels.
-    let shift = Mat4::from_translation(Vec3::new(
-        2.0 * jitter.x / w as f32,
-        -2.0 * jitter.y / h as f32,
-        0.0,
-    ));
-    shift * proj * Mat4::from(camera.to_world.inverse())
 }
 
 /// The camera and counts for a k·W × k·H target (docs/ARCHITECTURE.md "Camera": the projection of

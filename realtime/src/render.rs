@@ -15,8 +15,6 @@ use scenes::layered::LayeredImage;
 use scenes::Scene;
 
 use crate::camera::camera_near;
-use crate::frame::view_proj;
-use crate::gpu_types::vec4;
 
 use crate::error::RasterError;
 use crate::frame::{encode_passes, Frame, Pass, ShadingGroups};
@@ -26,7 +24,7 @@ use crate::pipelines::PipelineKind;
 use crate::pipelines::{Pipelines, Stage};
 use crate::settings::RasterSettings;
 use crate::targets::{MultisampledOutputs, Targets};
-use crate::technique::antialias::post::{AntiAliasPasses, PostParams, PostPipelines};
+use crate::technique::antialias::post::{AntiAliasPasses, PostPipelines};
 use crate::technique::antialias::{taa, AntiAliasing};
 use crate::technique::detail::ConeCache;
 use crate::technique::envmap::build::EnvMapBuilder;
@@ -135,9 +133,7 @@ impl Renderer {
 
         let timing = match (&aa, aa_passes.post()) {
             (AntiAliasing::Taa { frames, jitter, .. }, Some(post)) => {
-                let (w, h) = (settings.width, settings.height);
                 let near = camera_near(scene);
-                let tan = (scene.camera.fov_y_deg.to_radians() * 0.5).tan();
                 let view = |i: u32| {
                     let camera = taa::camera(&aa, &scene.camera, i);
                     frame.set_view(
@@ -150,16 +146,8 @@ impl Renderer {
                         k,
                     );
                     let previous = taa::camera(&aa, &scene.camera, i.saturating_sub(1));
-                    post.set_frame(&self.gpu.queue, i == 0, |p: &mut PostParams| {
-                        let m = camera.to_world.matrix3;
-                        p.prev_view_proj = view_proj(&previous, w, h, near, Vec2::ZERO).to_cols_array_2d();
-                        p.cam_pos = vec4(camera.position(), near);
-                        p.cam_x = vec4(m.x_axis.into(), 0.0);
-                        p.cam_y = vec4(m.y_axis.into(), 0.0);
-                        p.cam_z = vec4(m.z_axis.into(), 0.0);
-                        p.cam_forward = vec4(camera.forward(), 0.0);
-                        p.film = [w as f32, h as f32, tan, w as f32 / h as f32];
-                    });
+                    let film = (settings.width, settings.height);
+                    post.set_taa_frame(&self.gpu.queue, i == 0, &camera, &previous, film, near);
                 };
                 // Warm-up frames are the sequence's first frame, each starting the history anew.
                 let frames = (settings.warmup_frames, *frames);

@@ -17,10 +17,14 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 use bytemuck::{Pod, Zeroable};
+use glam::Vec2;
+use scenes::Camera;
 use wgpu::util::DeviceExt;
 
 use super::{AntiAliasing, TaaClamp};
+use crate::camera::view_proj;
 use crate::gpu::COLOR_FORMAT;
+use crate::gpu_types::vec4;
 use crate::pipelines::unfilterable_texture;
 
 const FRAGMENT: wgpu::ShaderStages = wgpu::ShaderStages::FRAGMENT;
@@ -369,12 +373,40 @@ impl PostProcess {
         })
     }
 
-    /// Writes TAA's per-frame parameters: whether this is the first frame (no history yet) and
-    /// the cameras (`view` fills the camera fields and `prev_view_proj`).
-    pub(crate) fn set_frame(&self, queue: &wgpu::Queue, first: bool, view: impl FnOnce(&mut PostParams)) {
-        let mut p = self.base;
-        p.p0[1] = if first { 1.0 } else { 0.0 };
-        view(&mut p);
+    /// Writes TAA's parameters for one frame seen from `camera` after `previous` (the
+    /// previous frame's, unjittered) on a `w`×`h` film with near plane `near`; `first`: no
+    /// history yet.
+    pub(crate) fn set_taa_frame(
+        &self,
+        queue: &wgpu::Queue,
+        first: bool,
+        camera: &Camera,
+        previous: &Camera,
+        (w, h): (u32, u32),
+        near: f32,
+    ) {
+        let m = camera.to_world.matrix3;
+        let p = PostParams {
+            p0: [
+                self.base.p0[0],
+                if first { 1.0 } else { 0.0 },
+                self.base.p0[2],
+                self.base.p0[3],
+            ],
+            prev_view_proj: view_proj(previous, w, h, near, Vec2::ZERO).to_cols_array_2d(),
+            cam_pos: vec4(camera.position(), near),
+            cam_x: vec4(m.x_axis.into(), 0.0),
+            cam_y: vec4(m.y_axis.into(), 0.0),
+            cam_z: vec4(m.z_axis.into(), 0.0),
+            cam_forward: vec4(camera.forward(), 0.0),
+            film: [
+                w as f32,
+                h as f32,
+                (camera.fov_y_deg.to_radians() * 0.5).tan(),
+                w as f32 / h as f32,
+            ],
+            ..self.base
+        };
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&p));
     }
 
