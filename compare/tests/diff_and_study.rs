@@ -791,3 +791,119 @@ fn dry_runs_print_the_plan_and_check_the_memory_budget() {
         "{stdout}"
     );
 }
+
+/// A `[second_ground_truth]` is read with its own edits, refused where it cannot be compared
+/// (another camera, a bound on it without it, edits that break its scene), and measured: the
+/// study's scene itself as the second gives exactly the first's metrics, a changed material
+/// gives others, and a bound on it is checked like any other.
+#[test]
+fn a_second_ground_truth_is_read_checked_and_measured() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/studies/test-bad.toml");
+    let with = |table: &str| GOOD.replace("[[method]]", &format!("{table}\n[[method]]"));
+    let brighter = "[second_ground_truth]\nname = \"brighter walls\"\nscene_set = { \"material.white.albedo\" = [0.9, 0.9, 0.9] }";
+    let s = compare::study::load_str(&with(brighter), &path).unwrap();
+    let second = s.second_ground_truth.as_ref().unwrap();
+    assert_eq!(second.name, "brighter walls");
+    assert!(second.follows_scene_sweep);
+    let point = &s.scene_points()[0];
+    assert_eq!(second.overrides(&s, point).len(), 1);
+    // Along a sweep it follows the values unless told not to; then one image serves all.
+    let swept = SWEPT.replace(
+        "[[method]]",
+        "[second_ground_truth]\nname = \"n\"\nscene_set = { \"shape.floor.center[1]\" = 0.01 }\nscene_sweep = false\n[[method]]",
+    );
+    let s2 = compare::study::load_str(&swept, &path).unwrap();
+    let points = s2.scene_points();
+    let g = s2.second_ground_truth.as_ref().unwrap();
+    assert_eq!(g.overrides(&s2, &points[1]).len(), 1);
+    assert_eq!(g.suffix(&points[1]), "");
+    let cases = [
+        (
+            GOOD.replace("reason = \"r\"", "reason = \"r\"\non = \"second_ground_truth\""),
+            "field `threshold[0].on`: measuring against `second_ground_truth` needs a [second_ground_truth] table",
+        ),
+        (
+            with("[second_ground_truth]\nname = \"moved\"\nscene_set = { \"camera.fov\" = 30.0 }"),
+            "field `second_ground_truth.scene_set`: the second ground truth: ",
+        ),
+        (
+            with("[second_ground_truth]\nname = \"x\"\nscene_set = { \"material.white.albedo\" = -1 }"),
+            "field `second_ground_truth.scene_set`: scene_set: the scene does not load",
+        ),
+        (
+            with("[second_ground_truth]\nname = \"x\"\nscene = \"nowhere.toml\""),
+            "field `second_ground_truth.scene`: scene file",
+        ),
+        (
+            with("[second_ground_truth]\nname = \"x\"\nspp = 4"),
+            "second_ground_truth",
+        ),
+    ];
+    for (text, want) in &cases {
+        let e = study_error(text);
+        assert!(
+            e.contains(want) && e.contains("test-bad.toml"),
+            "expected `{want}` in: {e}"
+        );
+    }
+    assert!(study_error(&cases[1].0).contains("its camera differs"));
+
+    // Measured: 16×16, 4 spp. The same scene as the second: the very same image (one cache
+    // entry), so the same metrics; brighter walls: other metrics, and a bound on them checked.
+    let run = |name: &str, table: &str, bound: &str| {
+        let dir = tmp(name);
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell-box.toml");
+        let study = dir.join(format!("{name}.toml"));
+        let text = with(table)
+            .replace("../cornell-box.toml", scene.to_str().unwrap())
+            .replace(
+                "[[method]]",
+                "[quick]\nspp = 4\nresolution = [16, 16]\n[[method]]",
+            )
+            + bound;
+        std::fs::write(&study, text).unwrap();
+        let out = dir.join("out");
+        let (code, stdout, stderr) = report(&[
+            "report",
+            study.to_str().unwrap(),
+            "--quick",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+            "--cache",
+            dir.join("cache").to_str().unwrap(),
+        ]);
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).unwrap()).unwrap();
+        (code, stdout + &stderr, json, out)
+    };
+    let (code, text, same, out) = run("second-same", "[second_ground_truth]\nname = \"itself\"", "");
+    assert_eq!(code, 0, "{text}");
+    assert_eq!(
+        same["second_ground_truth"]["images"][0]["exr"],
+        "second_ground_truth.exr"
+    );
+    assert!(out.join("second_ground_truth.png").exists());
+    assert!(std::fs::read_to_string(out.join("index.html"))
+        .unwrap()
+        .contains("Against the second ground truth: itself"));
+    for v in same["variants"].as_array().unwrap() {
+        assert_eq!(v["metrics"], v["second_ground_truth"], "{}", v["label"]);
+    }
+    let bound = "[[threshold]]\nmethod = \"area_quadrature\"\non = \"second_ground_truth\"\nmetric = \"relmse\"\nmax = 1e-9\nreason = \"brighter walls are not the scene\"\n";
+    let (code, text, other, _) = run("second-brighter", brighter, bound);
+    assert_ne!(code, 0, "{text}");
+    assert!(
+        text.contains("relmse of the second_ground_truth over `all`"),
+        "{text}"
+    );
+    for v in other["variants"].as_array().unwrap() {
+        assert_ne!(v["metrics"], v["second_ground_truth"], "{}", v["label"]);
+    }
+    let checks = other["thresholds"].as_array().unwrap();
+    assert!(checks
+        .iter()
+        .any(|c| c["on"] == "second_ground_truth" && c["passed"] == false));
+}

@@ -12,7 +12,7 @@ use std::fmt::Write as _;
 
 use super::chart::{self, CostPoint};
 use crate::markup::escape as esc;
-use crate::study::result::{StudyResult, VariantResult};
+use crate::study::result::{MaskMetrics, StudyResult, VariantResult};
 
 fn num(v: f64) -> String {
     if v.is_nan() {
@@ -77,6 +77,7 @@ pub fn page(r: &StudyResult, cost_svgs: &[String], sweep_svgs: &[(String, String
     }
     metric_table(&mut h, r);
     visibility_table(&mut h, r);
+    second_ground_truth_table(&mut h, r);
     flicker(&mut h, r);
     images(&mut h, r);
     h += "<p>All numbers: <a href=\"metrics.json\">metrics.json</a>, <a href=\"metrics.csv\">metrics.csv</a>; all images as EXR beside the PNGs.</p></body></html>\n";
@@ -242,19 +243,64 @@ fn visibility_table(h: &mut String, r: &StudyResult) {
     if r.variants.iter().all(|v| v.visibility.is_empty()) {
         return;
     }
-    h.push_str("<h2>Visibility factor against the oracle's visible fraction (mask <code>all</code>)</h2><table><thead><tr><th class=l onclick=\"sortTable(this)\">variant</th>");
-    for m in &r.metrics {
-        let _ = write!(h, "<th onclick=\"sortTable(this)\">{m}</th>");
-    }
-    h.push_str("</tr></thead><tbody>\n");
-    for v in &r.variants {
-        let _ = write!(h, "<tr><td class=l>{}</td>", esc(&v.label));
-        for e in v.visibility.first().map_or(&[][..], |m| &m.values[..]) {
-            let _ = write!(h, "<td data-v=\"{}\">{}</td>", e.value, num(e.value));
+    h.push_str("<h2>Visibility factor against the oracle's visible fraction</h2>");
+    mask_tables(h, r, |v| &v.visibility);
+}
+
+/// The image's metrics against the `[second_ground_truth]` over every mask, when the study
+/// has one, with its images.
+fn second_ground_truth_table(h: &mut String, r: &StudyResult) {
+    let Some(second) = &r.second_ground_truth else {
+        return;
+    };
+    let _ = write!(
+        h,
+        "<h2>Against the second ground truth: {}</h2><p>The oracle's image of <code>{}</code> ({}), with the same settings, camera and masks as the ground truth.</p>",
+        esc(&second.name),
+        esc(&second.scene),
+        if second.follows_scene_sweep {
+            "one per scene-sweep value"
+        } else {
+            "one image for every scene-sweep value"
         }
-        h.push_str("</tr>\n");
+    );
+    h.push_str("<div class=triple>");
+    for g in &second.images {
+        let _ = write!(
+            h,
+            "<figure><img src=\"{}\" alt=\"second ground truth\"><figcaption><a href=\"{}\">{}</a></figcaption></figure>",
+            esc(&g.png),
+            esc(&g.exr),
+            esc(&g.exr)
+        );
     }
-    h.push_str("</tbody></table>\n");
+    h.push_str("</div>\n");
+    mask_tables(h, r, |v| &v.second_ground_truth);
+}
+
+/// One table per mask of the metrics `of` each variant selects (visibility, second ground
+/// truth), sortable.
+fn mask_tables(h: &mut String, r: &StudyResult, of: impl Fn(&VariantResult) -> &[MaskMetrics]) {
+    for mask in &r.masks {
+        let _ = write!(
+            h,
+            "<h3>Mask <code>{}</code></h3><table><thead><tr><th class=l onclick=\"sortTable(this)\">variant</th>",
+            esc(&mask.name)
+        );
+        for m in &r.metrics {
+            let _ = write!(h, "<th onclick=\"sortTable(this)\">{m}</th>");
+        }
+        h.push_str("</tr></thead><tbody>\n");
+        for v in &r.variants {
+            let _ = write!(h, "<tr><td class=l>{}</td>", esc(&v.label));
+            let values = of(v).iter().find(|m| m.mask == mask.name);
+            for e in values.map_or(&[][..], |m| &m.values[..]) {
+                let _ = write!(h, "<td data-v=\"{}\">{}</td>", e.value, num(e.value));
+            }
+            h.push_str("</tr>\n");
+        }
+        h.push_str("</tbody></table>\n");
+    }
 }
 
 fn flicker(h: &mut String, r: &StudyResult) {

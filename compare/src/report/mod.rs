@@ -8,7 +8,7 @@
 //! | `ground_truth.exr/.png` | the oracle's image, variance and AOVs (`ground_truth--<parameter>-<value>.*` at each scene-sweep value) |
 //! | `methods/<id>.exr/.png` | each approximation, with `error.<metric>.Y` layers |
 //! | `methods/<id>-error-<metric>.png` | false-colour error maps with their colour bar ([`colormap`]) |
-//! | `charts/error-vs-cost.svg`, `charts/error-vs-fetches.svg` (when counted), `charts/sweep-<method>-<parameter>.svg`, `charts/scene-<parameter>-<image\|visibility>.svg` | the charts ([`chart`]) |
+//! | `charts/error-vs-cost.svg`, `charts/error-vs-fetches.svg` (when counted), `charts/sweep-<method>-<parameter>.svg`, `charts/scene-<parameter>-<image\|visibility\|second_ground_truth>.svg` | the charts ([`chart`]) |
 
 pub mod chart;
 pub mod colormap;
@@ -82,22 +82,22 @@ pub fn write(result: &StudyResult, dir: &Path) -> io::Result<()> {
     )
 }
 
-/// The scene sweep's charts, one per measured target (image, and visibility with
-/// `visibility_of`): every method grid point as a line against the scene parameter.
+/// The scene sweep's charts, one per measured target (image, visibility with
+/// `visibility_of`, the image against a `[second_ground_truth]`): every method grid point as a line against the scene parameter.
 fn scene_sweep_charts(
     s: &crate::study::result::SceneSweepResult,
     dir: &Path,
 ) -> io::Result<Vec<(String, String)>> {
     let mut out = Vec::new();
-    for on in ["image", "visibility"] {
+    for on in ["image", "visibility", "second_ground_truth"] {
         let lines: Vec<chart::Series> = s
             .series
             .iter()
             .filter_map(|x| {
-                let e = if on == "image" {
-                    Some(&x.image)
-                } else {
-                    x.visibility.as_ref()
+                let e = match on {
+                    "image" => Some(&x.image),
+                    "visibility" => x.visibility.as_ref(),
+                    _ => x.second_ground_truth.as_ref(),
                 }?;
                 Some(chart::Series {
                     label: &x.variant,
@@ -109,10 +109,10 @@ fn scene_sweep_charts(
         if lines.is_empty() {
             continue;
         }
-        let what = if on == "image" {
-            "the image"
-        } else {
-            "the visibility factor"
+        let what = match on {
+            "image" => "the image",
+            "visibility" => "the visibility factor",
+            _ => "the image against the second ground truth",
         };
         let title = format!(
             "{} of {what} over `{}` against the scene's {}",

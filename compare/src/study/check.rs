@@ -108,6 +108,11 @@ pub(super) fn check_references(study: &Study, doc: &Table) -> Result<(), SceneEr
                 .req("on")?
                 .err("measuring `visibility` needs `visibility_of = \"<light>\"` in [ground_truth]"));
         }
+        if th.on == Target::SecondGroundTruth && study.second_ground_truth.is_none() {
+            return Err(t
+                .req("on")?
+                .err("measuring against `second_ground_truth` needs a [second_ground_truth] table"));
+        }
         if th.mask != "all" && !study.masks.iter().any(|k| k.name() == th.mask) {
             return Err(t.req("mask")?.err(format!("no [[mask]] named `{}`", th.mask)));
         }

@@ -2,7 +2,8 @@
 //!
 //! - `ground_truth_part` (with `--parts N`): share K of N of a ground truth's image rows
 //!   (`verity render --part`, [`oracle::part`]), written to `<cache>/parts/<hash>/part-K-of-N.vpart`;
-//! - `ground_truth`: one per scene point and flicker frame, keyed by the content hash the
+//! - `ground_truth`: one per scene point and flicker frame (and per `[second_ground_truth]`
+//!   image, `second_ground_truth<point suffix>`), keyed by the content hash the
 //!   ground-truth cache already uses ([`super::setup::ground_truth_hash`]): rendered into the
 //!   cache, or, when the plan splits it, its parts merged into the cache entry, bit for bit the
 //!   image one render makes (the header's `seconds` is the parts' sum);
@@ -53,7 +54,7 @@ use serde::{Deserialize, Serialize};
 use super::rasters::{self, RasterKey};
 use super::setup::{
     cached_ground_truth, flicker_raster_settings, ground_truth_hash, measured_raster_settings, oracle_job,
-    prepare, RunOptions, StudyError,
+    prepare, prepare_second, RunOptions, StudyError,
 };
 use super::{cache, stability, Study, Variant};
 
@@ -120,11 +121,22 @@ fn needed(study: &Study, quick: bool) -> Result<Vec<Needed>, StudyError> {
     let mut out = Vec::new();
     for point in &points {
         let (scene, settings) = prepare(study, quick, &point.overrides)?;
+        let second = match &study.second_ground_truth {
+            Some(s) if s.follows_scene_sweep || out.is_empty() => {
+                prepare_second(study, quick, point, &scene)?.map(|(scene, settings)| Needed {
+                    id: format!("second_ground_truth{}", s.suffix(point)),
+                    scene,
+                    settings,
+                })
+            }
+            _ => None,
+        };
         out.push(Needed {
             id: format!("ground_truth{}", point.suffix()),
             scene,
             settings,
         });
+        out.extend(second);
     }
     if let Some(f) = &study.stability.flicker {
         let (scene, settings) = (&out[0].scene, out[0].settings);

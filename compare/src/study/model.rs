@@ -34,6 +34,8 @@ pub struct Study {
     pub ground_truth: GroundTruth,
     /// The light whose visibility factor is also measured (`[ground_truth] visibility_of`).
     pub visibility_of: Option<String>,
+    /// A second ground truth every variant is also measured against (`[second_ground_truth]`).
+    pub second_ground_truth: Option<SecondGroundTruth>,
     /// Resolution and sample count of a full run.
     pub full: Quality,
     /// Resolution and sample count of a `--quick` run (tests use it).
@@ -65,6 +67,49 @@ pub struct SceneSweep {
     pub values: Vec<(String, scenes::toml::tree::Value)>,
     /// Line of `values` in the study file (for errors about the sweep's size).
     pub line: Option<usize>,
+}
+
+/// A second reference scene, rendered by the oracle with the same settings, camera and film
+/// as the study's ground truth, that every variant is also measured against: e.g. the exact
+/// analytic surface a tessellated mesh approximates, beside the oracle's image of that very
+/// mesh (which isolates the shading's error from the tessellation's). Its metrics are
+/// `on = "second_ground_truth"` in thresholds and metrics.json; the masks are the study's,
+/// built on the first ground truth.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SecondGroundTruth {
+    /// What it is, for the report (`name`).
+    pub name: String,
+    /// Its scene file, resolved against the study's directory (`scene`; the study's scene
+    /// when absent).
+    pub scene: PathBuf,
+    /// Its own edits of the scene's fields (`scene_set`), applied after the study's: a whole
+    /// shape may be replaced, e.g. `"shape.ball" = { type = "sphere", … }`.
+    pub scene_set: Vec<Override>,
+    /// Whether the scene sweep's values are written into it too (`scene_sweep`, default
+    /// true); when false it is rendered once, with `[scene_set]` only, and serves every point.
+    pub follows_scene_sweep: bool,
+}
+
+impl SecondGroundTruth {
+    /// The edits of its scene at `point`: the point's (scene set and sweep value), or the
+    /// study's scene set alone when it does not follow the sweep; then its own.
+    pub fn overrides(&self, study: &Study, point: &ScenePoint) -> Vec<Override> {
+        let first = if self.follows_scene_sweep {
+            &point.overrides
+        } else {
+            &study.scene_set
+        };
+        first.iter().chain(&self.scene_set).cloned().collect()
+    }
+
+    /// The file-name suffix of its image at `point` ("" when it does not follow the sweep).
+    pub fn suffix(&self, point: &ScenePoint) -> String {
+        if self.follows_scene_sweep {
+            point.suffix()
+        } else {
+            String::new()
+        }
+    }
 }
 
 /// One scene of a study: the scene file as written, or one value of its scene sweep.
@@ -425,15 +470,18 @@ pub enum Target {
     /// The temporal flicker of the image under the study's `[stability.flicker]` motion
     /// ([`stability`]: its own formula over the pixels interior in every frame).
     Flicker,
+    /// The final image against the study's `[second_ground_truth]`.
+    SecondGroundTruth,
 }
 
 impl Target {
-    /// `image` or `visibility`.
+    /// `image`, `visibility`, `flicker` or `second_ground_truth`.
     pub fn name(self) -> &'static str {
         match self {
             Target::Image => "image",
             Target::Visibility => "visibility",
             Target::Flicker => "flicker",
+            Target::SecondGroundTruth => "second_ground_truth",
         }
     }
 }

@@ -33,6 +33,7 @@ const FIELDS: &[&str] = &[
     "scene_set",
     "scene_sweep",
     "ground_truth",
+    "second_ground_truth",
     "quick",
     "raster",
     "metrics",
@@ -67,6 +68,10 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
     let gt_table = doc.req("ground_truth")?.table()?;
     let (ground_truth, full) = ground_truth(&gt_table)?;
     let visibility_of = opt_str(&gt_table, "visibility_of")?;
+    let second_ground_truth = doc
+        .get("second_ground_truth")
+        .map(|f| second_ground_truth(&f.table()?, &ctx, &scene))
+        .transpose()?;
     let quick = match doc.get("quick") {
         Some(f) => quality(&f.table()?, full)?,
         None => full,
@@ -101,6 +106,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Study, SceneError> {
         scene_sweep,
         ground_truth,
         visibility_of,
+        second_ground_truth,
         full,
         quick,
         raster: raster_options(doc.get("raster").map(|f| f.table()).transpose()?)?,
@@ -230,6 +236,38 @@ fn list<T>(
         Some(f) => f.tables()?.iter().map(read).collect(),
         None => Ok(Vec::new()),
     }
+}
+
+/// `[second_ground_truth]`: `name`, `scene` (relative to the study file; the study's scene
+/// when absent), `scene_set` (its own edits, after the study's), `scene_sweep`.
+fn second_ground_truth(t: &Table, ctx: &Ctx, study_scene: &Path) -> Result<SecondGroundTruth, SceneError> {
+    t.only(
+        &["name", "scene", "scene_set", "scene_sweep"],
+        "[second_ground_truth]",
+    )?;
+    let name = t.req("name")?.str()?.to_string();
+    let scene = match t.get("scene") {
+        Some(f) => {
+            let scene = ctx.resolve(f.str()?);
+            if !scene.exists() {
+                return Err(f
+                    .err(format!("scene file {} does not exist", scene.display()))
+                    .hint("the path is relative to the study file"));
+            }
+            scene
+        }
+        None => study_scene.to_path_buf(),
+    };
+    let scene_set = match t.get("scene_set") {
+        Some(f) => scene_set(&f, &scene)?,
+        None => Vec::new(),
+    };
+    Ok(SecondGroundTruth {
+        name,
+        scene,
+        scene_set,
+        follows_scene_sweep: t.bool_or("scene_sweep", true)?,
+    })
 }
 
 fn ground_truth(t: &Table) -> Result<(GroundTruth, Quality), SceneError> {
@@ -592,9 +630,10 @@ fn threshold(t: &Table) -> Result<Threshold, SceneError> {
         None => None,
     };
     let on = match t.get("on") {
-        Some(f) => match f.keyword(&["image", "visibility", "flicker"])? {
+        Some(f) => match f.keyword(&["image", "visibility", "flicker", "second_ground_truth"])? {
             "image" => Target::Image,
             "visibility" => Target::Visibility,
+            "second_ground_truth" => Target::SecondGroundTruth,
             _ => Target::Flicker,
         },
         None => Target::Image,

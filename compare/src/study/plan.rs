@@ -192,6 +192,9 @@ pub struct Sizes {
     pub metrics: (u64, u64),
     /// Whether the visibility factor is measured too (twice the metric entries).
     pub visibility: bool,
+    /// Whether a `[second_ground_truth]` is measured against too (a second ground truth held
+    /// beside the first, and its metric entries).
+    pub second_ground_truth: bool,
 }
 
 /// Estimated peak bytes of a run of `c` with `s`: what one scene point holds while measured
@@ -201,11 +204,12 @@ pub struct Sizes {
 /// render, the flicker frames' references, interiors and per-variant errors).
 pub fn estimate(c: &Counts, s: &Sizes) -> u64 {
     let channels = BASE_CHANNELS + s.lights;
-    let ground_truth = channels * (8 + 4) + 24 + s.masks;
+    let references = if s.second_ground_truth { 2 } else { 1 };
+    let ground_truth = references * (channels * (8 + 4) + 24) + s.masks;
     let variant = (channels + s.metrics.1) * 4 + 12 + WORKING_BYTES_PER_PIXEL;
     let flicker = c.flicker_frames.saturating_mul(24 + 1 + 24);
     let per_pixel = bytes_of(s.pixels, ground_truth + variant).saturating_add(bytes_of(s.pixels, flicker));
-    let targets = if s.visibility { 2 } else { 1 };
+    let targets = 1 + u64::from(s.visibility) + u64::from(s.second_ground_truth);
     let record = RECORD_BYTES + s.masks * s.metrics.0 * targets * ENTRY_BYTES;
     let retained = bytes_of(s.pixels, RETAINED_BYTES_PER_PIXEL);
     per_pixel
@@ -233,6 +237,7 @@ pub fn plan(study: &Study, quick: bool) -> Result<Plan, StudyError> {
             study.metrics.iter().filter(|m| m.map_name().is_some()).count() as u64,
         ),
         visibility: study.visibility_of.is_some(),
+        second_ground_truth: study.second_ground_truth.is_some(),
     };
     let memory = estimate(&c, &sizes);
     let mode = if quick { "quick" } else { "full" };
@@ -315,6 +320,7 @@ mod tests {
             masks: 1,
             metrics: (1, 1),
             visibility: false,
+            second_ground_truth: false,
         }
     }
 

@@ -232,7 +232,7 @@ pub fn from_metrics(json: &Value, fingerprint: String, date: String) -> Option<R
     })
 }
 
-/// One bound checked, as a record line: `variant [visibility ]metric over mask = value
+/// One bound checked, as a record line: `variant [visibility |second_ground_truth ]metric over mask = value
 /// (min …, max …)[ FAILED] [line N]`.
 fn check_line(t: &Value) -> String {
     let text = |k: &str| t[k].as_str().unwrap_or("?").to_string();
@@ -250,10 +250,10 @@ fn check_line(t: &Value) -> String {
     format!(
         "{} {}{} over {} = {value} ({}){} [line {}]",
         text("variant"),
-        if t["on"] == "visibility" {
-            "visibility "
-        } else {
-            ""
+        match t["on"].as_str() {
+            Some("visibility") => "visibility ",
+            Some("second_ground_truth") => "second_ground_truth ",
+            _ => "",
         },
         text("metric"),
         text("mask"),

@@ -36,6 +36,8 @@ pub struct StudyResult {
     pub height: u32,
     /// The ground truth (of the first scene point, with a `[scene_sweep]`).
     pub ground_truth: GroundTruthInfo,
+    /// The `[second_ground_truth]` every variant is also measured against (null without one).
+    pub second_ground_truth: Option<SecondGroundTruthInfo>,
     /// The adapter every cost was measured on.
     pub adapter: AdapterInfo,
     /// Metric names in table order.
@@ -54,6 +56,20 @@ pub struct StudyResult {
     pub flicker: Vec<FlickerResult>,
     /// The metric and mask of the sweeps, break points and the cost chart.
     pub chart: ChartInfo,
+}
+
+/// A study's second ground truth: what it is and its images.
+#[derive(Clone, Debug, Serialize)]
+pub struct SecondGroundTruthInfo {
+    /// What it is (the study's `name`).
+    pub name: String,
+    /// Its scene file.
+    pub scene: String,
+    /// Whether the scene sweep's values were written into it (one image per scene point) or
+    /// not (one image for every point).
+    pub follows_scene_sweep: bool,
+    /// Its images: one per scene point, or one.
+    pub images: Vec<GroundTruthInfo>,
 }
 
 /// What the charts and break points measure.
@@ -161,6 +177,9 @@ pub struct VariantResult {
     pub metrics: Vec<MaskMetrics>,
     /// Metrics of the visibility factor per mask (empty unless the study has `visibility_of`).
     pub visibility: Vec<MaskMetrics>,
+    /// Metrics of the image against the second ground truth per mask (empty unless the study
+    /// has `[second_ground_truth]`).
+    pub second_ground_truth: Vec<MaskMetrics>,
     /// Pixels (whole image) of the approximation that are NaN or ±Inf.
     pub non_finite_pixels: usize,
     /// The approximation's EXR (with `error.<metric>.Y` layers), relative to the report folder.
@@ -349,6 +368,8 @@ pub struct SceneSeries {
     pub image: SeriesErrors,
     /// The visibility factor's errors (with `visibility_of`).
     pub visibility: Option<SeriesErrors>,
+    /// The image's errors against the second ground truth (with `[second_ground_truth]`).
+    pub second_ground_truth: Option<SeriesErrors>,
 }
 
 /// Errors along a sweep with their break point.
@@ -404,7 +425,8 @@ impl StudyResult {
                 .metrics
                 .iter()
                 .map(|m| ("image", m))
-                .chain(v.visibility.iter().map(|m| ("visibility", m)));
+                .chain(v.visibility.iter().map(|m| ("visibility", m)))
+                .chain(v.second_ground_truth.iter().map(|m| ("second_ground_truth", m)));
             for (on, m) in tagged {
                 for e in &m.values {
                     s += &format!(
@@ -437,13 +459,14 @@ impl StudyResult {
         self.value_on(label, "image", mask, metric)
     }
 
-    /// The value of `metric` of the image or the visibility (`on`) over `mask`.
+    /// The value of `metric` over `mask` of the image (`on` = `image`), the visibility
+    /// (`visibility`) or the image against the second ground truth (`second_ground_truth`).
     pub fn value_on(&self, label: &str, on: &str, mask: &str, metric: &str) -> Option<f64> {
         let v = self.variants.iter().find(|v| v.label == label)?;
-        let list = if on == "visibility" {
-            &v.visibility
-        } else {
-            &v.metrics
+        let list = match on {
+            "visibility" => &v.visibility,
+            "second_ground_truth" => &v.second_ground_truth,
+            _ => &v.metrics,
         };
         let m = list.iter().find(|m| m.mask == mask)?;
         m.values.iter().find(|e| e.metric == metric).map(|e| e.value)

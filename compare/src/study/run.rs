@@ -10,7 +10,9 @@ use scenes::{RenderSettings, Scene};
 use super::rasters::RasterKey;
 pub use super::rasters::Rasters;
 use super::result::*;
-pub use super::setup::{ground_truth, ground_truth_hash, prepare, raster_settings, RunOptions, StudyError};
+pub use super::setup::{
+    ground_truth, ground_truth_hash, prepare, prepare_second, raster_settings, RunOptions, StudyError,
+};
 use super::setup::{io_err, measured_raster_settings};
 use super::{plan, stability, MaskSpec, ScenePoint, Study, Target, Variant};
 use crate::metrics::{self, Mask, Metric, MetricValue, RgbImage};
@@ -31,6 +33,8 @@ pub fn run_study(study: &Study, rasters: &Rasters, opts: &RunOptions) -> Result<
     let total = study.variants().len();
     let mut results = Vec::new();
     let mut ground_truths = Vec::new();
+    let mut second: Option<RgbImage> = None;
+    let mut second_images = Vec::new();
     let mut first: Option<(Scene, RenderSettings, Vec<MaskInfo>)> = None;
     let mut adapter = None;
     let steps = StepProgress::new(opts.progress, total);
@@ -42,6 +46,16 @@ pub fn run_study(study: &Study, rasters: &Rasters, opts: &RunOptions) -> Result<
         let gt_path = opts.out_dir.join(&gt_info.exr).display().to_string();
         let reference = RgbImage::from_layered(&gt, &gt_path).map_err(StudyError::Run)?;
         let masks = build_masks(study, &scene, &gt, point)?;
+        let follows = study
+            .second_ground_truth
+            .as_ref()
+            .is_some_and(|s| s.follows_scene_sweep || second.is_none());
+        if follows {
+            if let Some((image, info)) = second_ground_truth(study, opts, point, &scene)? {
+                second = Some(image);
+                second_images.push(info);
+            }
+        }
         for variant in study.variants_at(point) {
             let line = format!("[{}/{total}] {}", results.len() + 1, variant.label());
             steps.start(&variant.label());
@@ -50,7 +64,7 @@ pub fn run_study(study: &Study, rasters: &Rasters, opts: &RunOptions) -> Result<
                 rasters,
                 &scene,
                 &variant,
-                (&reference, &gt, &gt_info),
+                (&reference, &gt, &gt_info, second.as_ref()),
                 &masks,
                 opts,
             )?;
@@ -84,6 +98,12 @@ pub fn run_study(study: &Study, rasters: &Rasters, opts: &RunOptions) -> Result<
         width: w,
         height: h,
         ground_truth: ground_truths[0].clone(),
+        second_ground_truth: study.second_ground_truth.as_ref().map(|s| SecondGroundTruthInfo {
+            name: s.name.clone(),
+            scene: s.scene.display().to_string(),
+            follows_scene_sweep: s.follows_scene_sweep,
+            images: second_images,
+        }),
         adapter: adapter_info(timing),
         metrics: study.metrics.iter().map(|m| m.name().into()).collect(),
         masks,
@@ -109,6 +129,30 @@ pub fn run_study(study: &Study, rasters: &Rasters, opts: &RunOptions) -> Result<
     out.run.peak_memory_bytes = scenes::budget::peak_resident_bytes();
     out.write_files(&opts.out_dir).map_err(io_err(&opts.out_dir))?;
     Ok(out)
+}
+
+/// The study's `[second_ground_truth]` at `point` (None without one): rendered or taken from
+/// the cache like the first ([`ground_truth`]), as `second_ground_truth<point suffix>.exr`
+/// and its preview.
+fn second_ground_truth(
+    study: &Study,
+    opts: &RunOptions,
+    point: &ScenePoint,
+    first: &Scene,
+) -> Result<Option<(RgbImage, GroundTruthInfo)>, StudyError> {
+    let (Some(spec), Some((scene, settings))) = (
+        &study.second_ground_truth,
+        prepare_second(study, opts.quick, point, first)?,
+    ) else {
+        return Ok(None);
+    };
+    let name = format!("second_ground_truth{}", spec.suffix(point));
+    let (gt, info) = ground_truth(&scene, settings, opts, &name)?;
+    gt.write_png_preview(opts.out_dir.join(&info.png), 0.0)
+        .map_err(io_err(&opts.out_dir))?;
+    let path = opts.out_dir.join(&info.exr).display().to_string();
+    let image = RgbImage::from_layered(&gt, &path).map_err(StudyError::Run)?;
+    Ok(Some((image, info)))
 }
 
 /// A variant's progress line: the chart's metric over the chart's mask, and its frame time.
@@ -272,7 +316,12 @@ fn measure_variant(
     rasters: &Rasters,
     scene: &Scene,
     variant: &Variant,
-    (reference, reference_image, gt_info): (&RgbImage, &LayeredImage, &GroundTruthInfo),
+    (reference, reference_image, gt_info, second): (
+        &RgbImage,
+        &LayeredImage,
+        &GroundTruthInfo,
+        Option<&RgbImage>,
+    ),
     masks: &[Mask],
     opts: &RunOptions,
 ) -> Result<(VariantResult, realtime::Timing), StudyError> {
@@ -343,6 +392,16 @@ fn measure_variant(
         },
         metrics: per_mask,
         visibility: visibility_metrics(study, reference_image, &image, masks, &variant.label())?,
+        second_ground_truth: match second {
+            Some(r) => over_masks(
+                study,
+                r,
+                &test,
+                masks,
+                &format!("{} against the second ground truth", variant.label()),
+            )?,
+            None => Vec::new(),
+        },
         non_finite_pixels,
         exr,
         png,
@@ -385,11 +444,23 @@ fn visibility_metrics(
         Ok(RgbImage::new(img.width as usize, img.height as usize, rgb))
     };
     let (r, t) = (grey(reference, "the ground truth")?, grey(test, label)?);
+    over_masks(study, &r, &t, masks, &format!("{label} visibility"))
+}
+
+/// The study's metrics of `test` against `reference` over every mask; `what` names the
+/// measurement in an error.
+fn over_masks(
+    study: &Study,
+    reference: &RgbImage,
+    test: &RgbImage,
+    masks: &[Mask],
+    what: &str,
+) -> Result<Vec<MaskMetrics>, StudyError> {
     masks
         .iter()
         .map(|mask| {
-            let values = metrics::evaluate(&r, &t, mask, &study.metrics)
-                .map_err(|e| StudyError::Run(format!("{label} visibility: {e}")))?;
+            let values = metrics::evaluate(reference, test, mask, &study.metrics)
+                .map_err(|e| StudyError::Run(format!("{what}: {e}")))?;
             Ok(MaskMetrics {
                 mask: mask.name.clone(),
                 values: values.iter().map(MetricEntry::from).collect(),

@@ -1,18 +1,20 @@
 //! A study checked against its scene before anything renders: the scene is loaded at every
 //! scene point (the file as written with `[scene_set]`, or each `[scene_sweep]` value) and at
-//! every frame of a flicker `shift`, and at each point `visibility_of` must name one of the
+//! every frame of a flicker `shift` (and the `[second_ground_truth]` scene at every point it
+//! follows), and at each point `visibility_of` must name one of the
 //! scene's lights and every object of an `objects` mask one of its shapes. These used to fail
 //! only after the ground truth had rendered (a mask of a misspelt shape), or not at all.
 //!
 //! Errors name the study file, the line and the field that is wrong: `scene_sweep.values`
-//! (with the value) for a point that does not load, `ground_truth.visibility_of`,
+//! (with the value) for a point that does not load, `second_ground_truth.scene` for a second
+//! ground truth that does not load there or has another camera, `ground_truth.visibility_of`,
 //! `mask[i].objects[j]`, `stability.flicker.shift`.
 
 use scenes::toml::read::Table;
 use scenes::{Scene, SceneError};
 
-use super::run::prepare;
-use super::{shifted, MaskSpec, Motion, Study};
+use super::run::{prepare, prepare_second};
+use super::{shifted, MaskSpec, Motion, ScenePoint, Study};
 
 /// Most names an error lists (a glTF asset can have hundreds of shapes).
 const LISTED_NAMES: usize = 20;
@@ -39,6 +41,7 @@ pub(super) fn check(study: &Study, doc: &Table) -> Result<(), SceneError> {
             }
         };
         check_visibility(study, doc, &scene, &at)?;
+        check_second_ground_truth(study, doc, point, &scene, &at)?;
         check_mask_objects(study, doc, &scene, &at)?;
     }
     if let Some(f) = &study.stability.flicker {
@@ -57,6 +60,25 @@ pub(super) fn check(study: &Study, doc: &Table) -> Result<(), SceneError> {
                 }
             }
         }
+    }
+    Ok(())
+}
+
+/// The `[second_ground_truth]` scene loads at `point` (with the sweep's value when it follows
+/// the sweep) and is seen from `scene`'s camera.
+fn check_second_ground_truth(
+    study: &Study,
+    doc: &Table,
+    point: &ScenePoint,
+    scene: &Scene,
+    at: &str,
+) -> Result<(), SceneError> {
+    if let Err(e) = prepare_second(study, false, point, scene) {
+        // The edits when it has them (they are what differs), else the scene file.
+        let table = doc.req("second_ground_truth")?;
+        let t = table.table()?;
+        let field = t.get("scene_set").or_else(|| t.get("scene")).unwrap_or(table);
+        return Err(field.err(format!("the second ground truth{at}: {e}")));
     }
     Ok(())
 }

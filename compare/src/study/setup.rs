@@ -68,10 +68,43 @@ pub fn prepare(
     quick: bool,
     overrides: &[scenes::toml::overrides::Override],
 ) -> Result<(Scene, RenderSettings), StudyError> {
+    prepare_file(study, &study.scene, quick, overrides)
+}
+
+/// The study's `[second_ground_truth]` scene at `point` with the oracle settings of its
+/// image, as [`prepare`] makes the first's; None without one. Its camera must be the first
+/// ground truth's (`first`): the two images are compared pixel by pixel with one set of masks.
+pub fn prepare_second(
+    study: &Study,
+    quick: bool,
+    point: &super::ScenePoint,
+    first: &Scene,
+) -> Result<Option<(Scene, RenderSettings)>, StudyError> {
+    let Some(second) = &study.second_ground_truth else {
+        return Ok(None);
+    };
+    let (scene, settings) = prepare_file(study, &second.scene, quick, &second.overrides(study, point))?;
+    if scene.camera != first.camera {
+        return Err(StudyError::Input(format!(
+            "its camera differs from the first ground truth's (the two are compared pixel by pixel, so their scenes must be seen from the same camera; {} with its edits against {})",
+            second.scene.display(),
+            study.scene.display()
+        )));
+    }
+    Ok(Some((scene, settings)))
+}
+
+/// `file` with `overrides` at the run mode's resolution, and the study's oracle settings.
+fn prepare_file(
+    study: &Study,
+    file: &Path,
+    quick: bool,
+    overrides: &[scenes::toml::overrides::Override],
+) -> Result<(Scene, RenderSettings), StudyError> {
     let loaded = if overrides.is_empty() {
-        scenes::load(&study.scene)
+        scenes::load(file)
     } else {
-        scenes::toml::load_with(&study.scene, overrides)
+        scenes::toml::load_with(file, overrides)
     };
     let mut scene = loaded.map_err(|e| StudyError::Input(e.to_string()))?;
     let q = if quick { study.quick } else { study.full };

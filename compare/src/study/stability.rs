@@ -138,6 +138,10 @@ pub fn scene_sweep(
                 method: v.method.clone(),
                 image: along("image"),
                 visibility: study.visibility_of.as_ref().map(|_| along("visibility")),
+                second_ground_truth: study
+                    .second_ground_truth
+                    .as_ref()
+                    .map(|_| along("second_ground_truth")),
             }
         })
         .collect();
