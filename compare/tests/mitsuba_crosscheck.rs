@@ -52,6 +52,7 @@ const NOT_EXPRESSIBLE: &[(&str, &str)] = &[
     ),
     ("studies/scenes/relief-patch", "shape `patch`: displacement"),
     ("studies/scenes/relief-sphere", "shape `sphere/0`: displacement"),
+    ("studies/scenes/shading-textured-sphere", "metal_rough, used by"),
     ("studies/scenes/specular-bumps", "normal map"),
 ];
 

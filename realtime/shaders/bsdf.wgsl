@@ -62,6 +62,11 @@ fn ggx_alpha(roughness: f32) -> f32 {
     return select(MIN_ALPHA, a, a > MIN_ALPHA);
 }
 
+// When ≥ 0, the grey that replaces every material's base colour (albedo, ks, reflectance,
+// base colour) in resolve_bsdf: Gouraud shading's texture variants (shading/vertex.wgsl)
+// light a vertex with a white and a black base colour and apply the texture per pixel.
+var<private> base_color_override: f32 = -1.0;
+
 // The BSDF of material `m` at texture coordinate `uv`, inputs sanitised as Bsdf::from_material.
 fn resolve_bsdf(m: Material, uv: vec2<f32>) -> Bsdf {
     var b = Bsdf(m.kind, m.masking, vec3<f32>(0.0), vec3<f32>(0.0), MIN_ALPHA, 0.0, 0.0, 1.0);
@@ -91,6 +96,9 @@ fn resolve_bsdf(m: Material, uv: vec2<f32>) -> Bsdf {
             b.eta = select(1.0, eta, eta > 0.0 && eta < 1e30);
             b.color = vec3<f32>(1.0);
         }
+    }
+    if base_color_override >= 0.0 && m.kind != MAT_DIELECTRIC {
+        b.color = vec3<f32>(base_color_override);
     }
     return b;
 }

@@ -261,7 +261,7 @@ impl Stage {
 /// methods' WGSL codes, the texture filter's
 /// ([`crate::technique::texture::TextureFilter::pipeline_code`]), whether it is the counting
 /// variant, its sample count (MSAA), its specular anti-aliasing (WGSL `SPECULAR_AA`) and its
-/// shading frequency (WGSL `SHADING_FREQUENCY`).
+/// shading frequency (WGSL `SHADING_FREQUENCY`, with `VERTEX_ALBEDO` above its low byte).
 type Key = (Stage, AreaMethod, u32, u32, u32, u32, bool, u32, u32, u32);
 
 /// Layouts, the shader module and the pipeline cache.
@@ -640,7 +640,7 @@ impl Pipelines {
         // Vertex-lit shading frequencies light the forward pass's meshes in the vertex stage.
         let (vs, fs) = if msaa_lighting {
             ("vs_fullscreen", "fs_lighting_msaa")
-        } else if stage == Stage::ForwardMesh && shading != 0 {
+        } else if stage == Stage::ForwardMesh && shading & 0xff != 0 {
             ("vs_mesh_vertex_lit", "fs_mesh_vertex_lit")
         } else {
             stage.entry_points()
@@ -657,7 +657,8 @@ impl Pipelines {
             ("TEXTURE_FILTER", f64::from(texture & 0xff)),
             ("TEXTURE_DERIVATIVES", f64::from(texture >> 8)),
             ("SPECULAR_AA", f64::from(specular)),
-            ("SHADING_FREQUENCY", f64::from(shading)),
+            ("SHADING_FREQUENCY", f64::from(shading & 0xff)),
+            ("VERTEX_ALBEDO", f64::from(shading >> 8)),
         ];
         let module = &*self.module(device, counters, texture & 0xff);
         let options = wgpu::PipelineCompilationOptions {

@@ -2,8 +2,9 @@
 //! study's glossy icosphere (scenes/studies/scenes/shading-sphere.toml) at 48²: per-vertex
 //! lighting matches per-pixel lighting on a fine mesh and loses the highlights on a coarse
 //! one; flat shading gives every triangle one colour; the analytic floor is shaded per pixel
-//! under every frequency; the deferred pipeline refuses vertex lighting. Accuracy against the
-//! oracle is the study's (scenes/studies/shading-frequency.toml).
+//! under every frequency; the deferred pipeline refuses vertex lighting; Gouraud applies a
+//! texture per pixel with the specular interpolated apart (shading-textured-sphere.toml).
+//! Accuracy against the oracle is the studies' (scenes/studies/shading-frequency*.toml).
 
 mod support;
 
@@ -120,4 +121,77 @@ fn the_deferred_pipeline_refuses_vertex_lighting() {
             &settings("shading_phong").pipeline(PipelineKind::Deferred)
         )
         .is_ok());
+}
+
+/// The textured plastic sphere of scenes/studies/scenes/shading-textured-sphere.toml (a UV
+/// sphere with a checker base colour); `untextured` gives the plastic a constant colour.
+fn textured_sphere(untextured: bool) -> scenes::Scene {
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/studies/scenes/shading-textured-sphere.toml");
+    if !untextured {
+        return scenes::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    }
+    let edit = scenes::toml::overrides::Override {
+        path: "material.plastic.base_color".into(),
+        edit: scenes::toml::overrides::Edit::Set(scenes::toml::tree::Value::Float(0.3)),
+    };
+    scenes::toml::load_with(&path, &[edit]).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn gouraud(scene: &scenes::Scene, albedo: &str) -> RasterOutput {
+    let s = RasterSettings::new(SIZE, SIZE)
+        .method(method(
+            "shading_gouraud",
+            &[("env_n", "0"), ("n", "8"), ("albedo", albedo)],
+        ))
+        .frames(0, 1);
+    renderer()
+        .render(scene, &s)
+        .unwrap_or_else(|e| panic!("albedo = {albedo}: {e}"))
+}
+
+/// Gouraud's texture variants: with a constant base colour, the specular term interpolated
+/// separately is the vertex colour split in two (the same image to rounding), while
+/// modulating multiplies the white specular by the base colour (darker highlights); with the
+/// checker, applying it per pixel to the diffuse term alone comes closest to per-pixel
+/// shading, and the other two are further off.
+#[test]
+fn gouraud_applies_a_texture_per_pixel_with_the_specular_apart() {
+    let plain = textured_sphere(true);
+    let ball = 1.0 + plain.shapes.iter().position(|s| s.name == "sphere/0").unwrap() as f32;
+    let (vertex, separate, modulate) = (
+        gouraud(&plain, "vertex"),
+        gouraud(&plain, "separate_specular"),
+        gouraud(&plain, "modulate"),
+    );
+    let split = mse_on(&separate, &vertex, ball);
+    let darker = mse_on(&modulate, &vertex, ball);
+    eprintln!(
+        "constant base colour, MSE against vertex: separate specular {split:.3e}, modulate {darker:.3e}"
+    );
+    assert!(
+        split < 1e-9,
+        "separate specular on a constant colour: {split:.3e}"
+    );
+    assert!(darker > 1e-5, "modulate on a constant colour: {darker:.3e}");
+    let sum = |o: &RasterOutput| -> f64 {
+        let (rgb, ids) = rgb_id(o);
+        (0..rgb.len())
+            .filter(|&i| ids[i] == ball)
+            .map(|i| rgb[i].iter().map(|&c| f64::from(c)).sum::<f64>())
+            .sum()
+    };
+    assert!(sum(&modulate) < sum(&vertex), "modulating darkens the highlights");
+
+    let checker = textured_sphere(false);
+    let phong = renderer().render(&checker, &settings("shading_phong")).unwrap();
+    let errors: Vec<(&str, f64)> = ["separate_specular", "modulate", "vertex"]
+        .into_iter()
+        .map(|a| (a, mse_on(&gouraud(&checker, a), &phong, ball)))
+        .collect();
+    eprintln!("checker, MSE against per pixel: {errors:?}");
+    assert!(
+        errors[0].1 < 0.7 * errors[1].1 && errors[0].1 < 0.7 * errors[2].1,
+        "{errors:?}"
+    );
 }

@@ -261,6 +261,8 @@ pub enum Row {
     Texture(&'static Param<TextureFilter>),
     /// A row of its anti-aliasing.
     AntiAlias(&'static Param<AntiAliasing>),
+    /// A row of its shading frequency.
+    Shading(&'static Param<ShadingFrequency>),
 }
 
 /// The same field of whichever table a row is from.
@@ -273,6 +275,7 @@ macro_rules! row_field {
             Row::EnvMap(p) => p.$field,
             Row::Texture(p) => p.$field,
             Row::AntiAlias(p) => p.$field,
+            Row::Shading(p) => p.$field,
         }
     };
 }
@@ -317,6 +320,7 @@ impl Row {
             Row::EnvMap(p) => m.envmap.as_ref().and_then(|e| (p.get)(e)),
             Row::Texture(p) => m.texture.as_ref().and_then(|t| (p.get)(t)),
             Row::AntiAlias(p) => m.antialias.as_ref().and_then(|a| (p.get)(a)),
+            Row::Shading(p) => m.shading.as_ref().and_then(|s| (p.get)(s)),
         }
     }
 
@@ -329,6 +333,7 @@ impl Row {
             Row::EnvMap(p) => (p.set)(m.envmap.as_mut()?, value),
             Row::Texture(p) => (p.set)(m.texture.as_mut()?, value),
             Row::AntiAlias(p) => (p.set)(m.antialias.as_mut()?, value),
+            Row::Shading(p) => (p.set)(m.shading.as_mut()?, value),
         }
     }
 }
@@ -493,6 +498,9 @@ impl Method {
         if let Some(a) = &self.antialias {
             rows.extend(a.rows().map(Row::AntiAlias));
         }
+        if let Some(s) = &self.shading {
+            rows.extend(s.rows().map(Row::Shading));
+        }
         rows
     }
 
@@ -580,9 +588,9 @@ impl Method {
         }
     }
 
-    /// WGSL `SHADING_FREQUENCY` (0: per pixel).
+    /// WGSL `SHADING_FREQUENCY` (0: per pixel) in the low byte, `VERTEX_ALBEDO` above it.
     pub fn shading_code(&self) -> u32 {
-        self.shading.map_or(0, |s| s.shader_code())
+        self.shading.map_or(0, |s| s.shader_code() | s.albedo_code() << 8)
     }
 
     /// The WGSL `SHADOW_METHOD` of this method (0: unshadowed).
@@ -812,6 +820,7 @@ pub fn wgsl_codes() -> String {
     family(&mut s, "ENVMAP_", Some("NONE"), envmap::METHODS);
     family(&mut s, "TEX_", None, texture::METHODS);
     family(&mut s, "SHADING_", None, shading::METHODS);
+    s += &shading::wgsl_codes();
     s
 }
 

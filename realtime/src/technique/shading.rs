@@ -16,7 +16,44 @@
 //! (`direct-unshadowed`), so the shading frequency alone is measured; the tessellation's own
 //! error is the exact surface's (a `sphere` instead of the icosphere).
 
-use super::param::MethodSpec;
+use super::param::{Kind, MethodSpec, Param, Value};
+
+/// Where Gouraud shading takes a textured base colour (albedo) from (WGSL `VERTEX_ALBEDO`).
+/// Fixed-function OpenGL lit vertices with the material's colour and applied the texture per
+/// fragment (`GL_MODULATE`), which darkens and tints the highlights with the texture;
+/// OpenGL 1.2's separate specular colour (`GL_SEPARATE_SPECULAR_COLOR`, OpenGL 1.2 §3.9) interpolates
+/// the specular term apart and adds it after the texture.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum VertexAlbedo {
+    /// The whole material at the vertex, its textures sampled there: texture detail finer
+    /// than the triangles is lost with the lighting.
+    Vertex,
+    /// The vertices lit with a white base colour, the interpolated colour multiplied by the
+    /// texture at each pixel: the highlights are multiplied by it too.
+    Modulate,
+    /// The diffuse term (lit with a white base colour) and the specular term interpolated
+    /// apart; each pixel takes texture × diffuse + specular.
+    SeparateSpecular,
+}
+
+impl VertexAlbedo {
+    /// The keywords, in WGSL code order.
+    const NAMES: &'static [&'static str] = &["vertex", "modulate", "separate_specular"];
+
+    fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+
+    fn from_name(name: &str) -> Option<VertexAlbedo> {
+        [
+            VertexAlbedo::Vertex,
+            VertexAlbedo::Modulate,
+            VertexAlbedo::SeparateSpecular,
+        ]
+        .into_iter()
+        .find(|a| a.name() == name)
+    }
+}
 
 /// Where the lighting of mesh surfaces is evaluated (WGSL `SHADING_FREQUENCY`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -24,7 +61,10 @@ pub enum ShadingFrequency {
     /// Per pixel, the normals interpolated (what every other method does).
     Pixel,
     /// Per vertex, the colours interpolated.
-    Vertex,
+    Vertex {
+        /// Where a textured base colour is applied.
+        albedo: VertexAlbedo,
+    },
     /// Per triangle, at its provoking vertex with the face normal.
     Triangle,
 }
@@ -34,8 +74,17 @@ impl ShadingFrequency {
     pub fn shader_code(self) -> u32 {
         match self {
             ShadingFrequency::Pixel => 0,
-            ShadingFrequency::Vertex => 1,
+            ShadingFrequency::Vertex { .. } => 1,
             ShadingFrequency::Triangle => 2,
+        }
+    }
+
+    /// The WGSL override `VERTEX_ALBEDO` (`VERTEX_ALBEDO_VERTEX` but for Gouraud's other
+    /// variants).
+    pub fn albedo_code(self) -> u32 {
+        match self {
+            ShadingFrequency::Vertex { albedo } => albedo as u32,
+            _ => VertexAlbedo::Vertex as u32,
         }
     }
 
@@ -43,9 +92,45 @@ impl ShadingFrequency {
     pub fn spec(self) -> &'static MethodSpec<ShadingFrequency> {
         &METHODS[self.shader_code() as usize]
     }
+
+    /// Its parameter rows.
+    pub fn rows(&self) -> impl Iterator<Item = &'static Param<ShadingFrequency>> {
+        self.spec().params.iter()
+    }
 }
 
-/// The shading-frequency methods (every method's `n` and `env_n`, none of their own).
+/// The WGSL constants of `VERTEX_ALBEDO` (`VERTEX_ALBEDO_MODULATE` …), in code order.
+pub fn wgsl_codes() -> String {
+    VertexAlbedo::NAMES
+        .iter()
+        .enumerate()
+        .map(|(i, n)| format!("const VERTEX_ALBEDO_{}: u32 = {i}u;\n", n.to_uppercase()))
+        .collect()
+}
+
+const GOURAUD_ALBEDO: Param<ShadingFrequency> = Param {
+    name: "albedo",
+    kind: Kind::Keyword(VertexAlbedo::NAMES),
+    unit: "",
+    doc: "a textured base colour: sampled at the vertices with the rest of the material (`vertex`), applied per \
+          pixel to the interpolated colour, highlights included (`modulate`), or per pixel to the diffuse term \
+          alone with the specular interpolated apart and added after (`separate_specular`)",
+    source: "OpenGL 1.2 §3.9 (GL_MODULATE; GL_SEPARATE_SPECULAR_COLOR)",
+    unset: "",
+    get: |s| match s {
+        ShadingFrequency::Vertex { albedo } => Some(Value::Keyword(albedo.name())),
+        _ => None,
+    },
+    set: |s, v| match s {
+        ShadingFrequency::Vertex { albedo } => {
+            *albedo = VertexAlbedo::from_name(v.keyword()?)?;
+            Some(())
+        }
+        _ => None,
+    },
+};
+
+/// The shading-frequency methods (every method's `n` and `env_n`; Gouraud's `albedo`).
 pub static METHODS: &[MethodSpec<ShadingFrequency>] = &[
     MethodSpec {
         name: "shading_phong",
@@ -59,8 +144,10 @@ pub static METHODS: &[MethodSpec<ShadingFrequency>] = &[
         summary: "lighting at the vertices, colours interpolated: highlights between vertices are lost, those on a \
                   vertex smeared over its triangles",
         source: "Gouraud 1971, \"Continuous Shading of Curved Surfaces\", IEEE Trans. Computers C-20(6)",
-        default: || ShadingFrequency::Vertex,
-        params: &[],
+        default: || ShadingFrequency::Vertex {
+            albedo: VertexAlbedo::Vertex,
+        },
+        params: &[GOURAUD_ALBEDO],
     },
     MethodSpec {
         name: "shading_flat",
