@@ -300,6 +300,7 @@ fn lights_and_environments() {
             intensity: Vec3::splat(2.0),
             cutoff_deg: 30.0,
             beam_width_deg: 20.0,
+            projection: None,
         },
         Light::Directional {
             name: "sun".into(),

@@ -129,7 +129,8 @@ struct Material {
 
 struct Light {
     kind: u32,
-    pad0: u32,
+    // Spot: the projected texture (its factor is in `intensity`), or NONE.
+    projection_tex: u32,
     pad1: u32,
     pad2: u32,
     position: vec4<f32>,
@@ -139,6 +140,8 @@ struct Light {
     intensity: vec4<f32>,
     // Spot: cos θc, cos θb, θc, θb. Directional: 1 − cos θmax, sin²θmax, 0, 0 (0 = delta).
     params: vec4<f32>,
+    // Spot with a projected texture: its right axis r (xyz), tan θc (w).
+    projection: vec4<f32>,
 }
 
 struct TextureInfo {

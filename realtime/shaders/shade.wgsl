@@ -81,8 +81,9 @@ fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>, frag: vec2<f
             term = self_shadowed(f, term, sp, l.direction.xyz, tan_alpha);
             color += shadowed(f, term, slot, sp, frag);
         } else {
-            let inc = punctual_incident(l, sp.p);
+            var inc = punctual_incident(l, sp.p);
             if any(inc.li > vec3<f32>(0.0)) {
+                inc.li *= projected_texture(f, l, sp);
                 let term = self_shadowed(f, bsdf_eval(b, n, wo, inc.wi) * inc.li, sp, inc.wi, 0.0);
                 color += shadowed(f, term, slot, sp, frag);
             }

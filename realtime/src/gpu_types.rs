@@ -181,8 +181,10 @@ const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 32 + 3 * 16);
 pub struct GpuLight {
     /// [`LightKind`].
     pub kind: u32,
+    /// Spot: the projected texture (its factor is in `intensity`), or [`NONE`].
+    pub projection_tex: u32,
     /// Padding.
-    pub pad: [u32; 3],
+    pub pad: [u32; 2],
     /// Position (point, spot).
     pub position: [f32; 4],
     /// Spot axis, or the unit direction towards a directional light.
@@ -191,8 +193,11 @@ pub struct GpuLight {
     pub intensity: [f32; 4],
     /// Spot: cos θc, cos θb, θc, θb (radians). Directional: 1 − cos θmax, sin²θmax (0 = delta).
     pub params: [f32; 4],
+    /// Spot with a projected texture: the light's right axis r (xyz) and tan θc
+    /// (scenes::projection).
+    pub projection: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuLight>() == 16 + 4 * 16);
+const _: () = assert!(std::mem::size_of::<GpuLight>() == 16 + 5 * 16);
 
 /// Where a texture's texels start in the texel buffer, and where its reduced levels are
 /// (WGSL `TextureInfo`). The records of levels and tables are `GpuTextureInfo`s too, after

@@ -60,7 +60,7 @@ pub use crate::gpu::{COLOR_FORMAT, DEPTH_FORMAT};
 
 /// The WGSL sources in dependency order; WGSL has no includes, so they form one module, with
 /// `counters_on.wgsl` or `counters_off.wgsl` appended.
-const SHADER_SOURCES: [(&str, &str); 33] = [
+const SHADER_SOURCES: [(&str, &str); 34] = [
     ("common.wgsl", include_str!("../shaders/common.wgsl")),
     ("texture.wgsl", include_str!("../shaders/texture.wgsl")),
     ("surface.wgsl", include_str!("../shaders/surface.wgsl")),
@@ -151,6 +151,7 @@ const SHADER_SOURCES: [(&str, &str); 33] = [
         "texture/anisotropic.wgsl",
         include_str!("../shaders/texture/anisotropic.wgsl"),
     ),
+    ("projection.wgsl", include_str!("../shaders/projection.wgsl")),
     ("shade.wgsl", include_str!("../shaders/shade.wgsl")),
     ("passes.wgsl", include_str!("../shaders/passes.wgsl")),
     (

@@ -93,8 +93,10 @@ impl SceneGpu {
                 .map_err(|e| format!("{src}: shape '{}' (shapes[{i}]): {e}", s.name))?;
         }
         for (i, l) in scene.lights.iter().enumerate() {
-            a.lights
-                .push(light(l).map_err(|e| format!("{src}: light '{}' (lights[{i}]): {e}", l.name()))?);
+            a.lights.push(
+                light(l, scene.textures.len())
+                    .map_err(|e| format!("{src}: light '{}' (lights[{i}]): {e}", l.name()))?,
+            );
         }
         add_levels(&mut a, scene, &textures, &method.texture_filter());
         let env = environment(scene).map_err(|e| format!("{src}: environment: {e}"))?;
@@ -295,7 +297,13 @@ fn colour_textures(scene: &Scene) -> Vec<usize> {
         .shapes
         .iter()
         .filter_map(|s| s.emission.as_ref().and_then(|e| image(&e.radiance)));
-    materials.chain(emission).collect()
+    let projected = scene.lights.iter().filter_map(|l| match l {
+        Light::Spot {
+            projection: Some(p), ..
+        } => image(&p.texture),
+        _ => None,
+    });
+    materials.chain(emission).chain(projected).collect()
 }
 
 /// (texture or NONE, constant/factor) of a TexRgb.
@@ -706,14 +714,16 @@ fn unit(name: &str, v: Vec3) -> Result<Vec3, String> {
     Ok(n)
 }
 
-fn light(l: &Light) -> Result<GpuLight, String> {
+fn light(l: &Light, textures: usize) -> Result<GpuLight, String> {
     let mut g = GpuLight {
         kind: 0,
-        pad: [0; 3],
+        projection_tex: NONE,
+        pad: [0; 2],
         position: [0.0; 4],
         direction: [0.0; 4],
         intensity: [0.0; 4],
         params: [0.0; 4],
+        projection: [0.0; 4],
     };
     match l {
         Light::Point {
@@ -730,6 +740,7 @@ fn light(l: &Light) -> Result<GpuLight, String> {
             intensity,
             cutoff_deg,
             beam_width_deg,
+            projection,
             ..
         } => {
             g.kind = LightKind::Spot as u32;
@@ -747,6 +758,20 @@ fn light(l: &Light) -> Result<GpuLight, String> {
             }
             let (c, b) = (cutoff_deg.to_radians(), beam_width_deg.to_radians());
             g.params = [c.cos(), b.cos(), c, b];
+            if let Some(p) = projection {
+                // The factor rides on the intensity (both multiply the texel).
+                let (tex, factor) = tex_rgb(&p.texture, textures, "texture")?;
+                if tex == NONE {
+                    return Err("a projected texture must be an image".into());
+                }
+                let (right, _) = p
+                    .frame(Vec3::from_slice(&g.direction[..3]))
+                    .ok_or_else(|| format!("up = {} is along the spot's axis", p.up))?;
+                check_rgb("texture.factor", Vec3::from_slice(&factor[..3]))?;
+                g.intensity = vec4(*intensity * Vec3::from_slice(&factor[..3]), 0.0);
+                g.projection_tex = tex;
+                g.projection = vec4(right, c.tan());
+            }
         }
         Light::Directional {
             direction,

@@ -262,6 +262,7 @@ fn bad_scenes_are_errors_naming_the_shape_or_light() {
         intensity: Vec3::ONE,
         cutoff_deg: 30.0,
         beam_width_deg: 10.0,
+        projection: None,
     });
     let mut material = floor_scene(false);
     material.shapes[0].material = 5;

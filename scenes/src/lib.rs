@@ -18,6 +18,7 @@ pub mod icosphere;
 pub mod layered;
 pub mod model;
 pub mod pixel_filter;
+pub mod projection;
 pub mod random;
 pub mod srgb;
 pub mod tangent;
@@ -29,6 +30,7 @@ use std::path::Path;
 pub use error::SceneError;
 pub use model::*;
 pub use pixel_filter::PixelFilter;
+pub use projection::Projection;
 
 /// Radiance of the sky a glTF asset loaded on its own is lit by when it brings no light of
 /// its own (no punctual light, no emissive surface): a uniform white environment, so that

@@ -506,6 +506,8 @@ pub enum Light {
         cutoff_deg: f32,
         /// Half-angle of full intensity, degrees, [0, cutoff].
         beam_width_deg: f32,
+        /// A projected texture (cookie), or None ([`crate::projection`]).
+        projection: Option<crate::projection::Projection>,
     },
     /// Distant light. `irradiance` is measured on a surface facing the light (W/m²).
     /// With `angular_diameter_deg > 0` it is a uniform disk (the sun) of radiance

@@ -164,7 +164,7 @@ fn from_tree(ctx: &Ctx, root: &tree::Node, ledger: &Ledger) -> Result<Scene, Sce
     let mut textures = inputs::Textures::new(ledger);
     let (materials, material_names) = materials::read_all(&doc, &mut textures)?;
     let drafts = shapes::read_all(&doc, &material_names, &mut textures)?;
-    let lights = lights::read_all(&doc)?;
+    let lights = lights::read_all(&doc, &mut textures)?;
     let (environment, clamped) = match section("environment")? {
         Some(t) => {
             let (environment, clamped) = settings::environment(&t, &mut textures)?;

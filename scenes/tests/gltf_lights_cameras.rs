@@ -66,6 +66,7 @@ fn point_spot_and_directional_lights_convert_units_angles_and_directions() {
         intensity,
         cutoff_deg,
         beam_width_deg,
+        ..
     } = spot
     else {
         panic!("{spot:?}");

@@ -463,6 +463,58 @@ fn light_errors() {
         load_text(&dir, &spot("direction = [0, 0, 0]")),
         &["bad.toml:22:", "non-zero direction"],
     );
+    // A projected texture (scenes::projection): an image, oriented by an `up` across the axis.
+    std::fs::copy(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/checker_3x3.png"),
+        dir.join("cookie.png"),
+    )
+    .unwrap();
+    expect_error(
+        load_text(&dir, &spot("target = [0, 0, -1]\ntexture = 0.5")),
+        &["bad.toml:23:", "`light \"spot\".texture`", "must be an image"],
+    );
+    expect_error(
+        load_text(&dir, &spot("target = [0, 0, -1]\nup = [1, 0, 0]")),
+        &[
+            "bad.toml:23:",
+            "`light \"spot\".up`",
+            "orients a projected `texture`",
+        ],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &spot("target = [0, 0, 0]\ntexture = { texture = \"cookie.png\" }"),
+        ),
+        &["bad.toml:", "light \"spot\"", "the default `up`"],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &spot("target = [0, 0, 0]\ntexture = { texture = \"cookie.png\" }\nup = [0, 2, 0]"),
+        ),
+        &["bad.toml:24:", "`light \"spot\".up`", "along the spot's axis"],
+    );
+    expect_error(
+        load_text(
+            &dir,
+            &spot("target = [0, 0, -1]\ntexture = { texture = \"missing.png\" }"),
+        ),
+        &["bad.toml:23:", "missing.png"],
+    );
+    let ok = load_text(
+        &dir,
+        &spot("target = [0, 0, -1]\ntexture = { texture = \"cookie.png\", factor = [1, 0.5, 0.5] }"),
+    )
+    .unwrap();
+    let scenes::Light::Spot {
+        projection: Some(p), ..
+    } = &ok.lights[0]
+    else {
+        panic!("{:?}", ok.lights[0]);
+    };
+    assert_eq!(p.up, glam::Vec3::Y);
+    assert!(matches!(p.texture, scenes::TexRgb::Image { .. }));
     expect_error(
         load_text(
             &dir,

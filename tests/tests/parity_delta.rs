@@ -101,6 +101,7 @@ fn parity_delta_lights_interior_pixels() {
             intensity: Vec3::new(6.0, 6.0, 7.0),
             cutoff_deg: 45.0,
             beam_width_deg: 30.0,
+            projection: None,
         },
         Light::Directional {
             name: "sun".into(),
@@ -118,6 +119,46 @@ fn parity_delta_lights_interior_pixels() {
         "mirror-sphere-point",
         &builtin_with_lights("mirror-sphere.toml", mirror),
     );
+    check_interior("soft-shadow-projector", &projector_scene());
+}
+
+/// The soft-shadow scene lit by a spot projecting a magnified 6 × 4 texture of distinct
+/// colours (scenes::projection): the projective lookup through the default bilinear filter
+/// is the oracle's exact projection, so only the pixel's centre-vs-mean difference remains.
+fn projector_scene() -> Scene {
+    let projector = Light::Spot {
+        name: "projector".into(),
+        position: Vec3::new(-0.6, 1.6, 0.4),
+        direction: Vec3::new(0.4, -1.0, -0.2),
+        intensity: Vec3::new(6.0, 6.0, 7.0),
+        cutoff_deg: 45.0,
+        beam_width_deg: 30.0,
+        projection: None,
+    };
+    let mut s = builtin_with_lights("soft-shadow.toml", vec![projector]);
+    let texels = (0..24u32)
+        .map(|k| {
+            let (i, j) = ((k % 6) as f32, (k / 6) as f32);
+            glam::Vec4::new(0.2 + 0.15 * i, 0.9 - 0.2 * j, 0.3 + 0.5 * ((i + j) % 2.0), 1.0)
+        })
+        .collect();
+    s.textures
+        .push(std::sync::Arc::new(scenes::texture::Texture::from_texels(
+            6,
+            4,
+            texels,
+            [scenes::WrapMode::Clamp; 2],
+        )));
+    if let Light::Spot { projection, .. } = &mut s.lights[0] {
+        *projection = Some(scenes::Projection {
+            texture: scenes::TexRgb::Image {
+                texture: s.textures.len() - 1,
+                factor: Vec3::new(1.0, 0.9, 0.8),
+            },
+            up: Vec3::new(0.0, 0.2, -1.0).normalize(),
+        });
+    }
+    s
 }
 
 #[test]

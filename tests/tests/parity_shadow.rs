@@ -350,6 +350,7 @@ fn parity_shadow_point_spot_and_sun_maps() {
             intensity: Vec3::splat(3.0),
             cutoff_deg: 50.0,
             beam_width_deg: 40.0,
+            projection: None,
         },
         Light::Directional {
             name: "sun".into(),

@@ -8,6 +8,7 @@
 use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
+use scenes::texture::Texture;
 use scenes::{Environment, Geometry, Light, Scene};
 
 use super::directional::DirectionalLight;
@@ -63,7 +64,7 @@ impl LightSet {
         }
         let (_, scene_radius) = scene.bounding_sphere();
         for (i, light) in scene.lights.iter().enumerate() {
-            let emitter = delta_emitter(light, scene_radius)
+            let emitter = delta_emitter(light, &scene.textures, scene_radius)
                 .map_err(|e| format!("light '{}' (lights[{i}]): {e}", light.name()))?;
             emitters.push(emitter);
         }
@@ -178,7 +179,7 @@ fn area_emitter(scene: &Scene, geometry: &Geometry, emission: &scenes::Emission)
 }
 
 /// The emitter of a scene light.
-fn delta_emitter(light: &Light, scene_radius: f32) -> Result<Emitter, String> {
+fn delta_emitter(light: &Light, textures: &[Arc<Texture>], scene_radius: f32) -> Result<Emitter, String> {
     Ok(match light {
         Light::Point {
             position, intensity, ..
@@ -189,14 +190,15 @@ fn delta_emitter(light: &Light, scene_radius: f32) -> Result<Emitter, String> {
             intensity,
             cutoff_deg,
             beam_width_deg,
+            projection,
             ..
-        } => Emitter::Spot(SpotLight::new(
-            *position,
-            *direction,
-            *intensity,
-            *cutoff_deg,
-            *beam_width_deg,
-        )?),
+        } => {
+            let spot = SpotLight::new(*position, *direction, *intensity, *cutoff_deg, *beam_width_deg)?;
+            Emitter::Spot(match projection {
+                Some(p) => spot.projecting(Radiance::new(&p.texture, textures, "texture")?, p.up)?,
+                None => spot,
+            })
+        }
         Light::Directional {
             direction,
             irradiance,

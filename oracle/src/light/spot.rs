@@ -7,7 +7,9 @@
 //!
 //! s(θ) = 1 for θ ≤ θb;  (θc − θ)/(θc − θb) for θb < θ < θc;  0 for θ ≥ θc.
 //!
-//! Seen from p at distance r: li = I·s(θ)/r² along ωi = (position − p)/r. Emitted power
+//! Seen from p at distance r: li = I·s(θ)·T(uv(−ωi))/r² along ωi = (position − p)/r, T = 1
+//! unless the spot projects a texture (a cookie: [`scenes::projection`], whose uv(ω) is
+//! evaluated exactly at every shading point and the texture bilinearly there). Emitted power
 //! Φ = 2π·I·∫₀^π s(θ) sinθ dθ = 2π·I·[1 − (sin θc − sin θb)/(θc − θb)], which tends to
 //! 2π·I·(1 − cos θc) as θb → θc (integrating the ramp by parts; the same quantity as pbrt-v4
 //! §12.2.1 SpotLight::Phi, there for a smoothstep falloff).
@@ -19,17 +21,21 @@
 //! | `intensity` | RGB, finite, ≥ 0 | — | W/sr |
 //! | `cutoff_deg` θc | f32 ∈ (0, 90] | — | degrees |
 //! | `beam_width_deg` θb | f32 ∈ [0, θc] | — | degrees |
+//! | projection | texture T, up (optional) | none | — |
 
 use std::f32::consts::TAU;
 
 use glam::Vec3;
 use scenes::Rgb;
 
-use super::radiance::{average, check_direction, check_rgb, check_vec, is_black};
+use glam::Vec2;
+use scenes::projection::Projection;
+
+use super::radiance::{average, check_direction, check_rgb, check_vec, is_black, Radiance};
 use super::LightSample;
 
 /// Spot light with linear-in-angle falloff.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct SpotLight {
     /// Position.
     pub position: Vec3,
@@ -45,6 +51,8 @@ pub struct SpotLight {
     cos_cutoff: f32,
     /// cos θb.
     cos_beam: f32,
+    /// The projected texture, the light's right and image-up axes and tan θc.
+    projection: Option<(Radiance, (Vec3, Vec3), f32)>,
 }
 
 impl SpotLight {
@@ -76,7 +84,29 @@ impl SpotLight {
             beam,
             cos_cutoff: cutoff.cos(),
             cos_beam: beam.cos(),
+            projection: None,
         })
+    }
+
+    /// The same spot projecting `texture` with the image's `up` ([`scenes::projection`]).
+    pub fn projecting(mut self, texture: Radiance, up: Vec3) -> Result<Self, String> {
+        let frame = Projection {
+            texture: scenes::TexRgb::Constant(Vec3::ONE),
+            up,
+        }
+        .frame(self.direction)
+        .ok_or_else(|| format!("up = {up} is along the spot's axis {}", self.direction))?;
+        self.projection = Some((texture, frame, self.cutoff.tan()));
+        Ok(self)
+    }
+
+    /// T(uv(d)) for the unit direction `d` leaving the light (1 without a projection).
+    fn projected(&self, d: Vec3) -> Rgb {
+        match &self.projection {
+            None => Vec3::ONE,
+            Some((texture, frame, tan)) => Projection::uv(self.direction, *frame, *tan, d)
+                .map_or(Vec3::ZERO, |uv: Vec2| texture.eval(uv)),
+        }
     }
 
     /// Falloff s(θ) for the unit direction `d` leaving the light.
@@ -102,7 +132,7 @@ impl SpotLight {
         }
         let dist = r2.sqrt();
         let wi = d / dist;
-        let li = self.intensity * (self.falloff(-wi) / r2);
+        let li = self.intensity * self.projected(-wi) * (self.falloff(-wi) / r2);
         if is_black(li) {
             return None;
         }
@@ -115,14 +145,20 @@ impl SpotLight {
         })
     }
 
-    /// Φ = 2π·I·[1 − (sin θc − sin θb)/(θc − θb)] (channel average).
+    /// Φ = 2π·I·[1 − (sin θc − sin θb)/(θc − θb)] (channel average), times the projected
+    /// texture's mean (an estimate for light selection: the texels' mean, not their mean over
+    /// the solid angle).
     pub fn power(&self) -> f32 {
         // (sin θc − sin θb)/(θc − θb) = cos m · sin h / h with m = (θc + θb)/2, h = (θc − θb)/2
         // (sum-to-product), which stays exact as the ramp vanishes.
         let (m, h) = (0.5 * (self.cutoff + self.beam), 0.5 * (self.cutoff - self.beam));
         let sinc = if h > 1e-3 { h.sin() / h } else { 1.0 - h * h / 6.0 };
         let solid = 1.0 - m.cos() * sinc;
-        TAU * average(self.intensity) * solid
+        let mean = self
+            .projection
+            .as_ref()
+            .map_or(Vec3::ONE, |(texture, _, _)| texture.mean());
+        TAU * average(self.intensity * mean) * solid
     }
 }
 
@@ -184,6 +220,45 @@ mod tests {
                 "cutoff {cutoff}°, beam {beam}°: Φ = {got}, quadrature {want}"
             );
         }
+    }
+
+    /// A 2×2 cookie (top-left 1, top-right 2, bottom-left 3, bottom-right 4, clamped) on a
+    /// spot pointing down −Z with up +Y: the image stands upright behind the light, its texel
+    /// centres at uv (¼, ¼) … (¾, ¾), i.e. tan(direction) = ±½·tan θc right and up.
+    #[test]
+    fn a_projected_texture_multiplies_the_intensity_upright_behind_the_light() {
+        use scenes::texture::{Texture, WrapMode};
+        use std::sync::Arc;
+        let texels = [1.0, 2.0, 3.0, 4.0]
+            .map(|v| glam::Vec4::new(v, v, v, 1.0))
+            .to_vec();
+        let texture = Arc::new(Texture::from_texels(2, 2, texels, [WrapMode::Clamp; 2]));
+        let image = Radiance::Image {
+            texture,
+            factor: Vec3::new(1.0, 0.5, 0.25),
+        };
+        let spot = SpotLight::new(Vec3::ZERO, -Vec3::Z, Vec3::splat(2.0), 40.0, 40.0)
+            .unwrap()
+            .projecting(image, Vec3::Y)
+            .unwrap();
+        let t = 0.5 * 40f32.to_radians().tan();
+        for (x, y, texel) in [(-t, t, 1.0), (t, t, 2.0), (-t, -t, 3.0), (t, -t, 4.0)] {
+            let p = Vec3::new(x, y, -1.0) * 3.0;
+            let s = spot.sample_li(p).unwrap();
+            let want = Vec3::new(1.0, 0.5, 0.25) * (2.0 * texel / p.length_squared());
+            assert!(
+                (s.li - want).length() < 1e-5 * want.length(),
+                "({x}, {y}): {} vs {want}",
+                s.li
+            );
+        }
+        // Along the axis: the mean of the four texels (bilinear at the centre).
+        let s = spot.sample_li(-Vec3::Z).unwrap();
+        assert!((s.li.x - 2.0 * 2.5).abs() < 1e-5, "{}", s.li);
+        assert!(SpotLight::new(Vec3::ZERO, Vec3::Y, Vec3::ONE, 30.0, 10.0)
+            .unwrap()
+            .projecting(Radiance::Constant(Vec3::ONE), Vec3::Y)
+            .is_err());
     }
 
     #[test]

@@ -33,14 +33,16 @@ fn set_hardware_footprint(uv: vec2<f32>) {
     uv_footprint = select(vec4<f32>(0.0), fp, all(abs(fp) < vec4<f32>(1e30)));
 }
 
-// Ray differentials at p on the tangent plane of normal n with ∂p/∂u, ∂p/∂v (analytic
-// derivatives only): the camera rays through the next target pixel in x and in y meet the
-// plane at p + ∂p/∂x and p + ∂p/∂y, and (du, dv) solve ∂p = ∂p/∂u·du + ∂p/∂v·dv by least
-// squares (the normal equations). Zero where the plane is seen edge-on or (u, v) is degenerate.
-fn set_analytic_footprint(f: FrameUniforms, p: vec3<f32>, n: vec3<f32>, dpdu: vec3<f32>, dpdv: vec3<f32>) {
-    if TEXTURE_DERIVATIVES != 1u || !filter_reads_footprint() {
-        return;
-    }
+// ∂p/∂x and ∂p/∂y of a surface point per target pixel.
+struct PixelDifferentials {
+    dpx: vec3<f32>,
+    dpy: vec3<f32>,
+}
+
+// Ray differentials (Igehy 1999) at p on the tangent plane of normal n: the camera rays
+// through the next target pixel in x and in y meet the plane at p + ∂p/∂x and p + ∂p/∂y.
+// Non-finite where the plane is seen edge-on.
+fn pixel_differentials(f: FrameUniforms, p: vec3<f32>, n: vec3<f32>) -> PixelDifferentials {
     let o = f.cam_pos.xyz;
     let d = p - o;
     // The pinhole direction as camera_ray_direction builds it before normalising (its −cam_z
@@ -50,8 +52,19 @@ fn set_analytic_footprint(f: FrameUniforms, p: vec3<f32>, n: vec3<f32>, dpdu: ve
     let ddy = f.cam_y.xyz * (-2.0 * f.film.z / f.film.y * f.ssaa.y);
     let dx = d1 + ddx;
     let dy = d1 + ddy;
-    let dpx = o + dx * (dot(n, d) / dot(n, dx)) - p;
-    let dpy = o + dy * (dot(n, d) / dot(n, dy)) - p;
+    return PixelDifferentials(o + dx * (dot(n, d) / dot(n, dx)) - p, o + dy * (dot(n, d) / dot(n, dy)) - p);
+}
+
+// The footprint from ray differentials at p on the tangent plane of normal n with ∂p/∂u,
+// ∂p/∂v (analytic derivatives only): (du, dv) solve ∂p = ∂p/∂u·du + ∂p/∂v·dv by least
+// squares (the normal equations). Zero where the plane is seen edge-on or (u, v) is degenerate.
+fn set_analytic_footprint(f: FrameUniforms, p: vec3<f32>, n: vec3<f32>, dpdu: vec3<f32>, dpdv: vec3<f32>) {
+    if TEXTURE_DERIVATIVES != 1u || !filter_reads_footprint() {
+        return;
+    }
+    let pd = pixel_differentials(f, p, n);
+    let dpx = pd.dpx;
+    let dpy = pd.dpy;
     let a = dot(dpdu, dpdu);
     let b = dot(dpdu, dpdv);
     let c = dot(dpdv, dpdv);

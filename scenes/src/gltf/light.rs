@@ -154,6 +154,7 @@ pub(super) fn convert(
             intensity: power,
             cutoff_deg: outer_cone_angle.to_degrees(),
             beam_width_deg: inner_cone_angle.to_degrees(),
+            projection: None,
         },
     })
 }

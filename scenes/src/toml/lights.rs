@@ -1,9 +1,10 @@
 //! `[[light]]` tables → point, spot and directional [`Light`]s (area lights are emissive
 //! shapes). Angles are in degrees.
 
-use super::inputs::{rgb_const, Bound};
+use super::inputs::{rgb_const, rgb_input, Bound, Textures};
 use super::read::{Field, Table};
 use crate::model::Light;
+use crate::projection::Projection;
 use crate::SceneError;
 
 const TYPES: &[&str] = &["point", "spot", "directional"];
@@ -13,7 +14,10 @@ const SPOT_CUTOFF_DEG: f32 = 20.0;
 const SPOT_BEAM_FRACTION: f32 = 0.75;
 
 /// Reads every `[[light]]`; returns each light with the line of its `name`.
-pub(crate) fn read_all(doc: &Table) -> Result<Vec<(Light, Option<usize>)>, SceneError> {
+pub(crate) fn read_all(
+    doc: &Table,
+    textures: &mut Textures,
+) -> Result<Vec<(Light, Option<usize>)>, SceneError> {
     let Some(list) = doc.get("light") else {
         return Ok(Vec::new());
     };
@@ -22,12 +26,12 @@ pub(crate) fn read_all(doc: &Table) -> Result<Vec<(Light, Option<usize>)>, Scene
         let name_field = t.req("name")?;
         let name = name_field.str()?.to_string();
         let t = t.clone().renamed(format!("light {}", crate::error::echo(&name)));
-        lights.push((read_one(&t, name)?, name_field.line));
+        lights.push((read_one(&t, name, textures)?, name_field.line));
     }
     Ok(lights)
 }
 
-fn read_one(t: &Table, name: String) -> Result<Light, SceneError> {
+fn read_one(t: &Table, name: String, textures: &mut Textures) -> Result<Light, SceneError> {
     let kind = t.req("type")?.keyword(TYPES)?;
     let fields: &[&str] = match kind {
         "point" => &["name", "type", "position", "intensity"],
@@ -40,6 +44,8 @@ fn read_one(t: &Table, name: String) -> Result<Light, SceneError> {
             "intensity",
             "cutoff_angle",
             "beam_width",
+            "texture",
+            "up",
         ],
         _ => &["name", "type", "direction", "irradiance", "angular_diameter"],
     };
@@ -50,7 +56,7 @@ fn read_one(t: &Table, name: String) -> Result<Light, SceneError> {
             position: t.req("position")?.position()?,
             intensity: rgb_const(Some(t.req("intensity")?), Bound::NonNegative, glam::Vec3::ZERO)?,
         },
-        "spot" => spot(t, name)?,
+        "spot" => spot(t, name, textures)?,
         _ => {
             let d = t.get("angular_diameter");
             let angular_diameter_deg = d.as_ref().map_or(Ok(0.0), Field::f32)?;
@@ -70,8 +76,9 @@ fn read_one(t: &Table, name: String) -> Result<Light, SceneError> {
     })
 }
 
-/// Spot: `position`, `direction` or `target`, `intensity`, `cutoff_angle`, `beam_width`.
-fn spot(t: &Table, name: String) -> Result<Light, SceneError> {
+/// Spot: `position`, `direction` or `target`, `intensity`, `cutoff_angle`, `beam_width`, and
+/// a projected `texture` with its `up` (crate::projection).
+fn spot(t: &Table, name: String, textures: &mut Textures) -> Result<Light, SceneError> {
     let position = t.req("position")?.position()?;
     let direction = match t.one_of(&["direction", "target"])? {
         Some("direction") => t.req("direction")?.direction()?,
@@ -106,5 +113,39 @@ fn spot(t: &Table, name: String) -> Result<Light, SceneError> {
         intensity: rgb_const(Some(t.req("intensity")?), Bound::NonNegative, glam::Vec3::ZERO)?,
         cutoff_deg,
         beam_width_deg,
+        projection: projection(t, direction, textures)?,
     })
+}
+
+/// A spot's projected `texture` (an image table; a constant colour is the intensity's job)
+/// and the image's `up` (default +Y), which must not be along the axis.
+fn projection(
+    t: &Table,
+    axis: glam::Vec3,
+    textures: &mut Textures,
+) -> Result<Option<Projection>, SceneError> {
+    let Some(field) = t.get("texture") else {
+        if let Some(up) = t.get("up") {
+            return Err(up.err("`up` orients a projected `texture`; this spot has none"));
+        }
+        return Ok(None);
+    };
+    if !field.is_table() {
+        return Err(field
+            .err("a projected texture must be an image, `{ texture = \"file.png\", … }`")
+            .hint("a constant colour is the spot's `intensity`"));
+    }
+    let texture = rgb_input(&field, Bound::NonNegative, textures)?;
+    let up_field = t.get("up");
+    let up = up_field.as_ref().map_or(Ok(glam::Vec3::Y), Field::direction)?;
+    let projection = Projection { texture, up };
+    if projection.frame(axis).is_none() {
+        return Err(match up_field {
+            Some(f) => f.err("`up` is along the spot's axis: the projected image has no orientation"),
+            None => t.err(
+                "the spot points along +Y or −Y, the default `up` of its projected texture: give `up`, a direction across the axis",
+            ),
+        });
+    }
+    Ok(Some(projection))
 }

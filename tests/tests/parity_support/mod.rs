@@ -340,6 +340,7 @@ pub fn delta_lights() -> Vec<Light> {
             intensity: Vec3::new(8.0, 8.0, 10.0),
             cutoff_deg: 40.0,
             beam_width_deg: 25.0,
+            projection: None,
         },
         Light::Directional {
             name: "sun".into(),

@@ -3,7 +3,9 @@
 //! `point` takes the intensity in W/sr; `spot` the on-axis intensity, `cutoff_angle` and
 //! `beam_width` in degrees with the same linear-in-angle falloff as ours (probed: full
 //! intensity up to the beam width, linear to zero at the cutoff, also for beam width 0 and
-//! beam width = cutoff), pointing along its local +Z (`to_world` = lookat); `directional`
+//! beam width = cutoff), pointing along its local +Z (`to_world` = lookat), with a projected
+//! texture as its `texture` (a `bitmap` with the factor baked in; the frame's up is −up,
+//! scenes::projection); `directional`
 //! takes the irradiance on a surface facing it and the direction light travels to. Mitsuba
 //! has no sun disk, so a directional light with an angular diameter is refused. Environment:
 //! `constant`, or `envmap` with our image written as float EXR and the same `scale`; the
@@ -39,15 +41,23 @@ impl Exporter<'_> {
                 .child(Element::point("position", *position))
                 .child(Element::rgb("intensity", *intensity)),
             Light::Spot {
+                name,
                 position,
                 direction,
                 intensity,
                 cutoff_deg,
                 beam_width_deg,
-                ..
+                projection,
             } => {
-                let up = if direction.y.abs() < 0.9 { Vec3::Y } else { Vec3::X };
-                Element::plugin("emitter", "spot")
+                // A projected texture's image up is our `up`; Mitsuba's uv runs along its
+                // frame's x = up′ × axis and y, so up′ = −up gives the same uv
+                // (scenes::projection). Without one the frame is any.
+                let up = match projection {
+                    Some(p) => -p.up,
+                    None if direction.y.abs() < 0.9 => Vec3::Y,
+                    None => Vec3::X,
+                };
+                let mut el = Element::plugin("emitter", "spot")
                     .child(Element::rgb("intensity", *intensity))
                     .child(Element::float("cutoff_angle", *cutoff_deg))
                     .child(Element::float("beam_width", *beam_width_deg))
@@ -55,7 +65,15 @@ impl Exporter<'_> {
                         *position,
                         *position + *direction,
                         up,
-                    )))
+                    )));
+                if let Some(p) = projection {
+                    el = el.child(self.rgb_input(
+                        "texture",
+                        &p.texture,
+                        &format!("light `{name}`: projected texture"),
+                    )?);
+                }
+                el
             }
             Light::Directional {
                 name,

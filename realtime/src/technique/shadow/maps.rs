@@ -705,6 +705,7 @@ pub(in crate::technique::shadow) mod tests {
             intensity: Vec3::ONE,
             cutoff_deg: 20.0,
             beam_width_deg: 10.0,
+            projection: None,
         };
         let sun = Light::Directional {
             name: "sun".into(),
