@@ -59,6 +59,7 @@ fn cli_help_lists_every_subcommand() {
         "crosscheck",
         "bench",
         "raster",
+        "bake",
         "report",
         "diff",
     ] {
@@ -195,4 +196,66 @@ fn cli_integrator_reads_either_spelling_and_prints_one() {
             "{spelling}"
         );
     }
+}
+
+/// `verity bake`: the atlas EXR with its channels and chart table, the summary line, and bad
+/// input (a resolution of 0 or 65536, a shape without a chart, an unknown dynamic shape) as
+/// an error naming it with exit 2, nothing written.
+#[test]
+fn cli_bake_writes_the_atlas_and_refuses_what_it_cannot_bake() {
+    let dir = test_dir("bake");
+    let scene = dir.join("floor.toml");
+    let floor = "[camera]\neye = [0, 3, 3]\ntarget = [0, 0, 0]\nfov = 40\n[film]\nwidth = 8\nheight = 8\n\
+                 [[material]]\nname = \"grey\"\ntype = \"diffuse\"\nalbedo = 0.5\n\
+                 [[shape]]\nname = \"floor\"\ntype = \"rectangle\"\nmaterial = \"grey\"\ncenter = [0, 0, 0]\nsize = [2, 1]\nnormal = [0, 1, 0]\n\
+                 [[light]]\nname = \"bulb\"\ntype = \"point\"\nposition = [0, 1, 0]\nintensity = 2\n";
+    std::fs::write(&scene, floor).unwrap();
+    let out_path = dir.join("map.exr");
+    let (scene_s, out_s) = (scene.display().to_string(), out_path.display().to_string());
+    let out = verity(&[
+        "bake",
+        &scene_s,
+        "--out",
+        &out_s,
+        "--resolution",
+        "8",
+        "--spp",
+        "2",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("1 chart in a")
+            && stdout.contains("2 spp per texel")
+            && stdout.contains("mean relative standard error"),
+        "{stdout}"
+    );
+    let img = scenes::layered::LayeredImage::read_exr(&out_path).unwrap();
+    assert!(
+        img.channel("E.R").is_some()
+            && img.channel("E_variance.G").is_some()
+            && img.channel("covered.Y").is_some()
+    );
+    let table = img.attribute("verity.lightmap.charts").unwrap();
+    assert!(table.starts_with("floor ") && table.ends_with(" 8 4"), "{table}");
+    assert!(out_path.with_extension("png").exists());
+    // Directly under the bulb, 1 m away: E = I = 2 W/m² (texels (3..5, 1..3) straddle it).
+    let e = img.channel("E.R").unwrap();
+    assert!(e.iter().any(|&v| v > 1.8 && v <= 2.0), "{e:?}");
+
+    let bad = dir.join("never.exr").display().to_string();
+    for (flag, value) in [("--resolution", "0"), ("--resolution", "65536")] {
+        let out = verity(&["bake", &scene_s, "--out", &bad, flag, value]);
+        assert_usage_error(&out, "--resolution", &format!("bake {flag} {value}"));
+        assert!(text(&out.stderr).contains("1..=8192"));
+    }
+    let out = verity(&["bake", &scene_s, "--out", &bad, "--dynamic", "flor"]);
+    assert_usage_error(
+        &out,
+        "dynamic shape `flor` is not in the scene",
+        "bake --dynamic flor",
+    );
+    let out = verity(&["bake", &cornell_box(), "--out", &bad]);
+    assert_usage_error(&out, "is a triangle mesh", "bake of the Cornell box's blocks");
+    assert!(!Path::new(&bad).exists());
 }

@@ -4,6 +4,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod bake;
 pub mod bsdf;
 pub mod checkpoint;
 pub mod film;

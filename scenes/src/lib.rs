@@ -16,6 +16,7 @@ pub mod glob;
 pub mod gltf;
 pub mod icosphere;
 pub mod layered;
+pub mod lightmap;
 pub mod model;
 pub mod pixel_filter;
 pub mod projection;

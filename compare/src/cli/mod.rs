@@ -14,6 +14,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 pub mod args;
+pub mod bake;
 pub mod bench;
 pub mod crosscheck;
 pub mod diff;
@@ -64,6 +65,8 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Render a scene with the realtime (wgpu) renderer to a layered EXR and print the timing line.
     Raster(raster::RasterArgs),
+    /// Bake a scene's light map (irradiance per texel of each static shape's chart) with the oracle.
+    Bake(bake::BakeArgs),
     /// Run a study (default: the built-in area-light study) and write its HTML/JSON/CSV/EXR report.
     Report(report::ReportArgs),
     /// Compare two EXRs, idiff-like (exit 0 pass, 1 warn, 2 fail, 3 size mismatch, 4 file error).
@@ -191,6 +194,7 @@ fn dispatch(cli: Cli, command_line: &str) -> Result<u8, CliError> {
         Command::Crosscheck(args) => crosscheck::run(&args).map(|()| 0),
         Command::Bench(args) => bench::run(&args).map(|()| 0),
         Command::Raster(args) => raster::run(&args, command_line).map(|()| 0),
+        Command::Bake(args) => bake::run(&args).map(|()| 0),
         Command::Report(args) => report::run(&args),
         Command::Diff(args) => diff::run(&args),
         Command::Merge(args) => merge::run(&args, command_line).map(|()| 0),

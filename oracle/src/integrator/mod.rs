@@ -7,6 +7,8 @@ mod ao;
 mod direct;
 mod path;
 
+pub use path::irradiance as path_irradiance;
+
 use glam::{Vec2, Vec3};
 use scenes::{IntegratorKind, RenderSettings, Rgb, Scene};
 

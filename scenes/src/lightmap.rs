@@ -1,0 +1,346 @@
+//! Light maps: the irradiance E (W/m²) over every static planar shape, one chart per shape
+//! packed into one atlas image, as the oracle bakes it (`oracle::bake`, `verity bake`) and a
+//! realtime renderer reads it.
+//!
+//! **What a texel holds.** The irradiance on the front side of the surface, not the outgoing
+//! radiance: a diffuse surface of albedo ρ(uv) leaves L_o = ρ(uv)/π · E, so the map can be
+//! stored at a far coarser resolution than the albedo texture and multiplied by it per pixel
+//! (the classic light-map × albedo), and one bake serves any diffuse albedo. What the map
+//! cannot hold is view-dependent light (a glossy lobe) and anything that changes after the
+//! bake (a dynamic object's shadow).
+//!
+//! **Charts.** A rectangle or disk `center + s·half_u + t·half_v` has the chart coordinates
+//! (c_u, c_v) = ((s + 1)/2, (t + 1)/2) ∈ [0, 1]² (for a rectangle its texture uv; a disk's
+//! chart is its bounding parallelogram, the texels outside the ellipse filled by dilation).
+//! `resolution` is the chart's texel count along its longer side; the other side keeps the
+//! aspect ratio (at least one texel). Texel (i, j) of a W×H chart is centred at c = ((i + ½)/W,
+//! (j + ½)/H) with j = 0 at c_v = 0, as every texture's texel centres (scenes::texture): a
+//! bilinear lookup at c returns texel (i, j) exactly. Spheres and meshes have no chart here
+//! (a mesh's would be its glTF TEXCOORD_1): they are refused by name.
+//!
+//! **Atlas.** Charts are packed on shelves (tallest first, left to right) with `padding`
+//! texels around each, into an atlas `verity.lightmap.charts` lists (shape, x, y, W, H per
+//! chart, in atlas texels); the padding and the texels a chart does not cover (outside a
+//! disk) are filled by dilation: each is given the mean of its covered 8-neighbours, ring by
+//! ring (`dilation` rings), so that bilinear lookups near a chart's edge read the chart's own
+//! values and not a neighbour's or black.
+
+use glam::Vec3;
+
+use crate::layered::LayeredImage;
+use crate::model::{Geometry, Scene};
+
+/// Largest chart side a bake accepts (texels): 8192² texels × 16 bytes is 1 GiB.
+pub const MAX_RESOLUTION: u32 = 8192;
+
+/// One shape's chart: where it is in the atlas and its size.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chart {
+    /// Index into `scene.shapes`.
+    pub shape: usize,
+    /// The shape's name.
+    pub name: String,
+    /// Atlas texel of the chart's texel (0, 0).
+    pub x: u32,
+    /// Atlas texel row of the chart's texel (0, 0).
+    pub y: u32,
+    /// Texels along c_u.
+    pub width: u32,
+    /// Texels along c_v.
+    pub height: u32,
+    /// The plane: centre, half_u, half_v (c = ((s + 1)/2, (t + 1)/2)).
+    pub frame: [Vec3; 3],
+    /// Whether (s, t) outside the unit disk is off the shape.
+    pub disk: bool,
+}
+
+impl Chart {
+    /// The point and front normal at chart coordinates `c`, and whether the shape covers it.
+    pub fn point(&self, c: glam::Vec2) -> (Vec3, Vec3, bool) {
+        let [center, hu, hv] = self.frame;
+        let (s, t) = (2.0 * c.x - 1.0, 2.0 * c.y - 1.0);
+        let p = center + hu * s + hv * t;
+        let covered = !self.disk || s * s + t * t <= 1.0;
+        (p, hu.cross(hv).normalize(), covered)
+    }
+
+    /// Chart coordinates of texel (i, j)'s centre, moved by `offset` texels (0: the centre a
+    /// bilinear lookup reads back exactly; ½: the classic half-texel mistake).
+    pub fn texel_centre(&self, i: u32, j: u32, offset: f32) -> glam::Vec2 {
+        glam::Vec2::new(
+            (i as f32 + 0.5 + offset) / self.width as f32,
+            (j as f32 + 0.5 + offset) / self.height as f32,
+        )
+    }
+}
+
+/// The atlas layout of a scene's static shapes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layout {
+    /// Atlas width in texels.
+    pub width: u32,
+    /// Atlas height in texels.
+    pub height: u32,
+    /// One chart per static shape, in scene order.
+    pub charts: Vec<Chart>,
+}
+
+/// The charts of every shape of `scene` not named in `dynamic`, `resolution` texels along
+/// each chart's longer side, packed with `padding` texels around each. Errors name the
+/// shape (a sphere or mesh has no chart) or the resolution.
+pub fn layout(scene: &Scene, resolution: u32, padding: u32, dynamic: &[String]) -> Result<Layout, String> {
+    if !(1..=MAX_RESOLUTION).contains(&resolution) {
+        return Err(format!(
+            "light-map resolution {resolution} is outside 1..={MAX_RESOLUTION} texels per chart side"
+        ));
+    }
+    if padding > 64 {
+        return Err(format!("light-map padding {padding} is above 64 texels"));
+    }
+    for name in dynamic {
+        if !scene.shapes.iter().any(|s| s.name == *name) {
+            let names: Vec<&str> = scene.shapes.iter().map(|s| s.name.as_str()).collect();
+            return Err(format!(
+                "dynamic shape `{name}` is not in the scene; shapes: {}",
+                names.join(", ")
+            ));
+        }
+    }
+    let mut charts = Vec::new();
+    for (i, shape) in scene.shapes.iter().enumerate() {
+        if dynamic.contains(&shape.name) {
+            continue;
+        }
+        let (frame, disk) = match &shape.geometry {
+            Geometry::Rectangle {
+                center,
+                half_u,
+                half_v,
+            } => ([*center, *half_u, *half_v], false),
+            Geometry::Disk {
+                center,
+                half_u,
+                half_v,
+            } => ([*center, *half_u, *half_v], true),
+            Geometry::Sphere { .. } => {
+                return Err(format!(
+                    "shape `{}` is a sphere, which has no light-map chart: list it as dynamic (lit per pixel)",
+                    shape.name
+                ))
+            }
+            Geometry::Mesh(_) => {
+                return Err(format!(
+                    "shape `{}` is a triangle mesh: its light-map chart would be a second uv set (glTF TEXCOORD_1), \
+                     which meshes do not carry here; list it as dynamic (lit per pixel)",
+                    shape.name
+                ))
+            }
+        };
+        let (lu, lv) = (frame[1].length(), frame[2].length());
+        let long = lu.max(lv);
+        let side = |l: f32| ((resolution as f32 * l / long).round() as u32).clamp(1, resolution);
+        charts.push(Chart {
+            shape: i,
+            name: shape.name.clone(),
+            x: 0,
+            y: 0,
+            width: side(lu),
+            height: side(lv),
+            frame,
+            disk,
+        });
+    }
+    if charts.is_empty() {
+        return Err("the scene has no static shape to bake".into());
+    }
+    let (width, height) = pack(&mut charts, padding);
+    Ok(Layout {
+        width,
+        height,
+        charts,
+    })
+}
+
+/// Shelf packing, tallest chart first: the atlas is as wide as √(total area) (at least the
+/// widest chart); returns its size.
+fn pack(charts: &mut [Chart], padding: u32) -> (u32, u32) {
+    let padded = |c: &Chart| (c.width + 2 * padding, c.height + 2 * padding);
+    let area: u64 = charts
+        .iter()
+        .map(|c| {
+            let (w, h) = padded(c);
+            u64::from(w) * u64::from(h)
+        })
+        .sum();
+    let widest = charts.iter().map(|c| padded(c).0).max().unwrap_or(1);
+    let width = ((area as f64).sqrt().ceil() as u32).max(widest);
+    let mut order: Vec<usize> = (0..charts.len()).collect();
+    order.sort_by_key(|&k| std::cmp::Reverse(charts[k].height));
+    let (mut x, mut y, mut shelf) = (0u32, 0u32, 0u32);
+    for k in order {
+        let (w, h) = padded(&charts[k]);
+        if x + w > width {
+            y += shelf;
+            x = 0;
+            shelf = 0;
+        }
+        charts[k].x = x + padding;
+        charts[k].y = y + padding;
+        x += w;
+        shelf = shelf.max(h);
+    }
+    (width, y + shelf)
+}
+
+/// A baked light map: the layout and, per atlas texel, the irradiance, its variance (of the
+/// mean) and whether a chart covers it (dilated texels are not covered).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightMap {
+    /// The atlas layout.
+    pub layout: Layout,
+    /// E per atlas texel, W/m², row-major, row 0 at the top.
+    pub irradiance: Vec<Vec3>,
+    /// Variance of each texel's mean (per channel).
+    pub variance: Vec<Vec3>,
+    /// Whether the texel is a chart's own (baked) rather than padding or dilated.
+    pub covered: Vec<bool>,
+}
+
+impl LightMap {
+    /// Fills the uncovered texels within `rings` texels of a covered one: each ring takes
+    /// the mean of its already-filled 8-neighbours (variance likewise), so bilinear lookups
+    /// across a chart's edge read the chart's own values. Texels still unfilled stay 0.
+    pub fn dilate(&mut self, rings: u32) {
+        let (w, h) = (self.layout.width as i64, self.layout.height as i64);
+        let mut filled = self.covered.clone();
+        for _ in 0..rings {
+            let before = filled.clone();
+            let mut changed = false;
+            for y in 0..h {
+                for x in 0..w {
+                    let k = (y * w + x) as usize;
+                    if before[k] {
+                        continue;
+                    }
+                    let (mut e, mut v, mut n) = (Vec3::ZERO, Vec3::ZERO, 0.0f32);
+                    for (dx, dy) in [
+                        (-1, -1),
+                        (0, -1),
+                        (1, -1),
+                        (-1, 0),
+                        (1, 0),
+                        (-1, 1),
+                        (0, 1),
+                        (1, 1),
+                    ] {
+                        let (nx, ny) = (x + dx, y + dy);
+                        if nx < 0 || ny < 0 || nx >= w || ny >= h {
+                            continue;
+                        }
+                        let q = (ny * w + nx) as usize;
+                        if before[q] {
+                            e += self.irradiance[q];
+                            v += self.variance[q];
+                            n += 1.0;
+                        }
+                    }
+                    if n > 0.0 {
+                        self.irradiance[k] = e / n;
+                        self.variance[k] = v / n;
+                        filled[k] = true;
+                        changed = true;
+                    }
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+    }
+
+    /// The atlas as an EXR: `E.R/G/B` (irradiance), `E_variance.R/G/B`, `covered.Y` (1 on a
+    /// chart's own texels), and the chart table in the attribute `verity.lightmap.charts`
+    /// (`name x y width height` per chart, `;`-separated, in atlas texels).
+    pub fn to_image(&self) -> LayeredImage {
+        let mut img = LayeredImage::new(self.layout.width, self.layout.height);
+        img.push_rgb("E", &self.irradiance);
+        img.push_rgb("E_variance", &self.variance);
+        img.push_channel(
+            "covered.Y",
+            self.covered.iter().map(|&c| f32::from(u8::from(c))).collect(),
+        );
+        let table: Vec<String> = self
+            .layout
+            .charts
+            .iter()
+            .map(|c| format!("{} {} {} {} {}", c.name, c.x, c.y, c.width, c.height))
+            .collect();
+        img.set_attribute("verity.lightmap.charts", table.join("; "));
+        img
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn chart(width: u32, height: u32) -> Chart {
+        Chart {
+            shape: 0,
+            name: "c".into(),
+            x: 0,
+            y: 0,
+            width,
+            height,
+            frame: [Vec3::ZERO, Vec3::X, Vec3::Y],
+            disk: false,
+        }
+    }
+
+    #[test]
+    fn shelves_keep_charts_apart_by_twice_the_padding() {
+        let mut charts = vec![chart(8, 4), chart(3, 7), chart(5, 5), chart(2, 2)];
+        let (w, h) = pack(&mut charts, 2);
+        for (a, ca) in charts.iter().enumerate() {
+            assert!(ca.x >= 2 && ca.y >= 2 && ca.x + ca.width + 2 <= w && ca.y + ca.height + 2 <= h);
+            for cb in &charts[a + 1..] {
+                let apart = ca.x + ca.width + 4 <= cb.x
+                    || cb.x + cb.width + 4 <= ca.x
+                    || ca.y + ca.height + 4 <= cb.y
+                    || cb.y + cb.height + 4 <= ca.y;
+                assert!(apart, "{ca:?} and {cb:?} overlap or touch");
+            }
+        }
+    }
+
+    #[test]
+    fn texel_centres_are_where_a_bilinear_lookup_reads_the_texel() {
+        let c = chart(4, 2);
+        assert_eq!(c.texel_centre(0, 0, 0.0), glam::Vec2::new(0.125, 0.25));
+        assert_eq!(c.texel_centre(3, 1, 0.0), glam::Vec2::new(0.875, 0.75));
+        assert_eq!(c.texel_centre(0, 0, 0.5), glam::Vec2::new(0.25, 0.5));
+        let (p, n, covered) = c.point(glam::Vec2::new(0.75, 0.25));
+        assert!((p - Vec3::new(0.5, -0.5, 0.0)).length() < 1e-6 && n == Vec3::Z && covered);
+    }
+
+    #[test]
+    fn dilation_fills_rings_from_the_covered_texels() {
+        let layout = Layout {
+            width: 5,
+            height: 1,
+            charts: vec![chart(1, 1)],
+        };
+        let mut m = LightMap {
+            layout,
+            irradiance: vec![Vec3::ZERO, Vec3::ZERO, Vec3::splat(3.0), Vec3::ZERO, Vec3::ZERO],
+            variance: vec![Vec3::ZERO; 5],
+            covered: vec![false, false, true, false, false],
+        };
+        m.dilate(1);
+        assert_eq!(m.irradiance[1], Vec3::splat(3.0));
+        assert_eq!(m.irradiance[0], Vec3::ZERO);
+        m.dilate(2);
+        assert_eq!(m.irradiance[0], Vec3::splat(3.0));
+        assert_eq!(m.covered, vec![false, false, true, false, false]);
+    }
+}
