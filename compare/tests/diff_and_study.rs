@@ -632,6 +632,20 @@ fn study_references_are_checked_before_rendering() {
         let e = study_error(&text);
         assert!(e.contains(want), "expected `{want}` in: {e}");
     }
+    // An `objects` entry may be a pattern (scenes::glob), as the masks are built: checked the
+    // same way when the study is read, so one that matches no shape is the error, not one
+    // with a wildcard.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/studies/test-bad.toml");
+    compare::study::load_str(
+        &with_mask("name = \"blocks\"\nobjects = [\"*_block\", \"fl??r\"]"),
+        &path,
+    )
+    .unwrap_or_else(|e| panic!("a mask of patterns: {e}"));
+    let e = study_error(&with_mask("name = \"m\"\nobjects = [\"*_blok\"]"));
+    assert!(
+        e.contains("field `mask[0].objects[0]`: mask `m`: the scene has no shape `*_blok`"),
+        "{e}"
+    );
     // A scene that does not load is an error at `scene` when the study is read (it used to be
     // found by the first render).
     let broken = tmp("broken-scene.toml");

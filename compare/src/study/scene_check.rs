@@ -110,7 +110,7 @@ fn check_mask_objects(study: &Study, doc: &Table, scene: &Scene, at: &str) -> Re
         };
         let Some(j) = objects
             .iter()
-            .position(|o| !scene.shapes.iter().any(|s| &s.name == o))
+            .position(|o| !scene.shapes.iter().any(|s| scenes::glob::matches(o, &s.name)))
         else {
             continue;
         };
