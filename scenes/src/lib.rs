@@ -31,7 +31,6 @@ use std::path::Path;
 pub use error::SceneError;
 pub use model::*;
 pub use pixel_filter::PixelFilter;
-pub use projection::Projection;
 
 /// Radiance of the sky a glTF asset loaded on its own is lit by when it brings no light of
 /// its own (no punctual light, no emissive surface): a uniform white environment, so that

@@ -479,6 +479,22 @@ pub struct Displacement {
     pub scale: f32,
 }
 
+/// What a spot light projects (a cookie or gobo; the geometry is [`crate::projection`]'s).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Projection {
+    /// The projected colour, an image (× factor) multiplying the intensity.
+    pub texture: TexRgb,
+    /// The image's up as seen from behind the light: a unit vector not along the axis.
+    pub up: Vec3,
+}
+
+impl Projection {
+    /// Right r and image-up t of the light with unit axis `axis`; None when `up` is along it.
+    pub fn frame(&self, axis: Vec3) -> Option<(Vec3, Vec3)> {
+        crate::projection::frame(axis, self.up)
+    }
+}
+
 /// Delta and distant lights (area lights are emissive shapes).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Light {
@@ -507,7 +523,7 @@ pub enum Light {
         /// Half-angle of full intensity, degrees, [0, cutoff].
         beam_width_deg: f32,
         /// A projected texture (cookie), or None ([`crate::projection`]).
-        projection: Option<crate::projection::Projection>,
+        projection: Option<Projection>,
     },
     /// Distant light. `irradiance` is measured on a surface facing the light (W/m²).
     /// With `angular_diameter_deg > 0` it is a uniform disk (the sun) of radiance

@@ -14,39 +14,29 @@
 //! stands upright seen from behind the light looking along a with `up` up, as a slide
 //! projector shows it. This is Mitsuba 3's `spot` `texture` mapping (uv = ½ + ½·(x, y)/(z·tan θc)
 //! in its `to_world` frame) with that frame's up vector −up (compare's exporter writes it so).
+//!
+//! The model's [`crate::model::Projection`] (texture and up) holds a spot's projection; the
+//! functions here are its geometry.
 
 use glam::{Vec2, Vec3};
 
-use crate::model::TexRgb;
-
-/// What a spot light projects.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Projection {
-    /// The projected colour, an image (× factor) multiplying the intensity.
-    pub texture: TexRgb,
-    /// The image's up as seen from behind the light: a unit vector not along the axis.
-    pub up: Vec3,
+/// Right r and image-up t of a projector with unit axis `axis` and image up `up` (module
+/// docs); None when `up` is along the axis.
+pub fn frame(axis: Vec3, up: Vec3) -> Option<(Vec3, Vec3)> {
+    let r = axis.cross(up).try_normalize()?;
+    Some((r, r.cross(axis)))
 }
 
-impl Projection {
-    /// Right r and image-up t of the light with unit axis `axis` (module docs); None when `up`
-    /// is along the axis.
-    pub fn frame(&self, axis: Vec3) -> Option<(Vec3, Vec3)> {
-        let r = axis.cross(self.up).try_normalize()?;
-        Some((r, r.cross(axis)))
+/// uv(ω) of unit direction `w` leaving a projector with axis `axis`, frame (r, t) and
+/// tan θc = `tan_cutoff` (module docs); None behind it.
+pub fn uv(axis: Vec3, (r, t): (Vec3, Vec3), tan_cutoff: f32, w: Vec3) -> Option<Vec2> {
+    // Behind the light, on its plane, or NaN: no projection.
+    let z = axis.dot(w);
+    if z.is_nan() || z <= 0.0 {
+        return None;
     }
-
-    /// uv(ω) of unit direction `w` leaving a light with axis `axis`, frame (r, t) and
-    /// tan θc = `tan_cutoff` (module docs); None behind the light.
-    pub fn uv(axis: Vec3, (r, t): (Vec3, Vec3), tan_cutoff: f32, w: Vec3) -> Option<Vec2> {
-        // Behind the light, on its plane, or NaN: no projection.
-        let z = axis.dot(w);
-        if z.is_nan() || z <= 0.0 {
-            return None;
-        }
-        let s = 0.5 / (z * tan_cutoff);
-        Some(Vec2::new(0.5 + s * r.dot(w), 0.5 - s * t.dot(w)))
-    }
+    let s = 0.5 / (z * tan_cutoff);
+    Some(Vec2::new(0.5 + s * r.dot(w), 0.5 - s * t.dot(w)))
 }
 
 #[cfg(test)]
@@ -56,21 +46,16 @@ mod tests {
     #[test]
     fn the_image_stands_upright_behind_the_light_and_fills_the_cone_square() {
         // Pointing down −Z with up +Y: right is +X.
-        let p = Projection {
-            texture: TexRgb::Constant(Vec3::ONE),
-            up: Vec3::Y,
-        };
         let axis = -Vec3::Z;
-        let frame = p.frame(axis).unwrap();
-        assert!((frame.0 - Vec3::X).length() < 1e-6 && (frame.1 - Vec3::Y).length() < 1e-6);
+        let f = frame(axis, Vec3::Y).unwrap();
+        assert!((f.0 - Vec3::X).length() < 1e-6 && (f.1 - Vec3::Y).length() < 1e-6);
         let tan = 30f32.to_radians().tan();
-        let uv = |w: Vec3| Projection::uv(axis, frame, tan, w.normalize()).unwrap();
-        assert!((uv(axis) - Vec2::splat(0.5)).length() < 1e-6);
+        let at = |w: Vec3| uv(axis, f, tan, w.normalize()).unwrap();
+        assert!((at(axis) - Vec2::splat(0.5)).length() < 1e-6);
         // Right of the axis at the cutoff: u = 1; above it: v = 0 (the top row).
-        assert!((uv(Vec3::new(tan, 0.0, -1.0)) - Vec2::new(1.0, 0.5)).length() < 1e-5);
-        assert!((uv(Vec3::new(0.0, tan, -1.0)) - Vec2::new(0.5, 0.0)).length() < 1e-5);
-        assert!(Projection::uv(axis, frame, tan, Vec3::Z).is_none());
-        let along = Projection { up: -Vec3::Z, ..p };
-        assert!(along.frame(axis).is_none());
+        assert!((at(Vec3::new(tan, 0.0, -1.0)) - Vec2::new(1.0, 0.5)).length() < 1e-5);
+        assert!((at(Vec3::new(0.0, tan, -1.0)) - Vec2::new(0.5, 0.0)).length() < 1e-5);
+        assert!(uv(axis, f, tan, Vec3::Z).is_none());
+        assert!(frame(axis, -Vec3::Z).is_none());
     }
 }

@@ -29,7 +29,6 @@ use glam::Vec3;
 use scenes::Rgb;
 
 use glam::Vec2;
-use scenes::projection::Projection;
 
 use super::radiance::{average, check_direction, check_rgb, check_vec, is_black, Radiance};
 use super::LightSample;
@@ -90,12 +89,8 @@ impl SpotLight {
 
     /// The same spot projecting `texture` with the image's `up` ([`scenes::projection`]).
     pub fn projecting(mut self, texture: Radiance, up: Vec3) -> Result<Self, String> {
-        let frame = Projection {
-            texture: scenes::TexRgb::Constant(Vec3::ONE),
-            up,
-        }
-        .frame(self.direction)
-        .ok_or_else(|| format!("up = {up} is along the spot's axis {}", self.direction))?;
+        let frame = scenes::projection::frame(self.direction, up)
+            .ok_or_else(|| format!("up = {up} is along the spot's axis {}", self.direction))?;
         self.projection = Some((texture, frame, self.cutoff.tan()));
         Ok(self)
     }
@@ -104,7 +99,7 @@ impl SpotLight {
     fn projected(&self, d: Vec3) -> Rgb {
         match &self.projection {
             None => Vec3::ONE,
-            Some((texture, frame, tan)) => Projection::uv(self.direction, *frame, *tan, d)
+            Some((texture, frame, tan)) => scenes::projection::uv(self.direction, *frame, *tan, d)
                 .map_or(Vec3::ZERO, |uv: Vec2| texture.eval(uv)),
         }
     }

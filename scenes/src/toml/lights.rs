@@ -3,8 +3,7 @@
 
 use super::inputs::{rgb_const, rgb_input, Bound, Textures};
 use super::read::{Field, Table};
-use crate::model::Light;
-use crate::projection::Projection;
+use crate::model::{Light, Projection};
 use crate::SceneError;
 
 const TYPES: &[&str] = &["point", "spot", "directional"];
