@@ -94,15 +94,7 @@ fn parity_delta_lights_interior_pixels() {
     let cornell = vec![point(Vec3::new(0.278, 0.5, 0.28), Vec3::new(0.5, 0.45, 0.4))];
     check_interior("cornell-point", &builtin_with_lights("cornell-box.toml", cornell));
     let soft_shadow = vec![
-        Light::Spot {
-            name: "spot".into(),
-            position: Vec3::new(-0.6, 1.6, 0.4),
-            direction: Vec3::new(0.4, -1.0, -0.2),
-            intensity: Vec3::new(6.0, 6.0, 7.0),
-            cutoff_deg: 45.0,
-            beam_width_deg: 30.0,
-            projection: None,
-        },
+        soft_shadow_spot("spot", None),
         Light::Directional {
             name: "sun".into(),
             direction: Vec3::new(-0.3, -1.0, -0.4),
@@ -126,16 +118,7 @@ fn parity_delta_lights_interior_pixels() {
 /// colours (scenes::projection): the projective lookup through the default bilinear filter
 /// is the oracle's exact projection, so only the pixel's centre-vs-mean difference remains.
 fn projector_scene() -> Scene {
-    let projector = Light::Spot {
-        name: "projector".into(),
-        position: Vec3::new(-0.6, 1.6, 0.4),
-        direction: Vec3::new(0.4, -1.0, -0.2),
-        intensity: Vec3::new(6.0, 6.0, 7.0),
-        cutoff_deg: 45.0,
-        beam_width_deg: 30.0,
-        projection: None,
-    };
-    let mut s = builtin_with_lights("soft-shadow.toml", vec![projector]);
+    let mut s = builtin_with_lights("soft-shadow.toml", Vec::new());
     let texels = (0..24u32)
         .map(|k| {
             let (i, j) = ((k % 6) as f32, (k / 6) as f32);
@@ -149,16 +132,28 @@ fn projector_scene() -> Scene {
             texels,
             [scenes::WrapMode::Clamp; 2],
         )));
-    if let Light::Spot { projection, .. } = &mut s.lights[0] {
-        *projection = Some(scenes::Projection {
-            texture: scenes::TexRgb::Image {
-                texture: s.textures.len() - 1,
-                factor: Vec3::new(1.0, 0.9, 0.8),
-            },
-            up: Vec3::new(0.0, 0.2, -1.0).normalize(),
-        });
-    }
+    let projection = scenes::Projection {
+        texture: scenes::TexRgb::Image {
+            texture: s.textures.len() - 1,
+            factor: Vec3::new(1.0, 0.9, 0.8),
+        },
+        up: Vec3::new(0.0, 0.2, -1.0).normalize(),
+    };
+    s.lights = vec![soft_shadow_spot("projector", Some(projection))];
     s
+}
+
+/// The spot that lights the soft-shadow scene in these tests, with an optional projection.
+fn soft_shadow_spot(name: &str, projection: Option<scenes::Projection>) -> Light {
+    Light::Spot {
+        name: name.into(),
+        position: Vec3::new(-0.6, 1.6, 0.4),
+        direction: Vec3::new(0.4, -1.0, -0.2),
+        intensity: Vec3::new(6.0, 6.0, 7.0),
+        cutoff_deg: 45.0,
+        beam_width_deg: 30.0,
+        projection,
+    }
 }
 
 #[test]
