@@ -104,6 +104,9 @@ struct Shape {
     detail: vec4<u32>,
     // Displacement scale s (metres per unit h), min and max of s·h over the texels, unused.
     detail_range: vec4<f32>,
+    // Light map: atlas texture or NONE (no chart), the chart's first atlas texel x and y,
+    // width | height << 16 in texels (lightmap/lookup.wgsl).
+    lightmap: vec4<u32>,
 }
 
 struct Material {

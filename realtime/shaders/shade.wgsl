@@ -11,7 +11,8 @@
 // (SHADOW_METHOD ≠ 0) each light's term is multiplied by its visibility V from the light's
 // shadow map (shadow/visibility.wgsl) — what the oracle's `direct` integrator then measures
 // exactly; the environment stays unshadowed. Under an environment-mapping method
-// (ENVMAP_METHOD ≠ 0) the reflector is shaded by envmap/envmap.wgsl instead.
+// (ENVMAP_METHOD ≠ 0) the reflector is shaded by envmap/envmap.wgsl instead; under a
+// light-map method (LIGHTMAP_METHOD ≠ 0) every shape with a chart by lightmap/lookup.wgsl.
 // Failure mode: mirror and dielectric surfaces see only the environment (environment.wgsl);
 // emissive meshes are visible but light nothing (only spheres, rectangles and disks are area
 // lights here); `max_depth` < 2 is not modelled.
@@ -64,6 +65,12 @@ fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>, frag: vec2<f
     }
     if bsdf_is_delta(b) {
         return Shaded(color + delta_environment(f, b, n, wo), bsdf_albedo(b));
+    }
+    // A static surface under a light-map method: its diffuse lighting, every light and every
+    // bounce, from the baked map; nothing per light (lightmap/lookup.wgsl).
+    if is_lightmapped(shape) {
+        count_iteration();
+        return Shaded(color + lightmap_albedo(b) / PI * lightmap_irradiance(shape, sp.p), bsdf_albedo(b));
     }
     let nq = f.counts.z;
     for (var i = 0u; i < f.counts.x; i++) {

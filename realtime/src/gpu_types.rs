@@ -143,8 +143,11 @@ pub struct GpuShape {
     pub detail: [u32; 4],
     /// Displacement: scale s (metres per unit h), min and max of s·h over the texels, unused.
     pub detail_range: [f32; 4],
+    /// Light map: the atlas texture or [`NONE`] (no chart), the chart's first atlas texel x
+    /// and y, its width | height << 16 in texels.
+    pub lightmap: [u32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuShape>() == 16 + 10 * 16);
+const _: () = assert!(std::mem::size_of::<GpuShape>() == 16 + 11 * 16);
 
 /// One material (WGSL `Material`).
 #[repr(C)]

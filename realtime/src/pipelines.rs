@@ -60,7 +60,7 @@ pub use crate::gpu::{COLOR_FORMAT, DEPTH_FORMAT};
 
 /// The WGSL sources in dependency order; WGSL has no includes, so they form one module, with
 /// `counters_on.wgsl` or `counters_off.wgsl` appended.
-const SHADER_SOURCES: [(&str, &str); 34] = [
+const SHADER_SOURCES: [(&str, &str); 35] = [
     ("common.wgsl", include_str!("../shaders/common.wgsl")),
     ("texture.wgsl", include_str!("../shaders/texture.wgsl")),
     ("surface.wgsl", include_str!("../shaders/surface.wgsl")),
@@ -152,6 +152,10 @@ const SHADER_SOURCES: [(&str, &str); 34] = [
         include_str!("../shaders/texture/anisotropic.wgsl"),
     ),
     ("projection.wgsl", include_str!("../shaders/projection.wgsl")),
+    (
+        "lightmap/lookup.wgsl",
+        include_str!("../shaders/lightmap/lookup.wgsl"),
+    ),
     ("shade.wgsl", include_str!("../shaders/shade.wgsl")),
     ("passes.wgsl", include_str!("../shaders/passes.wgsl")),
     (
@@ -262,8 +266,9 @@ impl Stage {
 /// methods' WGSL codes, the texture filter's
 /// ([`crate::technique::texture::TextureFilter::pipeline_code`]), whether it is the counting
 /// variant, its sample count (MSAA), its specular anti-aliasing (WGSL `SPECULAR_AA`) and its
-/// shading frequency (WGSL `SHADING_FREQUENCY`, with `VERTEX_ALBEDO` above its low byte).
-type Key = (Stage, AreaMethod, u32, u32, u32, u32, bool, u32, u32, u32);
+/// shading frequency (WGSL `SHADING_FREQUENCY`, with `VERTEX_ALBEDO` above its low byte) and
+/// its light-map lookup (WGSL `LIGHTMAP_METHOD`).
+type Key = (Stage, AreaMethod, u32, u32, u32, u32, bool, u32, u32, u32, u32);
 
 /// Layouts, the shader module and the pipeline cache.
 pub struct Pipelines {
@@ -576,7 +581,7 @@ impl Pipelines {
     ) -> Arc<wgpu::RenderPipeline> {
         let texture = method.texture_filter().pipeline_code();
         let key = if stage.is_shadow() {
-            (stage, AreaMethod::Quadrature, 0, 0, 0, 0, false, 1, 0, 0)
+            (stage, AreaMethod::Quadrature, 0, 0, 0, 0, false, 1, 0, 0, 0)
         } else if stage.shades() {
             (
                 stage,
@@ -589,6 +594,7 @@ impl Pipelines {
                 samples,
                 method.antialias.map_or(0, |a| a.specular_code()),
                 method.shading_code(),
+                method.lightmap_code(),
             )
         } else {
             (
@@ -600,6 +606,7 @@ impl Pipelines {
                 texture,
                 counters,
                 samples,
+                0,
                 0,
                 0,
             )
@@ -633,7 +640,7 @@ impl Pipelines {
     fn build(
         &self,
         device: &wgpu::Device,
-        (stage, method, shadow, detail, envmap, texture, counters, samples, specular, shading): Key,
+        (stage, method, shadow, detail, envmap, texture, counters, samples, specular, shading, lightmap): Key,
     ) -> wgpu::RenderPipeline {
         // Under deferred MSAA the lighting pass reads `samples` G-buffer samples per pixel
         // and writes one: its own pipeline is single-sampled.
@@ -648,7 +655,7 @@ impl Pipelines {
         };
         let label = format!(
             "{vs}/{fs} ({method:?}, shadow method {shadow}, detail method {detail}, environment map {envmap}, \
-             texture filter {texture:#x}, counters {counters}, {samples} samples, specular AA {specular}, shading frequency {shading})"
+             texture filter {texture:#x}, counters {counters}, {samples} samples, specular AA {specular}, shading frequency {shading}, light map {lightmap})"
         );
         let constants = [
             ("AREA_METHOD", f64::from(method.shader_code())),
@@ -660,6 +667,7 @@ impl Pipelines {
             ("SPECULAR_AA", f64::from(specular)),
             ("SHADING_FREQUENCY", f64::from(shading & 0xff)),
             ("VERTEX_ALBEDO", f64::from(shading >> 8)),
+            ("LIGHTMAP_METHOD", f64::from(lightmap)),
         ];
         let module = &*self.module(device, counters, texture & 0xff);
         let options = wgpu::PipelineCompilationOptions {

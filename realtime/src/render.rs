@@ -93,8 +93,14 @@ impl Renderer {
         let _guard = self.lock.lock().unwrap_or_else(|p| p.into_inner());
         let device = &self.gpu.device;
         settings.check(self.gpu.limits().max_texture_dimension_2d, self.gpu.msaa_counts())?;
-        let scene_gpu =
-            SceneGpu::new(&self.gpu, scene, &settings.method, &self.cones).map_err(RasterError::Scene)?;
+        let scene_gpu = SceneGpu::new(
+            &self.gpu,
+            scene,
+            &settings.method,
+            &self.cones,
+            settings.lightmap.as_ref().map(|l| &*l.map),
+        )
+        .map_err(RasterError::Scene)?;
         let shadow = ShadowMaps::new(
             device,
             &self.pipelines.shadow_layout,

@@ -4,6 +4,7 @@
 use crate::error::RasterError;
 use crate::gpu::COLOR_BYTES_PER_SAMPLE;
 use crate::pipelines::PipelineKind;
+use crate::technique::lightmap::BakedMap;
 use crate::technique::{Method, MAX_QUADRATURE_N};
 
 pub use crate::technique::antialias::MAX_SSAA;
@@ -27,6 +28,8 @@ pub struct RasterSettings {
     pub timed_frames: u32,
     /// Run one extra frame with the hardware-independent counters compiled in.
     pub counters: bool,
+    /// The baked light map a `lightmap_*` method reads (and only such a method).
+    pub lightmap: Option<BakedMap>,
 }
 
 impl RasterSettings {
@@ -42,6 +45,7 @@ impl RasterSettings {
             warmup_frames: 2,
             timed_frames: 5,
             counters: false,
+            lightmap: None,
         }
     }
 
@@ -72,6 +76,14 @@ impl RasterSettings {
     /// With or without the counting frame.
     pub fn counters(self, counters: bool) -> Self {
         RasterSettings { counters, ..self }
+    }
+
+    /// With the baked light map `map`.
+    pub fn lightmap(self, map: BakedMap) -> Self {
+        RasterSettings {
+            lightmap: Some(map),
+            ..self
+        }
     }
 
     /// The supersampling factor of the targets: the raster's `ssaa` times `aa_ssaa`'s k.
@@ -118,6 +130,20 @@ impl RasterSettings {
             return bad(format!(
                 "method {m}: derivatives = analytic needs the forward pipeline (the G-buffer stores no ray differentials)"
             ));
+        }
+        match (&m.lightmap, &self.lightmap) {
+            (Some(_), None) => {
+                return bad(format!(
+                    "method {m} reads a baked light map and none was given (`verity bake`, then `--lightmap FILE`)"
+                ))
+            }
+            (None, Some(map)) => {
+                return bad(format!(
+                    "a light map ({}) was given but method {m} does not read one",
+                    map.label
+                ))
+            }
+            _ => {}
         }
         if self.timed_frames == 0 {
             return bad("at least one timed frame is needed".into());

@@ -17,6 +17,7 @@
 use std::borrow::Cow;
 
 use glam::{Vec2, Vec3, Vec4};
+use scenes::lightmap::LightMap;
 use scenes::texture::Texture;
 use scenes::{
     Displacement, Emission, Environment, Geometry, Light, Masking, Material, Mesh, Scene, TexRgb, TexScalar,
@@ -74,7 +75,13 @@ impl SceneGpu {
     /// Checks and uploads `scene`; `max_binding` is the device's storage-binding limit. Displaced
     /// shapes get the maps the method's surface detail reads (a derivative map; a cone map from
     /// `cones` under `cone_step`), textures the levels its texture filter reads.
-    pub fn new(gpu: &Gpu, scene: &Scene, method: &Method, cones: &ConeCache) -> Result<SceneGpu, String> {
+    pub fn new(
+        gpu: &Gpu,
+        scene: &Scene,
+        method: &Method,
+        cones: &ConeCache,
+        lightmap: Option<&LightMap>,
+    ) -> Result<SceneGpu, String> {
         let (device, queue) = (&gpu.device, &gpu.queue);
         let max_binding = u64::from(gpu.limits().max_storage_buffer_binding_size);
         let detail = method.detail.as_ref();
@@ -99,6 +106,9 @@ impl SceneGpu {
             );
         }
         add_levels(&mut a, scene, &textures, &method.texture_filter());
+        if let Some(map) = lightmap {
+            add_lightmap(&mut a, scene, map).map_err(|e| format!("{src}: light map: {e}"))?;
+        }
         let env = environment(scene).map_err(|e| format!("{src}: environment: {e}"))?;
         let bytes = (a.texels.len() * 16) as u64;
         if bytes > max_binding {
@@ -200,6 +210,56 @@ fn add_texture(a: &mut Arrays, t: &Texture) -> Result<(), String> {
     a.texture_infos
         .push(plain_record(offset, t.width, t.height, wrap));
     a.texels.extend(t.texels.iter().map(|v| v.to_array()));
+    Ok(())
+}
+
+/// The light map's atlas as one more texture (E in rgb, coverage in a), and each chart's
+/// place in its shape's record. The charts must name the scene's shapes (the map was baked
+/// for this scene: `LightMap::from_image` checked names and geometry when it was read).
+fn add_lightmap(a: &mut Arrays, scene: &Scene, map: &LightMap) -> Result<(), String> {
+    let l = &map.layout;
+    let texels = l.width as usize * l.height as usize;
+    if texels == 0 || map.irradiance.len() != texels || map.covered.len() != texels {
+        return Err(format!(
+            "a {}x{} atlas holds {} texels",
+            l.width,
+            l.height,
+            map.irradiance.len()
+        ));
+    }
+    let texture = a.texture_infos.len() as u32;
+    let offset = u32::try_from(a.texels.len()).map_err(|_| "too many texels in total".to_string())?;
+    // Clamped in both directions: a lookup never wraps to the far side of the atlas.
+    a.texture_infos.push(plain_record(
+        offset,
+        l.width,
+        l.height,
+        wrap_code(WrapMode::Clamp) * 0x11,
+    ));
+    a.texels.extend(
+        map.irradiance
+            .iter()
+            .zip(&map.covered)
+            .map(|(e, &c)| [e.x, e.y, e.z, f32::from(u8::from(c))]),
+    );
+    for c in &l.charts {
+        match scene.shapes.get(c.shape) {
+            Some(s) if s.name == c.name => {}
+            _ => {
+                return Err(format!(
+                    "chart `{}` names no shape of this scene at index {}",
+                    c.name, c.shape
+                ))
+            }
+        }
+        if c.width >= 1 << 16 || c.height >= 1 << 16 {
+            return Err(format!(
+                "chart `{}` is {}x{} texels, above 65535",
+                c.name, c.width, c.height
+            ));
+        }
+        a.shapes[c.shape].lightmap = [texture, c.x, c.y, c.width | c.height << 16];
+    }
     Ok(())
 }
 
@@ -436,6 +496,7 @@ fn blank_shape(kind: ShapeKind, material: u32) -> GpuShape {
         emission_info: [0, 0, NONE, 0],
         detail: [NONE; 4],
         detail_range: [0.0; 4],
+        lightmap: [NONE, 0, 0, 0],
     }
 }
 

@@ -280,6 +280,149 @@ impl LightMap {
     }
 }
 
+impl LightMap {
+    /// A 64-bit FNV-1a digest of the atlas size, the chart table and the texels (E, then
+    /// coverage), for labels and cache keys.
+    pub fn digest(&self) -> u64 {
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        let mut eat = |bytes: &[u8]| {
+            for &b in bytes {
+                h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+            }
+        };
+        eat(&self.layout.width.to_le_bytes());
+        eat(&self.layout.height.to_le_bytes());
+        for c in &self.layout.charts {
+            eat(c.name.as_bytes());
+            for v in [c.x, c.y, c.width, c.height] {
+                eat(&v.to_le_bytes());
+            }
+        }
+        for e in &self.irradiance {
+            for v in e.to_array() {
+                eat(&v.to_bits().to_le_bytes());
+            }
+        }
+        for &c in &self.covered {
+            eat(&[u8::from(c)]);
+        }
+        h
+    }
+
+    /// Reads a baked atlas ([`LightMap::to_image`], `verity bake`) for `scene`: each chart of
+    /// `verity.lightmap.charts` must name a rectangle or disk of the scene, once, lie inside the
+    /// atlas and overlap no other chart; E must be finite and non-negative. Errors name the
+    /// chart or channel (the caller adds the file).
+    pub fn from_image(img: &LayeredImage, scene: &Scene) -> Result<LightMap, String> {
+        let table = img
+            .attribute("verity.lightmap.charts")
+            .ok_or("no `verity.lightmap.charts` attribute: not a light map written by `verity bake`")?;
+        let (width, height) = (img.width, img.height);
+        let mut charts: Vec<Chart> = Vec::new();
+        for (k, entry) in table
+            .split(';')
+            .map(str::trim)
+            .filter(|e| !e.is_empty())
+            .enumerate()
+        {
+            let at = |why: String| format!("verity.lightmap.charts entry {k} (`{entry}`): {why}");
+            let fields: Vec<&str> = entry.split_whitespace().collect();
+            let [name, rest @ ..] = fields.as_slice() else {
+                return Err(at("empty".into()));
+            };
+            let numbers: Vec<u32> = rest
+                .iter()
+                .map(|f| f.parse::<u32>())
+                .collect::<Result<_, _>>()
+                .map_err(|_| at("expected `name x y width height` in whole texels".into()))?;
+            let [x, y, w, h] = numbers[..] else {
+                return Err(at("expected `name x y width height` in whole texels".into()));
+            };
+            if w == 0
+                || h == 0
+                || u64::from(x) + u64::from(w) > u64::from(width)
+                || u64::from(y) + u64::from(h) > u64::from(height)
+            {
+                return Err(at(format!(
+                    "the chart {w}x{h} at ({x}, {y}) is empty or leaves the {width}x{height} atlas"
+                )));
+            }
+            let shape = scene
+                .shapes
+                .iter()
+                .position(|s| s.name == *name)
+                .ok_or_else(|| at(format!("the scene has no shape `{name}`")))?;
+            let (frame, disk) = match &scene.shapes[shape].geometry {
+                Geometry::Rectangle {
+                    center,
+                    half_u,
+                    half_v,
+                } => ([*center, *half_u, *half_v], false),
+                Geometry::Disk {
+                    center,
+                    half_u,
+                    half_v,
+                } => ([*center, *half_u, *half_v], true),
+                _ => return Err(at(format!("shape `{name}` is not a rectangle or disk"))),
+            };
+            let chart = Chart {
+                shape,
+                name: name.to_string(),
+                x,
+                y,
+                width: w,
+                height: h,
+                frame,
+                disk,
+            };
+            if let Some(other) = charts.iter().find(|c| c.shape == shape) {
+                return Err(at(format!("shape `{}` has a second chart", other.name)));
+            }
+            if let Some(other) = charts.iter().find(|c| overlap(c, &chart)) {
+                return Err(at(format!("the chart overlaps the chart of `{}`", other.name)));
+            }
+            charts.push(chart);
+        }
+        if charts.is_empty() {
+            return Err("verity.lightmap.charts lists no chart".into());
+        }
+        let irradiance = img.rgb("E").ok_or("no `E.R/G/B` channels (the irradiance)")?;
+        if let Some(i) = irradiance
+            .iter()
+            .position(|e| !(e.is_finite() && e.min_element() >= 0.0))
+        {
+            return Err(format!(
+                "E at texel ({}, {}) is {} (expected finite and ≥ 0)",
+                i as u32 % width,
+                i as u32 / width,
+                irradiance[i]
+            ));
+        }
+        let variance = img
+            .rgb("E_variance")
+            .unwrap_or_else(|| vec![Vec3::ZERO; irradiance.len()]);
+        let covered = match img.channel("covered.Y") {
+            Some(c) => c.iter().map(|&v| v > 0.5).collect(),
+            None => vec![true; irradiance.len()],
+        };
+        Ok(LightMap {
+            layout: Layout {
+                width,
+                height,
+                charts,
+            },
+            irradiance,
+            variance,
+            covered,
+        })
+    }
+}
+
+/// Whether two charts share a texel.
+fn overlap(a: &Chart, b: &Chart) -> bool {
+    a.x < b.x + b.width && b.x < a.x + a.width && a.y < b.y + b.height && b.y < a.y + a.height
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -321,6 +464,43 @@ mod tests {
         assert_eq!(c.texel_centre(0, 0, 0.5), glam::Vec2::new(0.25, 0.5));
         let (p, n, covered) = c.point(glam::Vec2::new(0.75, 0.25));
         assert!((p - Vec3::new(0.5, -0.5, 0.0)).length() < 1e-6 && n == Vec3::Z && covered);
+    }
+
+    #[test]
+    fn a_map_reads_back_and_bad_tables_are_refused() {
+        let scene = crate::toml::load_str(
+            "[camera]\neye = [0, 1, 3]\ntarget = [0, 0, 0]\nup = [0, 1, 0]\nfov = 40\n[film]\nwidth = 8\nheight = 8\n\
+             [[material]]\nname = \"m\"\ntype = \"diffuse\"\nalbedo = [0.5, 0.5, 0.5]\n\
+             [[shape]]\nname = \"a\"\ntype = \"rectangle\"\ncenter = [0, 0, 0]\nhalf_u = [1, 0, 0]\nhalf_v = [0, 0, -1]\nmaterial = \"m\"\n\
+             [[shape]]\nname = \"b\"\ntype = \"disk\"\ncenter = [0, 1, 0]\nhalf_u = [1, 0, 0]\nhalf_v = [0, 0, -2]\nmaterial = \"m\"\n",
+            std::path::Path::new("t.toml"),
+        )
+        .unwrap();
+        let layout = layout(&scene, 4, 1, &[]).unwrap();
+        let n = (layout.width * layout.height) as usize;
+        let map = LightMap {
+            layout,
+            irradiance: (0..n).map(|i| Vec3::splat(i as f32)).collect(),
+            variance: vec![Vec3::ONE; n],
+            covered: (0..n).map(|i| i % 3 == 0).collect(),
+        };
+        let img = map.to_image();
+        assert_eq!(LightMap::from_image(&img, &scene).unwrap(), map);
+        let with = |table: &str| {
+            let mut bad = img.clone();
+            bad.set_attribute("verity.lightmap.charts", table);
+            LightMap::from_image(&bad, &scene).unwrap_err()
+        };
+        let e = with("a 0 0 3 3; b 2 2 3 3");
+        assert!(e.contains("overlaps the chart of `a`"), "{e}");
+        let e = with("a 0 0 3 3; c 4 0 1 1");
+        assert!(e.contains("no shape `c`"), "{e}");
+        let e = with("a 0 0 300 3");
+        assert!(e.contains("leaves"), "{e}");
+        let e = with("a 0 0 x 3");
+        assert!(e.contains("whole texels"), "{e}");
+        let e = with("a 0 0 1 1; a 2 2 1 1");
+        assert!(e.contains("second chart"), "{e}");
     }
 
     #[test]

@@ -287,9 +287,11 @@ fn parity_shadow_unoccluded_images_equal_the_unshadowed_quadrature() {
     // and distance_impostor.rs) and the anti-aliasing methods but `aa_none` (which sample the
     // pixel differently or widen the glossy lobe: realtime/tests/antialias.rs) and the
     // vertex-lit shading frequencies (forward only, and they light meshes elsewhere than at the
-    // pixel: realtime/tests/shading.rs).
+    // pixel: realtime/tests/shading.rs) and the light maps (which read a baked map:
+    // realtime/tests/lightmap.rs and the lightmap studies).
     let others = realtime::Method::names().into_iter().filter(|n| {
         !n.starts_with("area_")
+            && !n.starts_with("lightmap_")
             && !n.starts_with("envmap_")
             && !n.starts_with("distance_")
             && (!n.starts_with("aa_") || *n == "aa_none")

@@ -47,6 +47,19 @@ pub struct BakeArgs {
     /// Sampler seed.
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub seed: u64,
+
+    /// Where in each texel the irradiance is taken, in texels from its centre, 0..=1 (0.5: at
+    /// the texel's corner, the classic half-texel bug, for studying it).
+    #[arg(long, value_name = "TEXELS", default_value_t = 0.0, value_parser = parse_texel_offset)]
+    pub texel_offset: f32,
+}
+
+/// `--texel-offset`: 0..=1 texels.
+fn parse_texel_offset(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(x) if (0.0..=1.0).contains(&x) => Ok(x),
+        _ => Err("expected a number of texels in 0..=1".into()),
+    }
 }
 
 /// `--resolution`: texels per chart side, 1..=8192.
@@ -72,7 +85,7 @@ pub fn run(args: &BakeArgs) -> Result<(), CliError> {
         max_depth: args.max_depth.unwrap_or(scene.render.max_depth),
         seed: args.seed,
         dynamic: args.dynamic.clone(),
-        texel_offset: 0.0,
+        texel_offset: args.texel_offset,
     };
     let baked =
         bake(&scene, &settings).map_err(|e| CliError::input(format!("{}: {e}", args.scene.display())))?;

@@ -10,7 +10,11 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, ValueEnum};
+use realtime::technique::lightmap::BakedMap;
 use realtime::{Method, PipelineKind, RasterError, RasterOutput, RasterSettings, Renderer};
+use scenes::budget::Ledger;
+use scenes::layered::LayeredImage;
+use scenes::lightmap::LightMap;
 use scenes::Film;
 
 use super::args::{exr_output, film_from_flag, load_scene, parse_exposure, parse_resolution};
@@ -64,6 +68,12 @@ pub struct RasterArgs {
     /// Skip the extra frame that counts texel fetches and loop iterations per pixel.
     #[arg(long)]
     pub no_counters: bool,
+
+    /// The light map a `lightmap_*` method reads: an atlas `verity bake` wrote for this scene
+    /// (its chart table must name the scene's shapes). The method's bake parameters are then
+    /// only labels: the file is what is read.
+    #[arg(long, value_name = "FILE.exr")]
+    pub lightmap: Option<PathBuf>,
 }
 
 /// `--pipeline` values.
@@ -97,6 +107,10 @@ pub fn run(args: &RasterArgs, command_line: &str) -> Result<(), CliError> {
         .ssaa(args.ssaa)
         .frames(args.warmup, args.frames)
         .counters(!args.no_counters);
+    let settings = match &args.lightmap {
+        Some(path) => settings.lightmap(read_lightmap(path, &scene)?),
+        None => settings,
+    };
     let renderer = Renderer::new().map_err(cli_error)?;
     let mut result = renderer.render(&scene, &settings).map_err(cli_error)?;
     result
@@ -113,6 +127,17 @@ pub fn run(args: &RasterArgs, command_line: &str) -> Result<(), CliError> {
         .map_err(|e| CliError::run(e.to_string()))?;
     println!("{}", timing_line(&args.scene, &settings, &result, &out));
     Ok(())
+}
+
+/// The baked atlas at `path` for `scene` (the budget checked before decoding).
+fn read_lightmap(path: &Path, scene: &scenes::Scene) -> Result<BakedMap, CliError> {
+    let at = |e: String| CliError::input(format!("--lightmap {}: {e}", path.display()));
+    let image = LayeredImage::read_exr_in(path, &Ledger::new()).map_err(at)?;
+    let map = LightMap::from_image(&image, scene).map_err(at)?;
+    Ok(BakedMap {
+        map: std::sync::Arc::new(map),
+        label: format!("file {}", path.display()),
+    })
 }
 
 /// The exit status of a renderer error: no adapter is an unavailable tool (3), bad scenes and

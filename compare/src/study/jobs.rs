@@ -498,7 +498,7 @@ fn run_raster(
         }
         let r = renderer_made.as_ref().expect("made above");
         rendered += 1;
-        rasters::record(r, &dir, &key, scene, settings)
+        rasters::record(r, &dir, &key, scene, settings, opts)
     })?;
     if found == 0 {
         return Err(StudyError::Input(format!(

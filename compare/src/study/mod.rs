@@ -20,6 +20,7 @@
 //! | [`setup`] | what a run and its sweeps share: options, the ground truths and their cache key |
 //! | [`run`] | the run: ground truths, every variant, metrics, bounds |
 //! | [`rasters`] | the raster images of a run: rendered live, or recorded by raster jobs |
+//! | [`lightmap`] | the light maps `lightmap_*` variants read: baked by the oracle, cached |
 //! | [`stability`] | sweeps' flicker over frames |
 //! | [`result`] | what a run produces and the bounds' verdicts |
 //! | [`record`] | full-mode records in study files |
@@ -29,6 +30,7 @@
 pub mod cache;
 mod check;
 pub mod jobs;
+pub mod lightmap;
 pub mod model;
 mod parse;
 pub mod plan;

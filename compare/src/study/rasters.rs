@@ -18,7 +18,8 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use super::cache;
-use super::setup::{raster_err, StudyError};
+use super::lightmap::with_lightmap;
+use super::setup::{raster_err, RunOptions, StudyError};
 
 /// EXR header attribute of a recorded raster render (removed again when it is read).
 pub const RECORD_ATTRIBUTE: &str = "verity_raster_record";
@@ -94,9 +95,12 @@ impl Rasters<'_> {
         key: &RasterKey,
         scene: &Scene,
         settings: &RasterSettings,
+        opts: &RunOptions,
     ) -> Result<RasterOutput, StudyError> {
         match self {
-            Rasters::Live(renderer) => renderer.render(scene, settings).map_err(raster_err),
+            Rasters::Live(renderer) => renderer
+                .render(scene, &with_lightmap(scene, settings, opts)?)
+                .map_err(raster_err),
             Rasters::Recorded(dir) => read(dir, key, &request_hash(scene, settings)),
         }
     }
@@ -109,8 +113,11 @@ pub fn record(
     key: &RasterKey,
     scene: &Scene,
     settings: &RasterSettings,
+    opts: &RunOptions,
 ) -> Result<(), StudyError> {
-    let out = renderer.render(scene, settings).map_err(raster_err)?;
+    let out = renderer
+        .render(scene, &with_lightmap(scene, settings, opts)?)
+        .map_err(raster_err)?;
     let record = Record {
         hash: request_hash(scene, settings),
         timing: out.timing,

@@ -326,7 +326,7 @@ fn measure_variant(
     opts: &RunOptions,
 ) -> Result<(VariantResult, realtime::Timing), StudyError> {
     let settings = measured_raster_settings(study, scene, variant, opts.quick);
-    let out = rasters.render(&RasterKey::measured(variant.id()), scene, &settings)?;
+    let out = rasters.render(&RasterKey::measured(variant.id()), scene, &settings, opts)?;
     let mut image = out.image;
     let test = RgbImage::from_layered(&image, &variant.label()).map_err(StudyError::Run)?;
     let mut per_mask = Vec::new();

@@ -258,8 +258,13 @@ fn mean_relative_std_error(img: &LayeredImage) -> f64 {
 /// The raster settings of `variant` in this study at the scene's resolution.
 pub fn raster_settings(study: &Study, scene: &Scene, variant: &Variant) -> RasterSettings {
     let r = study.raster;
+    let mut method = variant.raster.clone();
+    // A light map is baked with the depth its ground truth is rendered with.
+    if let Some(l) = &mut method.lightmap {
+        l.max_depth = Some(study.ground_truth.max_depth.unwrap_or(scene.render.max_depth));
+    }
     RasterSettings::new(scene.film.width, scene.film.height)
-        .method(variant.raster.clone())
+        .method(method)
         .pipeline(variant.pipeline.unwrap_or(r.pipeline))
         .ssaa(r.ssaa)
         .frames(r.warmup_frames, r.timed_frames)

@@ -250,7 +250,7 @@ pub fn flicker(
         for (k, (s, (r, _))) in frames.iter().zip(&refs).enumerate() {
             let key = RasterKey::flicker(v.id(), k);
             let img = rasters
-                .render(&key, s, &flicker_raster_settings(study, s, v))?
+                .render(&key, s, &flicker_raster_settings(study, s, v), opts)?
                 .image;
             let a = img
                 .rgb("")

@@ -171,7 +171,8 @@ fn area_light_quadrature(s: Shape, b: Bsdf, n: vec3<f32>, wo: vec3<f32>, p: vec3
 // A sun disk by cone quadrature.
 fn sun_quadrature(l: Light, b: Bsdf, n: vec3<f32>, wo: vec3<f32>, nq: u32) -> vec3<f32> {
     let unused = Shape(0u, 0u, NONE, 0.0, vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0),
-        vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<u32>(0u), vec4<u32>(NONE), vec4<f32>(0.0));
+        vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<u32>(0u), vec4<u32>(NONE), vec4<f32>(0.0),
+        vec4<u32>(NONE, 0u, 0u, 0u));
     return cone_quadrature(l.direction.xyz, l.params.x, l.params.y, unused, false, sun_radiance(l), b, n, wo, nq);
 }
 

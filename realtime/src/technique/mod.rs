@@ -12,6 +12,7 @@
 //! | texture filtering | [`texture`] | `tex_nearest` … `tex_anisotropic` (9) | the pixel's box filter over level 0 |
 //! | shading frequency | [`shading`] | `shading_phong`, `shading_gouraud`, `shading_flat` | `direct-unshadowed` of the same mesh |
 //! | anti-aliasing | [`antialias`] | `aa_none`, `aa_ssaa`, `aa_msaa`, `aa_fxaa`, `aa_mlaa`, `aa_taa` | the pixel's box filter |
+//! | light maps | [`lightmap`] | `lightmap_bilinear`, `lightmap_bicubic` | `path` with the bake's `max_depth` |
 //!
 //! Every method takes [`COMMON`]'s `n` (N×N quadrature of each area light and sun disk; not
 //! `area_representative_point`) and `env_n` (`env_n`×`env_n` cosine-weighted midpoint
@@ -24,6 +25,7 @@ pub mod area;
 pub mod detail;
 pub mod distance_impostor;
 pub mod envmap;
+pub mod lightmap;
 pub mod param;
 pub mod shading;
 pub mod shadow;
@@ -36,6 +38,7 @@ use area::AreaMethod;
 use detail::Detail;
 use envmap::localization::Localization;
 use envmap::EnvMapping;
+use lightmap::LightMapMethod;
 use param::{spec_named, Kind, MethodSpec, Param, Value};
 use shading::ShadingFrequency;
 use shadow::Shadow;
@@ -67,6 +70,8 @@ pub struct Method {
     pub antialias: Option<AntiAliasing>,
     /// The shading frequency of a `shading_*` method, or None: per pixel.
     pub shading: Option<ShadingFrequency>,
+    /// The light map of a `lightmap_*` method, or None: every surface lit per pixel.
+    pub lightmap: Option<LightMapMethod>,
 }
 
 impl Default for Method {
@@ -82,6 +87,7 @@ impl Default for Method {
             texture: None,
             antialias: None,
             shading: None,
+            lightmap: None,
         }
     }
 }
@@ -166,11 +172,13 @@ pub enum Family {
     Shading,
     /// [`antialias`].
     AntiAliasing,
+    /// [`lightmap`].
+    LightMap,
 }
 
 impl Family {
     /// Every family, in the order the docs list them.
-    pub const ALL: [Family; 8] = [
+    pub const ALL: [Family; 9] = [
         Family::Area,
         Family::Shadow,
         Family::Detail,
@@ -179,6 +187,7 @@ impl Family {
         Family::Texture,
         Family::Shading,
         Family::AntiAliasing,
+        Family::LightMap,
     ];
 
     /// Its heading in the docs.
@@ -192,6 +201,7 @@ impl Family {
             Family::Texture => "Texture filtering",
             Family::Shading => "Shading frequency",
             Family::AntiAliasing => "Anti-aliasing",
+            Family::LightMap => "Light maps",
         }
     }
 
@@ -216,6 +226,7 @@ impl Family {
             Family::Texture => infos(texture::METHODS),
             Family::Shading => infos(shading::METHODS),
             Family::AntiAliasing => infos(antialias::METHODS),
+            Family::LightMap => infos(lightmap::METHODS),
         }
     }
 
@@ -225,6 +236,7 @@ impl Family {
         match self {
             Family::Area | Family::Texture | Family::Shading | Family::AntiAliasing => Vec::new(),
             Family::Shadow => shadow::COMMON.iter().map(Row::Shadow).collect(),
+            Family::LightMap => lightmap::COMMON.iter().map(Row::LightMap).collect(),
             Family::Detail => detail::COMMON.iter().map(Row::Detail).collect(),
             Family::EnvMap | Family::DistanceImpostor => envmap::COMMON
                 .iter()
@@ -263,6 +275,8 @@ pub enum Row {
     AntiAlias(&'static Param<AntiAliasing>),
     /// A row of its shading frequency.
     Shading(&'static Param<ShadingFrequency>),
+    /// A row of its light map.
+    LightMap(&'static Param<LightMapMethod>),
 }
 
 /// The same field of whichever table a row is from.
@@ -276,6 +290,7 @@ macro_rules! row_field {
             Row::Texture(p) => p.$field,
             Row::AntiAlias(p) => p.$field,
             Row::Shading(p) => p.$field,
+            Row::LightMap(p) => p.$field,
         }
     };
 }
@@ -321,6 +336,7 @@ impl Row {
             Row::Texture(p) => m.texture.as_ref().and_then(|t| (p.get)(t)),
             Row::AntiAlias(p) => m.antialias.as_ref().and_then(|a| (p.get)(a)),
             Row::Shading(p) => m.shading.as_ref().and_then(|s| (p.get)(s)),
+            Row::LightMap(p) => m.lightmap.as_ref().and_then(|l| (p.get)(l)),
         }
     }
 
@@ -334,6 +350,7 @@ impl Row {
             Row::Texture(p) => (p.set)(m.texture.as_mut()?, value),
             Row::AntiAlias(p) => (p.set)(m.antialias.as_mut()?, value),
             Row::Shading(p) => (p.set)(m.shading.as_mut()?, value),
+            Row::LightMap(p) => (p.set)(m.lightmap.as_mut()?, value),
         }
     }
 }
@@ -384,6 +401,12 @@ impl Method {
                 ..Method::quadrature_8()
             });
         }
+        if let Some(s) = spec_named(lightmap::METHODS, name) {
+            return Some(Method {
+                lightmap: Some((s.default)()),
+                ..Method::quadrature_8()
+            });
+        }
         spec_named(envmap::METHODS, name)
             .or_else(|| spec_named(distance_impostor::METHODS, name))
             .map(|s| Method::environment_mapped((s.default)()))
@@ -418,6 +441,7 @@ impl Method {
             texture: None,
             antialias: None,
             shading: None,
+            lightmap: None,
         }
     }
 
@@ -501,6 +525,9 @@ impl Method {
         if let Some(s) = &self.shading {
             rows.extend(s.rows().map(Row::Shading));
         }
+        if let Some(l) = &self.lightmap {
+            rows.extend(l.rows().map(Row::LightMap));
+        }
         rows
     }
 
@@ -567,6 +594,9 @@ impl Method {
 
     /// The method's name.
     pub fn name(&self) -> &'static str {
+        if let Some(l) = &self.lightmap {
+            return l.spec().name;
+        }
         if let Some(s) = self.shading {
             return s.spec().name;
         }
@@ -591,6 +621,11 @@ impl Method {
     /// WGSL `SHADING_FREQUENCY` (0: per pixel) in the low byte, `VERTEX_ALBEDO` above it.
     pub fn shading_code(&self) -> u32 {
         self.shading.map_or(0, |s| s.shader_code() | s.albedo_code() << 8)
+    }
+
+    /// The WGSL `LIGHTMAP_METHOD` of this method (0: no light map).
+    pub fn lightmap_code(&self) -> u32 {
+        self.lightmap.as_ref().map_or(0, LightMapMethod::shader_code)
     }
 
     /// The WGSL `SHADOW_METHOD` of this method (0: unshadowed).
@@ -820,6 +855,7 @@ pub fn wgsl_codes() -> String {
     family(&mut s, "ENVMAP_", Some("NONE"), envmap::METHODS);
     family(&mut s, "TEX_", None, texture::METHODS);
     family(&mut s, "SHADING_", None, shading::METHODS);
+    family(&mut s, "LIGHTMAP_", Some("NONE"), lightmap::METHODS);
     s += &shading::wgsl_codes();
     s
 }
@@ -890,7 +926,7 @@ mod tests {
             codes,
             [
                 0, 0, 1, 2, 3, 4, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-                0, 0, 0, 0, 0, 0, 0, 0, 0
+                0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0
             ]
         );
     }

@@ -717,8 +717,8 @@ impl Build<'_> {
     ) -> Result<(SceneGpu, ShadowMaps), RasterError> {
         let device = &self.gpu.device;
         let limits = self.gpu.limits();
-        let scene_gpu =
-            SceneGpu::new(self.gpu, scene, &face_settings.method, self.cones).map_err(RasterError::Scene)?;
+        let scene_gpu = SceneGpu::new(self.gpu, scene, &face_settings.method, self.cones, None)
+            .map_err(RasterError::Scene)?;
         let shadow = ShadowMaps::new(
             device,
             &self.pipelines.shadow_layout,

@@ -1,0 +1,142 @@
+//! Light-map lookups end to end on the adapter at hand (lavapipe in CI): a floor seen straight
+//! down (so pixels map affinely onto it) under a map whose texels hold an affine irradiance
+//! E(c) = 1 + 3c_u + 2c_v of their chart coordinates, sampled at the texel centres the bake
+//! uses (`Chart::texel_centre`). Bilinear and cubic B-spline lookups both reproduce affine
+//! functions exactly, so the image must be affine in the pixel coordinates and equal ρ/π·E(½, ½)
+//! under the camera — a half-texel error in the lookup would be off by 5/(2·16) of E there.
+//! Also: a light-map method without a map, a map without a light-map method, and a map of
+//! another scene are refused. Accuracy against the oracle is the studies'
+//! (scenes/studies/lightmap-*.toml).
+
+mod support;
+
+use std::sync::Arc;
+
+use glam::Vec3;
+use realtime::technique::lightmap::BakedMap;
+use realtime::{RasterError, RasterSettings};
+use scenes::lightmap::{layout, LightMap};
+use support::{method, renderer};
+
+const SIZE: u32 = 32;
+const ALBEDO: f32 = 0.5;
+
+fn floor_scene() -> scenes::Scene {
+    scenes::toml::load_str(
+        "[camera]\neye = [0, 3, 0]\ntarget = [0, 0, 0]\nup = [0, 0, -1]\nfov = 40\n\
+         [film]\nwidth = 32\nheight = 32\n\
+         [[material]]\nname = \"m\"\ntype = \"diffuse\"\nalbedo = [0.5, 0.5, 0.5]\n\
+         [[shape]]\nname = \"floor\"\ntype = \"rectangle\"\nmaterial = \"m\"\ncenter = [0, 0, 0]\n\
+         size = [4, 4]\nnormal = [0, 1, 0]\n",
+        std::path::Path::new("floor.toml"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn affine(c: glam::Vec2) -> f32 {
+    1.0 + 3.0 * c.x + 2.0 * c.y
+}
+
+/// A 16-texel map of the floor holding the affine E at every texel centre, its padding
+/// continuing the same function (so that lookups at the border stay exact).
+fn affine_map(scene: &scenes::Scene) -> BakedMap {
+    let l = layout(scene, 16, 2, &[]).unwrap();
+    let chart = l.charts[0].clone();
+    let n = (l.width * l.height) as usize;
+    let mut irradiance = vec![Vec3::ZERO; n];
+    for y in 0..l.height {
+        for x in 0..l.width {
+            let (i, j) = (x as f32 - chart.x as f32, y as f32 - chart.y as f32);
+            let c = glam::Vec2::new((i + 0.5) / chart.width as f32, (j + 0.5) / chart.height as f32);
+            irradiance[(y * l.width + x) as usize] = Vec3::splat(affine(c));
+        }
+    }
+    assert_eq!(
+        chart.texel_centre(3, 5, 0.0),
+        glam::Vec2::new(3.5 / 16.0, 5.5 / 16.0)
+    );
+    BakedMap {
+        map: Arc::new(LightMap {
+            layout: l,
+            irradiance,
+            variance: vec![Vec3::ZERO; n],
+            covered: vec![true; n],
+        }),
+        label: "affine test map".into(),
+    }
+}
+
+fn settings(name: &str) -> RasterSettings {
+    RasterSettings::new(SIZE, SIZE)
+        .method(method(name, &[]))
+        .frames(0, 1)
+}
+
+#[test]
+fn lookups_reproduce_an_affine_irradiance_at_the_texel_centres() {
+    let scene = floor_scene();
+    let map = affine_map(&scene);
+    for name in ["lightmap_bilinear", "lightmap_bicubic"] {
+        let out = renderer()
+            .render(&scene, &settings(name).lightmap(map.clone()))
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let rgb = out.image.rgb("").unwrap();
+        let at = |i: u32, j: u32| rgb[(j * SIZE + i) as usize].x;
+        // The four pixels around the image centre average to the point under the camera.
+        let h = SIZE / 2;
+        let centre = (at(h - 1, h - 1) + at(h, h - 1) + at(h - 1, h) + at(h, h)) / 4.0;
+        let expected = ALBEDO / std::f32::consts::PI * affine(glam::Vec2::splat(0.5));
+        assert!(
+            (centre / expected - 1.0).abs() < 2e-4,
+            "{name}: {centre} under the camera, expected {expected}"
+        );
+        // Affine in the pixels: every second difference vanishes.
+        let mut worst = 0.0f32;
+        for j in 1..SIZE - 1 {
+            for i in 1..SIZE - 1 {
+                let d2x = at(i - 1, j) - 2.0 * at(i, j) + at(i + 1, j);
+                let d2y = at(i, j - 1) - 2.0 * at(i, j) + at(i, j + 1);
+                worst = worst.max(d2x.abs()).max(d2y.abs());
+            }
+        }
+        assert!(worst < 1e-4 * expected, "{name}: a second difference of {worst}");
+        // A gradient along both axes (not a constant map read back).
+        assert!(
+            (at(SIZE - 1, h) - at(0, h)).abs() > 0.1 * expected,
+            "{name}: flat along x"
+        );
+        assert!(
+            (at(h, SIZE - 1) - at(h, 0)).abs() > 0.1 * expected,
+            "{name}: flat along y"
+        );
+    }
+}
+
+#[test]
+fn maps_and_methods_must_go_together() {
+    let scene = floor_scene();
+    let map = affine_map(&scene);
+    let e = renderer()
+        .render(&scene, &settings("lightmap_bilinear"))
+        .unwrap_err();
+    assert!(
+        matches!(&e, RasterError::Settings(m) if m.contains("none was given")),
+        "{e}"
+    );
+    let e = renderer()
+        .render(&scene, &settings("area_quadrature").lightmap(map.clone()))
+        .unwrap_err();
+    assert!(
+        matches!(&e, RasterError::Settings(m) if m.contains("does not read one")),
+        "{e}"
+    );
+    let mut other = scene.clone();
+    other.shapes[0].name = "ground".into();
+    let e = renderer()
+        .render(&other, &settings("lightmap_bilinear").lightmap(map))
+        .unwrap_err();
+    assert!(
+        matches!(&e, RasterError::Scene(m) if m.contains("chart `floor` names no shape")),
+        "{e}"
+    );
+}
