@@ -30,6 +30,9 @@ const CROSSCHECKED: &[&str] = &[
     "studies/scenes/thin-edges",
     "studies/scenes/shading-sphere",
     "studies/scenes/projector",
+    "studies/scenes/lightmap-room",
+    "studies/scenes/lightmap-seams",
+    "studies/scenes/lightmap-wall",
 ];
 
 /// Built-in scenes Mitsuba cannot express, with a phrase of the refusal (README.md lists them).
@@ -215,6 +218,21 @@ fn shading_study_scene_agrees() {
 #[test]
 fn projective_texture_study_scene_agrees() {
     agrees("studies/scenes/projector", Variant::LlvmAdRgb, 64, 256);
+}
+
+/// The light-map studies' scenes: a room corner with a table under an area light, a floor of
+/// two charts under a low light, a thin wall with a lit and a dark side — the path-traced
+/// images (depth 4: direct light and two bounces) the baked maps are measured against, and
+/// the transport the bake itself traces (`oracle::bake` shares the path integrator's walk).
+#[test]
+fn lightmap_study_scenes_agree() {
+    for name in [
+        "studies/scenes/lightmap-room",
+        "studies/scenes/lightmap-seams",
+        "studies/scenes/lightmap-wall",
+    ] {
+        agrees(name, Variant::LlvmAdRgb, 48, 256);
+    }
 }
 
 /// The anti-aliasing study's thin geometry (emissive boxes, as triangle meshes, over an
