@@ -165,3 +165,122 @@ fn render_targets_beyond_the_memory_limit_are_refused() {
     );
     assert!(!out.exists());
 }
+
+/// `verity bake`, then `verity raster --method lightmap_bilinear --lightmap FILE`: the floor
+/// of a scene lit by a point light, baked at direct light only (depth 2), reads back as the
+/// oracle's direct light within the map's resolution; a light-map method without a map, and
+/// a map whose chart table names a missing shape or has overlapping charts, are errors naming
+/// the flag and file (exit 2).
+#[test]
+fn raster_reads_a_baked_light_map() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli-raster-lightmap");
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("floor.toml");
+    std::fs::write(
+        &scene,
+        "[camera]\neye = [0, 3, 0]\ntarget = [0, 0, 0]\nup = [0, 0, -1]\nfov = 40\n[film]\nwidth = 24\nheight = 24\n\
+         [[material]]\nname = \"grey\"\ntype = \"diffuse\"\nalbedo = 0.5\n\
+         [[shape]]\nname = \"floor\"\ntype = \"rectangle\"\nmaterial = \"grey\"\ncenter = [0, 0, 0]\nsize = [4, 4]\nnormal = [0, 1, 0]\n\
+         [[light]]\nname = \"bulb\"\ntype = \"point\"\nposition = [0, 1, 0]\nintensity = 2\n",
+    )
+    .unwrap();
+    let verity = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_verity"))
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let (scene_s, map) = (scene.display().to_string(), dir.join("map.exr"));
+    let map_s = map.display().to_string();
+    let o = verity(&[
+        "bake",
+        &scene_s,
+        "--out",
+        &map_s,
+        "--resolution",
+        "64",
+        "--spp",
+        "4",
+        "--max-depth",
+        "2",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let raster_out = dir.join("lightmapped.exr");
+    let o = verity(&[
+        "raster",
+        &scene_s,
+        "--method",
+        "lightmap_bilinear",
+        "--lightmap",
+        &map_s,
+        "--out",
+        &raster_out.display().to_string(),
+        "--frames",
+        "1",
+        "--warmup",
+        "0",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let truth = dir.join("direct.exr");
+    let o = verity(&[
+        "render",
+        &scene_s,
+        "--integrator",
+        "direct",
+        "--pixel-filter",
+        "centre",
+        "--spp",
+        "4",
+        "--out",
+        &truth.display().to_string(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let (a, r) = (
+        LayeredImage::read_exr(&raster_out).unwrap(),
+        LayeredImage::read_exr(&truth).unwrap(),
+    );
+    let (a, r) = (a.channel("R").unwrap(), r.channel("R").unwrap());
+    // Point light, no noise in either: only the map's bilinear reconstruction differs.
+    let worst = a
+        .iter()
+        .zip(r)
+        .map(|(x, y)| (x - y).abs() / y)
+        .fold(0.0f32, f32::max);
+    assert!(worst < 0.01, "relative difference up to {worst}");
+
+    let o = verity(&[
+        "raster",
+        &scene_s,
+        "--method",
+        "lightmap_bilinear",
+        "--out",
+        &raster_out.display().to_string(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("none was given"), "{}", text(&o));
+    let mut img = LayeredImage::read_exr(&map).unwrap();
+    for (table, needle) in [
+        ("floor 0 0 8 8; floor2 4 4 8 8", "no shape `floor2`"),
+        ("floor 2 2 64 64; floor 4 4 8 8", "second chart"),
+    ] {
+        img.set_attribute("verity.lightmap.charts", table);
+        let bad = dir.join("bad.exr");
+        img.write_exr(&bad).unwrap();
+        let o = verity(&[
+            "raster",
+            &scene_s,
+            "--method",
+            "lightmap_bilinear",
+            "--lightmap",
+            &bad.display().to_string(),
+            "--out",
+            &raster_out.display().to_string(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+        let msg = text(&o);
+        assert!(
+            msg.starts_with("error: --lightmap ") && msg.contains("bad.exr") && msg.contains(needle),
+            "{msg}"
+        );
+    }
+}
