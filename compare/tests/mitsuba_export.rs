@@ -226,6 +226,7 @@ fn meshes_become_ply_files() {
         uvs: vec![Vec2::ZERO, Vec2::X, Vec2::Y],
         tangents: vec![],
         indices: vec![[0, 1, 2]],
+        uv1: Vec::new(),
     };
     let mut smooth = sphere("smooth one", 0);
     smooth.geometry = Geometry::Mesh(Arc::new(tri(true)));

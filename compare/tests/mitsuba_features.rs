@@ -72,6 +72,7 @@ fn quad(center: Vec3, s: f32, uv0: Vec2, uv1: Vec2, normals: bool) -> Mesh {
         uvs: vec![uv0, Vec2::new(uv1.x, uv0.y), uv1, Vec2::new(uv0.x, uv1.y)],
         tangents: vec![],
         indices: vec![[0, 2, 1], [0, 3, 2]],
+        uv1: vec![],
     }
 }
 

@@ -110,20 +110,19 @@ pub fn bake(scene: &Scene, s: &BakeSettings) -> Result<Baked, String> {
                 let mut row_rays = 0u64;
                 for i in 0..chart.width {
                     let c = chart.texel_centre(i, j, s.texel_offset);
-                    let (p, n, on_shape) = chart.point(c);
-                    if !on_shape {
+                    let Some(q) = chart.point(c) else {
                         row.push((Vec3::ZERO, Vec3::ZERO, false));
                         continue;
-                    }
+                    };
                     let hit = SurfaceHit {
                         t: 0.0,
-                        p,
-                        ng: n,
-                        ns: n,
-                        dpdu: chart.frame[1].normalize(),
+                        p: q.p,
+                        ng: q.ng,
+                        ns: q.ns,
+                        dpdu: q.dpdu,
                         uv: c,
                         shape: index,
-                        prim: 0,
+                        prim: q.triangle,
                     };
                     let (ax, ay) = (chart.x + i, chart.y + j);
                     let (mut sum, mut sum2) = (glam::DVec3::ZERO, glam::DVec3::ZERO);

@@ -1,14 +1,18 @@
 //! Light-map baking (oracle::bake) against closed forms: a point light's irradiance
 //! E = I·cos θ/r² at every texel centre (and at the half-texel-shifted points of the broken
 //! variant), a white furnace's E = π·L within the bake's own error bars, a static blocker's
-//! shadow and a dynamic one's absence, dilation past a disk's edge, and the errors for what
-//! cannot be baked.
+//! shadow and a dynamic one's absence, dilation past a disk's edge, a box's six face cells,
+//! and the errors for what cannot be baked (a sphere, a mesh without TEXCOORD_1 or with
+//! overlapping or out-of-range uv1, a resolution of 0 or 65536).
 
 use std::path::Path;
 
-use glam::Vec3;
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3};
 use oracle::bake::{bake, BakeSettings};
-use scenes::Scene;
+use scenes::lightmap::ChartSurface;
+use scenes::{Geometry, Mesh, Scene, Shape};
 
 const FLOOR: &str = r#"
 [camera]
@@ -83,7 +87,7 @@ fn a_point_light_gives_its_closed_form_at_every_texel_centre() {
             for i in 0..chart.width {
                 let k = ((chart.y + j) * map.layout.width + chart.x + i) as usize;
                 assert!(map.covered[k]);
-                let (p, _, _) = chart.point(chart.texel_centre(i, j, offset));
+                let p = chart.point(chart.texel_centre(i, j, offset)).unwrap().p;
                 let want = point_irradiance(p);
                 let got = map.irradiance[k];
                 assert!(
@@ -213,13 +217,44 @@ fn what_cannot_be_baked_is_refused_by_name() {
     let ball = "[[shape]]\nname = \"ball\"\ntype = \"sphere\"\nmaterial = \"grey\"\ncenter = [0, 0.5, 0]\nradius = 0.2\n";
     let e = bake(&scene(ball), &settings(8, 1)).unwrap_err();
     assert!(
-        e.contains("shape `ball` is a sphere") && e.contains("dynamic"),
+        e.contains("shape `ball`: a sphere has no light-map chart") && e.contains("dynamic"),
         "{e}"
     );
-    let cube = "[[shape]]\nname = \"cube\"\ntype = \"box\"\nmaterial = \"grey\"\ncenter = [0, 0.5, 0]\nsize = [0.2, 0.2, 0.2]\n";
-    let e = bake(&scene(cube), &settings(8, 1)).unwrap_err();
+    let ico = "[[shape]]\nname = \"ico\"\ntype = \"icosphere\"\nmaterial = \"grey\"\ncenter = [0, 0.5, 0]\nradius = 0.2\nsubdivisions = 1\n";
+    let e = bake(&scene(ico), &settings(8, 1)).unwrap_err();
     assert!(
-        e.contains("shape `cube` is a triangle mesh") && e.contains("TEXCOORD_1"),
+        e.contains("shape `ico`: a triangle mesh without a second uv set (glTF TEXCOORD_1)"),
+        "{e}"
+    );
+    // Two triangles on one uv triangle: two surface points would share each texel.
+    let mut overlapping = s.clone();
+    let tri = [
+        Vec3::new(0.0, 0.5, 0.0),
+        Vec3::new(0.2, 0.5, 0.0),
+        Vec3::new(0.0, 0.5, -0.2),
+    ];
+    let uv = [Vec2::new(0.1, 0.1), Vec2::new(0.9, 0.1), Vec2::new(0.1, 0.9)];
+    overlapping.shapes.push(Shape {
+        name: "folded".into(),
+        geometry: Geometry::Mesh(Arc::new(Mesh {
+            positions: [tri, tri.map(|p| p + Vec3::Y * 0.1)].concat(),
+            uv1: [uv, uv].concat(),
+            indices: vec![[0, 1, 2], [3, 4, 5]],
+            ..Mesh::default()
+        })),
+        ..overlapping.shapes[0].clone()
+    });
+    let e = bake(&overlapping, &settings(8, 1)).unwrap_err();
+    assert!(
+        e.contains("shape `folded`: its TEXCOORD_1 triangles 0 and 1 overlap at"),
+        "{e}"
+    );
+    if let Geometry::Mesh(m) = &mut overlapping.shapes[1].geometry {
+        Arc::make_mut(m).uv1[4] = Vec2::new(1.5, 0.1);
+    }
+    let e = bake(&overlapping, &settings(8, 1)).unwrap_err();
+    assert!(
+        e.contains("shape `folded`: TEXCOORD_1 of vertex 4 is [1.5, 0.1], outside the chart's [0, 1]²"),
         "{e}"
     );
     let e = bake(
@@ -237,4 +272,43 @@ fn what_cannot_be_baked_is_refused_by_name() {
     assert!(bake(&s, &settings(8, 0))
         .unwrap_err()
         .contains("at least 1 sample"));
+}
+
+/// A box's chart: its six faces in the cells of a 3 × 2 grid (scenes `box_mesh`), each inset
+/// by the gutter; the top face (cell 2) lit by the bulb above, the bottom face (cell 3, on the
+/// floor's side) unlit at depth 2, and the gutters between cells left to dilation.
+#[test]
+fn a_box_bakes_one_cell_per_face() {
+    let cube = "[[shape]]\nname = \"cube\"\ntype = \"box\"\nmaterial = \"grey\"\ncenter = [0, 0.5, 0]\nsize = [0.4, 0.4, 0.4]\n";
+    let r = 48;
+    let map = bake(&scene(&format!("{POINT}{cube}")), &settings(r, 4))
+        .unwrap()
+        .map;
+    let chart = map.layout.charts.iter().find(|c| c.name == "cube").unwrap();
+    assert!(matches!(chart.surface, ChartSurface::Mesh(_)));
+    assert_eq!((chart.width, chart.height), (r, r));
+    let (cw, ch) = (r / 3, r / 2);
+    let mut covered = [0u32; 6];
+    let mut mean = [0.0f32; 6];
+    for j in 0..r {
+        for i in 0..r {
+            let k = ((chart.y + j) * map.layout.width + chart.x + i) as usize;
+            if map.covered[k] {
+                let face = (j / ch * 3 + i / cw) as usize;
+                covered[face] += 1;
+                mean[face] += map.irradiance[k].x;
+            }
+        }
+    }
+    // Each face: its cell less the 1/8 gutter on each side, (16·0.75) × (24·0.75) = 12 × 18.
+    for (face, n) in covered.iter().enumerate() {
+        assert!((200..=240).contains(n), "face {face}: {n} covered texels");
+        mean[face] /= *n as f32;
+    }
+    assert!(
+        mean[2] > 1.0 && mean[3] == 0.0,
+        "top {} bottom {}",
+        mean[2],
+        mean[3]
+    );
 }

@@ -263,6 +263,7 @@ fn displaced_mesh_is_the_displaced_rectangle() {
             uvs: vec![uv(0.0, 0.0), uv(1.0, 0.0), uv(1.0, 1.0), uv(0.0, 1.0)],
             tangents: Vec::new(),
             indices: vec![[0, 1, 2], [0, 2, 3]],
+            uv1: Vec::new(),
         }
     };
     let accel = |s: scenes::Shape| {

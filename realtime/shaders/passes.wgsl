@@ -29,6 +29,7 @@ struct MeshVertexIn {
     @location(5) ng: vec3<f32>,
     @location(6) dpdu: vec3<f32>,
     @location(7) dpdv: vec3<f32>,
+    @location(8) uv1: vec2<f32>,
 }
 
 struct MeshVarying {
@@ -41,6 +42,7 @@ struct MeshVarying {
     @location(5) @interpolate(flat) ng: vec3<f32>,
     @location(6) @interpolate(flat) dpdu: vec3<f32>,
     @location(7) @interpolate(flat) dpdv: vec3<f32>,
+    @location(8) uv1: vec2<f32>,
 }
 
 struct AnalyticVertexIn {
@@ -101,6 +103,7 @@ fn vs_mesh(v: MeshVertexIn) -> MeshVarying {
     out.ng = v.ng;
     out.dpdu = v.dpdu;
     out.dpdv = v.dpdv;
+    out.uv1 = v.uv1;
     return out;
 }
 
@@ -237,6 +240,7 @@ fn set_mesh_footprint(in: MeshVarying) {
 @fragment
 fn fs_mesh_forward(in: MeshVarying) -> ShadedOut {
     set_mesh_footprint(in);
+    mesh_lightmap_uv = in.uv1;
     let hit = mesh_surface(in, shapes[in.shape]);
     set_normal_derivatives(hit.surface.ns);
     if !hit.hit || distance(hit.surface.p, frame.cam_pos.xyz) <= peel_distance(in.clip.xy) {

@@ -248,14 +248,16 @@ pub struct MeshVertex {
     pub dpdu: [f32; 3],
     /// ∂p/∂v of the triangle.
     pub dpdv: [f32; 3],
+    /// Light-map chart coordinates (`Mesh::uv1`), or zero.
+    pub uv1: [f32; 2],
 }
-const _: () = assert!(std::mem::size_of::<MeshVertex>() == 88);
+const _: () = assert!(std::mem::size_of::<MeshVertex>() == 96);
 
 impl MeshVertex {
-    /// Vertex attributes at locations 0–7 of `vs_mesh`.
-    pub const ATTRIBUTES: [wgpu::VertexAttribute; 8] = wgpu::vertex_attr_array![
+    /// Vertex attributes at locations 0–8 of `vs_mesh`.
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 9] = wgpu::vertex_attr_array![
         0 => Float32x3, 1 => Uint32, 2 => Float32x3, 3 => Float32x2,
-        4 => Float32x4, 5 => Float32x3, 6 => Float32x3, 7 => Float32x3
+        4 => Float32x4, 5 => Float32x3, 6 => Float32x3, 7 => Float32x3, 8 => Float32x2
     ];
 }
 

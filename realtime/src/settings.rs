@@ -4,6 +4,8 @@
 use crate::error::RasterError;
 use crate::gpu::COLOR_BYTES_PER_SAMPLE;
 use crate::pipelines::PipelineKind;
+use scenes::lightmap::ChartSurface;
+
 use crate::technique::lightmap::BakedMap;
 use crate::technique::{Method, MAX_QUADRATURE_N};
 
@@ -142,6 +144,16 @@ impl RasterSettings {
                     "a light map ({}) was given but method {m} does not read one",
                     map.label
                 ))
+            }
+            (Some(_), Some(map)) if self.pipeline != PipelineKind::Forward => {
+                let mesh = map.map.layout.charts.iter().find(|c| matches!(c.surface, ChartSurface::Mesh(_)));
+                if let Some(c) = mesh {
+                    return bad(format!(
+                        "method {m}: shape `{}` is a light-mapped mesh, whose chart coordinates (TEXCOORD_1) the \
+                         deferred pipeline's G-buffer does not store; use the forward pipeline",
+                        c.name
+                    ));
+                }
             }
             _ => {}
         }

@@ -708,6 +708,7 @@ fn push_mesh(out: &mut Vec<MeshVertex>, mesh: &Mesh, id: u32) -> Result<(), Stri
     for (name, len) in [
         ("normals", mesh.normals.len()),
         ("uvs", mesh.uvs.len()),
+        ("uv1", mesh.uv1.len()),
         ("tangents", mesh.tangents.len()),
     ] {
         if len != 0 && len != nv {
@@ -753,6 +754,7 @@ fn push_mesh(out: &mut Vec<MeshVertex>, mesh: &Mesh, id: u32) -> Result<(), Stri
                 ng: ng.to_array(),
                 dpdu: dpdu.to_array(),
                 dpdv: dpdv.to_array(),
+                uv1: mesh.uv1.get(idx[k]).map_or([0.0; 2], |uv| uv.to_array()),
             });
         }
     }

@@ -4,8 +4,9 @@
 //! uses (`Chart::texel_centre`). Bilinear and cubic B-spline lookups both reproduce affine
 //! functions exactly, so the image must be affine in the pixel coordinates and equal ρ/π·E(½, ½)
 //! under the camera — a half-texel error in the lookup would be off by 5/(2·16) of E there.
-//! Also: a light-map method without a map, a map without a light-map method, and a map of
-//! another scene are refused. Accuracy against the oracle is the studies'
+//! The same floor as a two-triangle mesh reads its chart through its uv1 (TEXCOORD_1).
+//! Also: a light-map method without a map, a map without a light-map method, a map of
+//! another scene and a light-mapped mesh in the deferred pipeline are refused. Accuracy against the oracle is the studies'
 //! (scenes/studies/lightmap-*.toml).
 
 mod support;
@@ -16,6 +17,7 @@ use glam::Vec3;
 use realtime::technique::lightmap::BakedMap;
 use realtime::{RasterError, RasterSettings};
 use scenes::lightmap::{layout, LightMap};
+use scenes::{Geometry, Mesh};
 use support::{method, renderer};
 
 const SIZE: u32 = 32;
@@ -72,44 +74,65 @@ fn settings(name: &str) -> RasterSettings {
         .frames(0, 1)
 }
 
+/// The floor as a two-triangle mesh whose uv1 runs over [0, 1]² with the position.
+fn mesh_floor_scene() -> scenes::Scene {
+    let mut scene = floor_scene();
+    let corners = [(-2.0, -2.0), (2.0, -2.0), (2.0, 2.0), (-2.0, 2.0)];
+    scene.shapes[0].geometry = Geometry::Mesh(Arc::new(Mesh {
+        positions: corners.map(|(x, z)| Vec3::new(x, 0.0, z)).to_vec(),
+        uv1: corners
+            .map(|(x, z)| glam::Vec2::new((x + 2.0) / 4.0, (z + 2.0) / 4.0))
+            .to_vec(),
+        // Counter-clockwise seen from above (+Y).
+        indices: vec![[0, 2, 1], [0, 3, 2]],
+        ..Mesh::default()
+    }));
+    scene
+}
+
 #[test]
 fn lookups_reproduce_an_affine_irradiance_at_the_texel_centres() {
-    let scene = floor_scene();
-    let map = affine_map(&scene);
-    for name in ["lightmap_bilinear", "lightmap_bicubic"] {
-        let out = renderer()
-            .render(&scene, &settings(name).lightmap(map.clone()))
-            .unwrap_or_else(|e| panic!("{name}: {e}"));
-        let rgb = out.image.rgb("").unwrap();
-        let at = |i: u32, j: u32| rgb[(j * SIZE + i) as usize].x;
-        // The four pixels around the image centre average to the point under the camera.
-        let h = SIZE / 2;
-        let centre = (at(h - 1, h - 1) + at(h, h - 1) + at(h - 1, h) + at(h, h)) / 4.0;
-        let expected = ALBEDO / std::f32::consts::PI * affine(glam::Vec2::splat(0.5));
-        assert!(
-            (centre / expected - 1.0).abs() < 2e-4,
-            "{name}: {centre} under the camera, expected {expected}"
-        );
-        // Affine in the pixels: every second difference vanishes.
-        let mut worst = 0.0f32;
-        for j in 1..SIZE - 1 {
-            for i in 1..SIZE - 1 {
-                let d2x = at(i - 1, j) - 2.0 * at(i, j) + at(i + 1, j);
-                let d2y = at(i, j - 1) - 2.0 * at(i, j) + at(i, j + 1);
-                worst = worst.max(d2x.abs()).max(d2y.abs());
-            }
+    for (scene, what) in [(floor_scene(), "rectangle"), (mesh_floor_scene(), "mesh")] {
+        for name in ["lightmap_bilinear", "lightmap_bicubic"] {
+            affine_read_back(&scene, &format!("{name} on a {what}"), name);
         }
-        assert!(worst < 1e-4 * expected, "{name}: a second difference of {worst}");
-        // A gradient along both axes (not a constant map read back).
-        assert!(
-            (at(SIZE - 1, h) - at(0, h)).abs() > 0.1 * expected,
-            "{name}: flat along x"
-        );
-        assert!(
-            (at(h, SIZE - 1) - at(h, 0)).abs() > 0.1 * expected,
-            "{name}: flat along y"
-        );
     }
+}
+
+/// Renders `scene` with `method` under its affine map; `what` names the case in messages.
+fn affine_read_back(scene: &scenes::Scene, what: &str, method: &str) {
+    let out = renderer()
+        .render(scene, &settings(method).lightmap(affine_map(scene)))
+        .unwrap_or_else(|e| panic!("{what}: {e}"));
+    let rgb = out.image.rgb("").unwrap();
+    let at = |i: u32, j: u32| rgb[(j * SIZE + i) as usize].x;
+    // The four pixels around the image centre average to the point under the camera.
+    let h = SIZE / 2;
+    let centre = (at(h - 1, h - 1) + at(h, h - 1) + at(h - 1, h) + at(h, h)) / 4.0;
+    let expected = ALBEDO / std::f32::consts::PI * affine(glam::Vec2::splat(0.5));
+    assert!(
+        (centre / expected - 1.0).abs() < 2e-4,
+        "{what}: {centre} under the camera, expected {expected}"
+    );
+    // Affine in the pixels: every second difference vanishes.
+    let mut worst = 0.0f32;
+    for j in 1..SIZE - 1 {
+        for i in 1..SIZE - 1 {
+            let d2x = at(i - 1, j) - 2.0 * at(i, j) + at(i + 1, j);
+            let d2y = at(i, j - 1) - 2.0 * at(i, j) + at(i, j + 1);
+            worst = worst.max(d2x.abs()).max(d2y.abs());
+        }
+    }
+    assert!(worst < 1e-4 * expected, "{what}: a second difference of {worst}");
+    // A gradient along both axes (not a constant map read back).
+    assert!(
+        (at(SIZE - 1, h) - at(0, h)).abs() > 0.1 * expected,
+        "{what}: flat along x"
+    );
+    assert!(
+        (at(h, SIZE - 1) - at(h, 0)).abs() > 0.1 * expected,
+        "{what}: flat along y"
+    );
 }
 
 #[test]
@@ -128,6 +151,19 @@ fn maps_and_methods_must_go_together() {
         .unwrap_err();
     assert!(
         matches!(&e, RasterError::Settings(m) if m.contains("does not read one")),
+        "{e}"
+    );
+    let mesh = mesh_floor_scene();
+    let e = renderer()
+        .render(
+            &mesh,
+            &settings("lightmap_bilinear")
+                .pipeline(realtime::PipelineKind::Deferred)
+                .lightmap(affine_map(&mesh)),
+        )
+        .unwrap_err();
+    assert!(
+        matches!(&e, RasterError::Settings(m) if m.contains("light-mapped mesh") && m.contains("forward")),
         "{e}"
     );
     let mut other = scene.clone();

@@ -538,6 +538,7 @@ mod tests {
             ],
             tangents: Vec::new(),
             indices: vec![[0, 1, 2], [0, 2, 3]],
+            uv1: Vec::new(),
         };
         let t = Procedural::Bumps { tiles: 1 }.texture(8, [WrapMode::Clamp; 2]);
         let (d, level) = displace_mesh(&mesh, &t, 0, 0.5).unwrap();

@@ -15,8 +15,12 @@
 //! `resolution` is the chart's texel count along its longer side; the other side keeps the
 //! aspect ratio (at least one texel). Texel (i, j) of a W×H chart is centred at c = ((i + ½)/W,
 //! (j + ½)/H) with j = 0 at c_v = 0, as every texture's texel centres (scenes::texture): a
-//! bilinear lookup at c returns texel (i, j) exactly. Spheres and meshes have no chart here
-//! (a mesh's would be its glTF TEXCOORD_1): they are refused by name.
+//! bilinear lookup at c returns texel (i, j) exactly. A triangle mesh's chart is its second
+//! uv set (`Mesh::uv1`: glTF `TEXCOORD_1`; a box's six faces in the cells of a 3 × 2 grid),
+//! `resolution` texels square over [0, 1]²; its texel centres outside every triangle are
+//! filled by dilation, and uvs outside [0, 1]² or triangles that overlap in uv (two surface
+//! points sharing a texel) are errors naming the vertex or triangles. Spheres have no chart
+//! and a mesh without TEXCOORD_1 none either: both are refused by name.
 //!
 //! **Atlas.** Charts are packed on shelves (tallest first, left to right) with `padding`
 //! texels around each, into an atlas `verity.lightmap.charts` lists (shape, x, y, W, H per
@@ -25,10 +29,12 @@
 //! ring (`dilation` rings), so that bilinear lookups near a chart's edge read the chart's own
 //! values and not a neighbour's or black.
 
-use glam::Vec3;
+use std::sync::Arc;
+
+use glam::{Vec2, Vec3};
 
 use crate::layered::LayeredImage;
-use crate::model::{Geometry, Scene};
+use crate::model::{Geometry, Mesh, Scene};
 
 /// Largest chart side a bake accepts (texels): 8192² texels × 16 bytes is 1 GiB.
 pub const MAX_RESOLUTION: u32 = 8192;
@@ -48,20 +54,169 @@ pub struct Chart {
     pub width: u32,
     /// Texels along c_v.
     pub height: u32,
-    /// The plane: centre, half_u, half_v (c = ((s + 1)/2, (t + 1)/2)).
-    pub frame: [Vec3; 3],
-    /// Whether (s, t) outside the unit disk is off the shape.
-    pub disk: bool,
+    /// What the chart coordinates parameterize.
+    pub surface: ChartSurface,
+}
+
+/// The surface a chart covers.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ChartSurface {
+    /// A rectangle or disk `center + s·half_u + t·half_v`, c = ((s + 1)/2, (t + 1)/2).
+    Plane {
+        /// Centre, half_u, half_v.
+        frame: [Vec3; 3],
+        /// Whether (s, t) outside the unit disk is off the shape.
+        disk: bool,
+    },
+    /// A triangle mesh, c its `uv1`.
+    Mesh(MeshChart),
+}
+
+/// A mesh's chart: the mesh and its triangles binned by their uv1 bounds (a uniform grid over
+/// [0, 1]², about one triangle per cell), to find the triangle under a chart point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshChart {
+    mesh: Arc<Mesh>,
+    side: usize,
+    bins: Vec<Vec<u32>>,
+}
+
+/// Barycentric coordinates of `c` in the uv triangle `t` (None: degenerate in uv).
+fn barycentric(t: [Vec2; 3], c: Vec2) -> Option<Vec3> {
+    let (e1, e2, d) = (t[1] - t[0], t[2] - t[0], c - t[0]);
+    let det = e1.perp_dot(e2);
+    if det.abs() < 1e-12 {
+        return None;
+    }
+    let b1 = d.perp_dot(e2) / det;
+    let b2 = e1.perp_dot(d) / det;
+    Some(Vec3::new(1.0 - b1 - b2, b1, b2))
+}
+
+impl MeshChart {
+    /// Bins the triangles of `mesh` by uv1. Errors name the vertex whose uv1 is outside
+    /// [0, 1]² (or the count that does not match the vertices).
+    fn new(mesh: &Arc<Mesh>) -> Result<MeshChart, String> {
+        if mesh.uv1.len() != mesh.positions.len() {
+            return Err(format!(
+                "TEXCOORD_1 has {} entries for {} vertices",
+                mesh.uv1.len(),
+                mesh.positions.len()
+            ));
+        }
+        let inside = |uv: &Vec2| uv.cmpge(Vec2::ZERO).all() && uv.cmple(Vec2::ONE).all();
+        if let Some(i) = mesh.uv1.iter().position(|uv| !inside(uv)) {
+            return Err(format!(
+                "TEXCOORD_1 of vertex {i} is {}, outside the chart's [0, 1]²",
+                mesh.uv1[i]
+            ));
+        }
+        let side = ((mesh.indices.len() as f64).sqrt().ceil() as usize).clamp(1, 256);
+        let mut bins = vec![Vec::new(); side * side];
+        let cell = |x: f32| ((x * side as f32) as usize).min(side - 1);
+        for (k, tri) in mesh.indices.iter().enumerate() {
+            let uv = tri.map(|i| mesh.uv1[i as usize]);
+            let (lo, hi) = (uv[0].min(uv[1]).min(uv[2]), uv[0].max(uv[1]).max(uv[2]));
+            for y in cell(lo.y)..=cell(hi.y) {
+                for x in cell(lo.x)..=cell(hi.x) {
+                    bins[y * side + x].push(k as u32);
+                }
+            }
+        }
+        Ok(MeshChart {
+            mesh: mesh.clone(),
+            side,
+            bins,
+        })
+    }
+
+    /// The triangles whose uv1 contains `c`, with their barycentrics: those whose smallest
+    /// barycentric exceeds `eps` (> 0: interior points only; < 0: edges too).
+    fn triangles_at(&self, c: Vec2, eps: f32) -> impl Iterator<Item = (u32, Vec3)> + '_ {
+        let cell = |x: f32| ((x.clamp(0.0, 1.0) * self.side as f32) as usize).min(self.side - 1);
+        self.bins[cell(c.y) * self.side + cell(c.x)]
+            .iter()
+            .filter_map(move |&k| {
+                let tri = self.mesh.indices[k as usize];
+                let b = barycentric(tri.map(|i| self.mesh.uv1[i as usize]), c)?;
+                (b.min_element() > eps).then_some((k, b))
+            })
+    }
+
+    /// The first two triangles whose uv1 overlap at a texel centre of a `w`×`h` chart, and
+    /// that centre.
+    fn overlap(&self, w: u32, h: u32) -> Option<(u32, u32, Vec2)> {
+        for j in 0..h {
+            for i in 0..w {
+                let c = Vec2::new((i as f32 + 0.5) / w as f32, (j as f32 + 0.5) / h as f32);
+                let mut inside = self.triangles_at(c, 1e-4);
+                if let (Some((a, _)), Some((b, _))) = (inside.next(), inside.next()) {
+                    return Some((a, b, c));
+                }
+            }
+        }
+        None
+    }
+}
+
+/// A surface point of a chart, where the bake starts its paths.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChartPoint {
+    /// Position.
+    pub p: Vec3,
+    /// Unit front geometric normal.
+    pub ng: Vec3,
+    /// Unit shading normal (a mesh's interpolated vertex normals; ng elsewhere).
+    pub ns: Vec3,
+    /// A unit tangent.
+    pub dpdu: Vec3,
+    /// The mesh triangle under it (0 for planes).
+    pub triangle: u32,
 }
 
 impl Chart {
-    /// The point and front normal at chart coordinates `c`, and whether the shape covers it.
-    pub fn point(&self, c: glam::Vec2) -> (Vec3, Vec3, bool) {
-        let [center, hu, hv] = self.frame;
-        let (s, t) = (2.0 * c.x - 1.0, 2.0 * c.y - 1.0);
-        let p = center + hu * s + hv * t;
-        let covered = !self.disk || s * s + t * t <= 1.0;
-        (p, hu.cross(hv).normalize(), covered)
+    /// The surface point at chart coordinates `c`, or None where the shape does not cover it
+    /// (outside a disk; between a mesh's triangles in uv).
+    pub fn point(&self, c: Vec2) -> Option<ChartPoint> {
+        match &self.surface {
+            ChartSurface::Plane { frame, disk } => {
+                let [center, hu, hv] = *frame;
+                let (s, t) = (2.0 * c.x - 1.0, 2.0 * c.y - 1.0);
+                if *disk && s * s + t * t > 1.0 {
+                    return None;
+                }
+                let n = hu.cross(hv).normalize();
+                Some(ChartPoint {
+                    p: center + hu * s + hv * t,
+                    ng: n,
+                    ns: n,
+                    dpdu: hu.normalize(),
+                    triangle: 0,
+                })
+            }
+            ChartSurface::Mesh(m) => {
+                let (k, b) = m.triangles_at(c, -1e-5).next()?;
+                let idx = m.mesh.indices[k as usize].map(|i| i as usize);
+                let q = idx.map(|i| m.mesh.positions[i]);
+                let ng = (q[1] - q[0]).cross(q[2] - q[0]).try_normalize()?;
+                let ns = match m.mesh.normals.is_empty() {
+                    true => ng,
+                    false => {
+                        let n = idx.map(|i| m.mesh.normals[i]);
+                        (n[0] * b.x + n[1] * b.y + n[2] * b.z)
+                            .try_normalize()
+                            .unwrap_or(ng)
+                    }
+                };
+                Some(ChartPoint {
+                    p: q[0] * b.x + q[1] * b.y + q[2] * b.z,
+                    ng,
+                    ns,
+                    dpdu: (q[1] - q[0]).normalize(),
+                    triangle: k,
+                })
+            }
+        }
     }
 
     /// Chart coordinates of texel (i, j)'s centre, moved by `offset` texels (0: the centre a
@@ -111,43 +266,33 @@ pub fn layout(scene: &Scene, resolution: u32, padding: u32, dynamic: &[String]) 
         if dynamic.contains(&shape.name) {
             continue;
         }
-        let (frame, disk) = match &shape.geometry {
-            Geometry::Rectangle {
-                center,
-                half_u,
-                half_v,
-            } => ([*center, *half_u, *half_v], false),
-            Geometry::Disk {
-                center,
-                half_u,
-                half_v,
-            } => ([*center, *half_u, *half_v], true),
-            Geometry::Sphere { .. } => {
-                return Err(format!(
-                    "shape `{}` is a sphere, which has no light-map chart: list it as dynamic (lit per pixel)",
-                    shape.name
-                ))
+        let surface = chart_surface(&shape.geometry).map_err(|e| format!("shape `{}`: {e}", shape.name))?;
+        let (width, height) = match &surface {
+            ChartSurface::Plane { frame, .. } => {
+                let (lu, lv) = (frame[1].length(), frame[2].length());
+                let long = lu.max(lv);
+                let side = |l: f32| ((resolution as f32 * l / long).round() as u32).clamp(1, resolution);
+                (side(lu), side(lv))
             }
-            Geometry::Mesh(_) => {
-                return Err(format!(
-                    "shape `{}` is a triangle mesh: its light-map chart would be a second uv set (glTF TEXCOORD_1), \
-                     which meshes do not carry here; list it as dynamic (lit per pixel)",
-                    shape.name
-                ))
+            ChartSurface::Mesh(m) => {
+                if let Some((a, b, c)) = m.overlap(resolution, resolution) {
+                    return Err(format!(
+                        "shape `{}`: its TEXCOORD_1 triangles {a} and {b} overlap at ({}, {}): a light-map chart \
+                         must give every surface point texels of its own",
+                        shape.name, c.x, c.y
+                    ));
+                }
+                (resolution, resolution)
             }
         };
-        let (lu, lv) = (frame[1].length(), frame[2].length());
-        let long = lu.max(lv);
-        let side = |l: f32| ((resolution as f32 * l / long).round() as u32).clamp(1, resolution);
         charts.push(Chart {
             shape: i,
             name: shape.name.clone(),
             x: 0,
             y: 0,
-            width: side(lu),
-            height: side(lv),
-            frame,
-            disk,
+            width,
+            height,
+            surface,
         });
     }
     if charts.is_empty() {
@@ -159,6 +304,35 @@ pub fn layout(scene: &Scene, resolution: u32, padding: u32, dynamic: &[String]) 
         height,
         charts,
     })
+}
+
+/// The chart surface of a shape's geometry; errors say why it has none.
+fn chart_surface(g: &Geometry) -> Result<ChartSurface, String> {
+    match g {
+        Geometry::Rectangle {
+            center,
+            half_u,
+            half_v,
+        } => Ok(ChartSurface::Plane {
+            frame: [*center, *half_u, *half_v],
+            disk: false,
+        }),
+        Geometry::Disk {
+            center,
+            half_u,
+            half_v,
+        } => Ok(ChartSurface::Plane {
+            frame: [*center, *half_u, *half_v],
+            disk: true,
+        }),
+        Geometry::Sphere { .. } => Err("a sphere has no light-map chart: list it as dynamic (lit per pixel)".into()),
+        Geometry::Mesh(m) if m.uv1.is_empty() => Err(
+            "a triangle mesh without a second uv set (glTF TEXCOORD_1) has no light-map chart: add one, or list \
+             it as dynamic (lit per pixel)"
+                .into(),
+        ),
+        Geometry::Mesh(m) => MeshChart::new(m).map(ChartSurface::Mesh),
+    }
 }
 
 /// Shelf packing, tallest chart first: the atlas is as wide as √(total area) (at least the
@@ -310,7 +484,7 @@ impl LightMap {
     }
 
     /// Reads a baked atlas ([`LightMap::to_image`], `verity bake`) for `scene`: each chart of
-    /// `verity.lightmap.charts` must name a rectangle or disk of the scene, once, lie inside the
+    /// `verity.lightmap.charts` must name a shape of the scene that has a chart, once, lie inside the
     /// atlas and overlap no other chart; E must be finite and non-negative. Errors name the
     /// chart or channel (the caller adds the file).
     pub fn from_image(img: &LayeredImage, scene: &Scene) -> Result<LightMap, String> {
@@ -352,19 +526,8 @@ impl LightMap {
                 .iter()
                 .position(|s| s.name == *name)
                 .ok_or_else(|| at(format!("the scene has no shape `{name}`")))?;
-            let (frame, disk) = match &scene.shapes[shape].geometry {
-                Geometry::Rectangle {
-                    center,
-                    half_u,
-                    half_v,
-                } => ([*center, *half_u, *half_v], false),
-                Geometry::Disk {
-                    center,
-                    half_u,
-                    half_v,
-                } => ([*center, *half_u, *half_v], true),
-                _ => return Err(at(format!("shape `{name}` is not a rectangle or disk"))),
-            };
+            let surface = chart_surface(&scene.shapes[shape].geometry)
+                .map_err(|e| at(format!("shape `{name}`: {e}")))?;
             let chart = Chart {
                 shape,
                 name: name.to_string(),
@@ -372,8 +535,7 @@ impl LightMap {
                 y,
                 width: w,
                 height: h,
-                frame,
-                disk,
+                surface,
             };
             if let Some(other) = charts.iter().find(|c| c.shape == shape) {
                 return Err(at(format!("shape `{}` has a second chart", other.name)));
@@ -435,8 +597,10 @@ mod tests {
             y: 0,
             width,
             height,
-            frame: [Vec3::ZERO, Vec3::X, Vec3::Y],
-            disk: false,
+            surface: ChartSurface::Plane {
+                frame: [Vec3::ZERO, Vec3::X, Vec3::Y],
+                disk: false,
+            },
         }
     }
 
@@ -462,8 +626,8 @@ mod tests {
         assert_eq!(c.texel_centre(0, 0, 0.0), glam::Vec2::new(0.125, 0.25));
         assert_eq!(c.texel_centre(3, 1, 0.0), glam::Vec2::new(0.875, 0.75));
         assert_eq!(c.texel_centre(0, 0, 0.5), glam::Vec2::new(0.25, 0.5));
-        let (p, n, covered) = c.point(glam::Vec2::new(0.75, 0.25));
-        assert!((p - Vec3::new(0.5, -0.5, 0.0)).length() < 1e-6 && n == Vec3::Z && covered);
+        let q = c.point(glam::Vec2::new(0.75, 0.25)).unwrap();
+        assert!((q.p - Vec3::new(0.5, -0.5, 0.0)).length() < 1e-6 && q.ng == Vec3::Z && q.ns == Vec3::Z);
     }
 
     #[test]

@@ -396,6 +396,10 @@ pub struct Mesh {
     pub normals: Vec<Vec3>,
     /// Per-vertex texture coordinates, or empty.
     pub uvs: Vec<Vec2>,
+    /// Per-vertex second texture coordinates (glTF `TEXCOORD_1`; boxes: one cell per face),
+    /// or empty: the mesh's light-map chart, in [0, 1]² and not overlapping itself
+    /// (scenes::lightmap).
+    pub uv1: Vec<Vec2>,
     /// Per-vertex tangents (xyz unit, w = handedness ±1), or empty.
     pub tangents: Vec<glam::Vec4>,
     /// Triangle vertex indices, counter-clockwise seen from the front.

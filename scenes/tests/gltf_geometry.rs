@@ -314,3 +314,33 @@ fn normals_use_the_inverse_transpose_under_shear() {
         assert_close(*n, by_hand, 1e-6);
     }
 }
+
+/// TEXCOORD_1 is read as the mesh's light-map chart (`Mesh::uv1`) whatever set the material
+/// samples, and checked like every attribute (count, finite).
+#[test]
+fn texcoord_1_is_the_light_map_chart() {
+    let mut bin = Bin::new();
+    let uv0 = bin.vec2(&[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]);
+    let uv1 = bin.vec2(&[[0.25, 0.25], [0.75, 0.25], [0.25, 0.75]]);
+    let meshes = triangle(
+        &mut bin,
+        &format!(",\"TEXCOORD_0\":{uv0},\"TEXCOORD_1\":{uv1}"),
+        None,
+    );
+    let rest = format!("{meshes},\"nodes\":[{{\"mesh\":0}}]");
+    let scene = load_json("uv1", &document(&bin.parts(), &rest)).unwrap();
+    let m = mesh(&scene, "tri/0");
+    assert_eq!(
+        m.uv1,
+        [[0.25, 0.25], [0.75, 0.25], [0.25, 0.75]].map(glam::Vec2::from)
+    );
+    assert_eq!(m.uvs[1], glam::Vec2::X);
+    let mut bin = Bin::new();
+    let short = bin.vec2(&[[0.25, 0.25], [0.75, 0.25]]);
+    let meshes = triangle(&mut bin, &format!(",\"TEXCOORD_1\":{short}"), None);
+    let rest = format!("{meshes},\"nodes\":[{{\"mesh\":0}}]");
+    let e = load_json("uv1-short", &document(&bin.parts(), &rest))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("TEXCOORD_1"), "{e}");
+}

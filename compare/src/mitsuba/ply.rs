@@ -56,6 +56,7 @@ mod tests {
             uvs: vec![Vec2::ZERO, Vec2::X, Vec2::Y],
             tangents: vec![],
             indices: vec![[0, 1, 2]],
+            uv1: Vec::new(),
         };
         let bytes = encode(&mesh);
         let text = String::from_utf8_lossy(&bytes);

@@ -7,6 +7,8 @@
 // by the diffuse albedo: L_o = ρ/π · E (Lambert). A rectangle's or disk's chart coordinate is
 // c = ((s + 1)/2, (t + 1)/2) of its local (s, t); the chart's texel (i, j) is centred at
 // c = ((i + ½)/W, (j + ½)/H), so a lookup at atlas texel x + c_u·W − ½ reads it back exactly.
+// A mesh's chart coordinate is its interpolated second uv set (glTF TEXCOORD_1; a box's
+// faces in the cells of a 3 × 2 grid).
 // LIGHTMAP_BILINEAR weighs the 2×2 nearest texels bilinearly; LIGHTMAP_BICUBIC the 4×4 by
 // the cubic B-spline (Sigg & Hadwiger 2005, "Fast Third-Order Texture Filtering", GPU Gems 2
 // ch. 20, eq. 1 — here as 16 fetches, not their 4 bilinear ones, since the atlas is read from
@@ -19,6 +21,12 @@
 // Inputs: the shape's `lightmap` record (atlas texture, chart origin and size), the texel buffer.
 
 override LIGHTMAP_METHOD: u32 = 0u;
+
+// A mesh fragment's light-map chart coordinates (its interpolated uv1), set by the forward
+// pass's mesh entry point: SurfacePoint carries one uv set, and only this lookup reads the
+// second. The deferred pipeline, whose G-buffer has no room for it, refuses light-mapped
+// meshes (RasterSettings::check).
+var<private> mesh_lightmap_uv: vec2<f32>;
 
 // Whether the shape is lit from the light map (a lightmap method, and the shape has a chart).
 fn is_lightmapped(s: Shape) -> bool {
@@ -39,7 +47,11 @@ fn bspline_weights(t: f32) -> vec4<f32> {
 fn lightmap_irradiance(s: Shape, p: vec3<f32>) -> vec3<f32> {
     let info = texture_infos[s.lightmap.x];
     let size = vec2<f32>(f32(s.lightmap.w & 0xffffu), f32(s.lightmap.w >> 16u));
-    let c = clamp((plane_local(s, p) + 1.0) * 0.5, vec2<f32>(0.0), vec2<f32>(1.0));
+    var c = mesh_lightmap_uv;
+    if s.kind != SHAPE_MESH {
+        c = (plane_local(s, p) + 1.0) * 0.5;
+    }
+    c = clamp(c, vec2<f32>(0.0), vec2<f32>(1.0));
     // Atlas texel coordinates with texel centres at integers.
     let a = vec2<f32>(f32(s.lightmap.y), f32(s.lightmap.z)) + c * size - 0.5;
     let base = floor(a);

@@ -44,6 +44,8 @@ struct Attributes {
     positions: Vec<Vec3>,
     normals: Vec<Vec3>,
     uvs: Vec<Vec2>,
+    /// TEXCOORD_1, the light-map chart, or empty.
+    uv1: Vec<Vec2>,
     tangents: Vec<Vec4>,
     triangles: Vec<[u32; 3]>,
 }
@@ -84,10 +86,10 @@ pub(super) fn build(
     let mut mesh = to_world(asset, &at, attrs, world)?;
     if needs.normal_map {
         if mesh.normals.is_empty() {
-            // Three corners a triangle, each a position, a normal and maybe a uv.
+            // Three corners a triangle, each a position, a normal and maybe two uvs.
             let corners = bytes_of(mesh.indices.len() as u64, 3);
             asset.charge(
-                bytes_of(corners, 12 + 12 + 8),
+                bytes_of(corners, 12 + 12 + 8 + 8),
                 &format!("the flat-shaded corners of {at}"),
                 &at,
             )?;
@@ -161,6 +163,24 @@ fn read_attributes(
     if let Some(i) = uvs.iter().position(|uv| !uv.is_finite()) {
         return Err(asset.err(&uv_field, format!("vertex {i} is not finite: {}", uvs[i])));
     }
+    // TEXCOORD_1 always, whatever set the material samples: a light map's chart
+    // (scenes::lightmap checks it lies in [0, 1]² and does not overlap itself).
+    let uv1_field = format!("{at}.attributes.TEXCOORD_1");
+    let uv1: Vec<Vec2> = match prim.get(&Semantic::TexCoords(1)) {
+        Some(acc) => counted(
+            asset,
+            &uv1_field,
+            n,
+            read_vec::<2>(asset, &acc, uv_types, &uv1_field)?,
+        )?
+        .into_iter()
+        .map(Vec2::from)
+        .collect(),
+        None => Vec::new(),
+    };
+    if let Some(i) = uv1.iter().position(|uv| !uv.is_finite()) {
+        return Err(asset.err(&uv1_field, format!("vertex {i} is not finite: {}", uv1[i])));
+    }
     // glTF: without NORMAL, TANGENT is ignored; tangents are only needed for normal maps.
     let tan_field = format!("{at}.attributes.TANGENT");
     let tangents: Vec<Vec4> = match prim.get(&Semantic::Tangents) {
@@ -180,6 +200,7 @@ fn read_attributes(
         positions,
         normals,
         uvs,
+        uv1,
         tangents,
         triangles,
     })
@@ -192,6 +213,7 @@ impl Attributes {
         n(self.positions.len(), 12)
             .saturating_add(n(self.normals.len(), 12))
             .saturating_add(n(self.uvs.len(), 8))
+            .saturating_add(n(self.uv1.len(), 8))
             .saturating_add(n(self.tangents.len(), 16))
             .saturating_add(n(self.triangles.len(), 12))
     }
@@ -307,6 +329,7 @@ fn to_world(asset: &Asset, at: &str, attrs: Attributes, world: &Mat4) -> Result<
         uvs: attrs.uvs,
         tangents,
         indices,
+        uv1: attrs.uv1,
     })
 }
 
@@ -317,6 +340,7 @@ fn unweld_flat(mesh: &mut Mesh) {
     let mut positions = Vec::with_capacity(corners);
     let mut normals = Vec::with_capacity(corners);
     let mut uvs = Vec::with_capacity(if mesh.uvs.is_empty() { 0 } else { corners });
+    let mut uv1 = Vec::with_capacity(if mesh.uv1.is_empty() { 0 } else { corners });
     for tri in &mesh.indices {
         let p = tri.map(|i| mesh.positions[i as usize]);
         let n = (p[1] - p[0])
@@ -329,6 +353,9 @@ fn unweld_flat(mesh: &mut Mesh) {
             if let Some(uv) = mesh.uvs.get(i as usize) {
                 uvs.push(*uv);
             }
+            if let Some(uv) = mesh.uv1.get(i as usize) {
+                uv1.push(*uv);
+            }
         }
     }
     let count = positions.len() as u32;
@@ -336,5 +363,6 @@ fn unweld_flat(mesh: &mut Mesh) {
     mesh.positions = positions;
     mesh.normals = normals;
     mesh.uvs = uvs;
+    mesh.uv1 = uv1;
     mesh.tangents.clear();
 }

@@ -420,6 +420,7 @@ fn tessellated_sphere(t: &Table, m: Option<(Affine3A, Field)>) -> Result<Geometr
             .into_iter()
             .map(|[a, b, c]| if flip { [a, c, b] } else { [a, b, c] })
             .collect(),
+        uv1: Vec::new(),
     };
     if let Some(f) = field {
         finite(&f, &mesh.positions)?;
@@ -438,18 +439,30 @@ const FACES: [[Vec3; 3]; 6] = [
     [Vec3::NEG_Z, Vec3::NEG_X, Vec3::Y],
 ];
 
+/// Gutter between a box's face cells in its light-map chart, as a fraction of a cell's side
+/// on each side of a face: at 48 texels per chart side (cells of 16 × 24) two texels.
+pub const BOX_CHART_GUTTER: f32 = 0.125;
+
 /// An axis-aligned box mapped by `m`: 24 vertices (4 per face, uv [0, 1]² per face as a
 /// rectangle's), 12 triangles counter-clockwise seen from outside, flat shading (no
-/// normals). A mirroring `m` reverses the winding so the faces still point outward.
+/// normals). Its light-map chart (`uv1`) puts face k in cell (k mod 3, k div 3) of a 3 × 2
+/// grid over [0, 1]², inset by [`BOX_CHART_GUTTER`] of the cell on each side, so that
+/// bilinear lookups near a face's edge read that face's dilated texels. A mirroring `m`
+/// reverses the winding so the faces still point outward.
 pub(crate) fn box_mesh(center: Vec3, half: Vec3, m: &Affine3A) -> Mesh {
     let mut mesh = Mesh::default();
     let flip = m.matrix3.determinant() < 0.0;
-    for [n, u, v] in FACES {
+    for (k, [n, u, v]) in FACES.into_iter().enumerate() {
         let base = mesh.positions.len() as u32;
+        let cell = Vec2::new((k % 3) as f32 / 3.0, (k / 3) as f32 / 2.0);
+        let inner = Vec2::new(1.0 / 3.0, 0.5) * (1.0 - 2.0 * BOX_CHART_GUTTER);
+        let origin = cell + Vec2::new(1.0 / 3.0, 0.5) * BOX_CHART_GUTTER;
         for (s, t) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
             let local = center + (n + u * s + v * t) * half;
+            let uv = Vec2::new((s + 1.0) / 2.0, (t + 1.0) / 2.0);
             mesh.positions.push(m.transform_point3(local));
-            mesh.uvs.push(Vec2::new((s + 1.0) / 2.0, (t + 1.0) / 2.0));
+            mesh.uvs.push(uv);
+            mesh.uv1.push(origin + uv * inner);
         }
         for tri in [[base, base + 1, base + 2], [base, base + 2, base + 3]] {
             mesh.indices
