@@ -20,7 +20,12 @@ fn sources(dir: &Path, out: &mut Vec<PathBuf>) {
 }
 
 fn main() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    // At run time, not `env!`: a build script compiled in one checkout and reused from a
+    // target folder shared with another would otherwise hash the first checkout's files, or
+    // none (an empty fingerprint that never invalidates a cached ground truth).
+    let manifest =
+        std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR for build scripts");
+    let root = Path::new(&manifest).join("..");
     let mut files = Vec::new();
     for krate in ["oracle/src", "scenes/src"] {
         let dir = root.join(krate);
@@ -28,6 +33,11 @@ fn main() {
         sources(&dir, &mut files);
     }
     files.sort();
+    assert!(
+        !files.is_empty(),
+        "no oracle or scenes sources under {}: the ground-truth fingerprint would be empty",
+        root.display()
+    );
     // FNV-1a 64 (Fowler, Noll, Vo) over each path relative to the root and its bytes.
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     for f in &files {

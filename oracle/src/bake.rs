@@ -58,6 +58,29 @@ pub struct Baked {
     pub mean_relative_std_error: f64,
 }
 
+impl Baked {
+    /// The atlas EXR ([`LightMap::to_image`]) with the bake's settings, cost and noise in its
+    /// header: `verity.lightmap.spp`, `.max_depth`, `.texel_offset`, `.seconds`, `.rays`,
+    /// `.mean_relative_std_error`.
+    pub fn to_image(&self, s: &BakeSettings) -> scenes::layered::LayeredImage {
+        let mut image = self.map.to_image();
+        for (key, value) in [
+            ("spp", s.spp.to_string()),
+            ("max_depth", s.max_depth.to_string()),
+            ("texel_offset", s.texel_offset.to_string()),
+            ("seconds", format!("{:.3}", self.seconds)),
+            ("rays", self.rays.to_string()),
+            (
+                "mean_relative_std_error",
+                self.mean_relative_std_error.to_string(),
+            ),
+        ] {
+            image.set_attribute(format!("verity.lightmap.{key}"), value);
+        }
+        image
+    }
+}
+
 /// One texel's estimate: E, the variance of its mean, whether the shape covers it.
 type Texel = (Vec3, Vec3, bool);
 

@@ -89,10 +89,7 @@ pub fn run(args: &BakeArgs) -> Result<(), CliError> {
     };
     let baked =
         bake(&scene, &settings).map_err(|e| CliError::input(format!("{}: {e}", args.scene.display())))?;
-    let mut image = baked.map.to_image();
-    image.set_attribute("verity.lightmap.spp", settings.spp.to_string());
-    image.set_attribute("verity.lightmap.max_depth", settings.max_depth.to_string());
-    image.set_attribute("verity.lightmap.seconds", format!("{:.3}", baked.seconds));
+    let mut image = baked.to_image(&settings);
     image.set_attribute("verity.scene", args.scene.display().to_string());
     image
         .write_exr(&out)

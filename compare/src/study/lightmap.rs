@@ -9,6 +9,7 @@ use realtime::technique::lightmap::{BakedMap, LightMapMethod};
 use realtime::RasterSettings;
 use scenes::lightmap::LightMap;
 use scenes::Scene;
+use serde::Serialize;
 use sha2::{Digest, Sha256};
 
 use super::cache;
@@ -68,6 +69,49 @@ pub fn with_lightmap(
     }
 }
 
+/// What a variant's light map cost and how noisy it is (metrics.json `variants[].lightmap`).
+#[derive(Clone, Debug, Serialize)]
+pub struct BakeInfo {
+    /// Texels along each chart's longer side.
+    pub resolution: u32,
+    /// Samples per texel.
+    pub spp: u32,
+    /// Path depth (Mitsuba semantics).
+    pub max_depth: i32,
+    /// Atlas width and height, texels.
+    pub atlas: [u32; 2],
+    /// Wall time of the bake when it was made, seconds.
+    pub seconds: f64,
+    /// Rays it traced.
+    pub rays: u64,
+    /// Mean over the charts' texels of the relative standard error √var/E.
+    pub mean_relative_std_error: f64,
+    /// Its cache key.
+    pub hash: String,
+}
+
+/// The bake `settings`' method reads on `scene`, as its cache entry records it; None for a
+/// method without a light map or a bake not in `opts.cache_dir` (a report assembled from
+/// raster jobs that baked elsewhere).
+pub fn bake_info(scene: &Scene, settings: &RasterSettings, opts: &RunOptions) -> Option<BakeInfo> {
+    let bake = bake_settings(scene, settings.method.lightmap.as_ref()?);
+    let hash = bake_hash(scene, &bake);
+    let cache::Lookup::Hit(img) = cache::Entry::new(&opts.cache_dir, &hash).read() else {
+        return None;
+    };
+    let number = |key: &str| img.attribute(key).and_then(|v| v.parse::<f64>().ok());
+    Some(BakeInfo {
+        resolution: bake.resolution,
+        spp: bake.spp,
+        max_depth: bake.max_depth,
+        atlas: [img.width, img.height],
+        seconds: number("verity.lightmap.seconds")?,
+        rays: number("verity.lightmap.rays")? as u64,
+        mean_relative_std_error: number("verity.lightmap.mean_relative_std_error")?,
+        hash,
+    })
+}
+
 /// The map `method` reads on `scene`, from the cache in `cache_dir` or baked now (and
 /// cached); `quiet` silences the line that reports the bake.
 fn baked_map(
@@ -102,12 +146,7 @@ fn baked_map(
                     baked.mean_relative_std_error
                 );
             }
-            let mut img = baked.map.to_image();
-            img.set_attribute("verity.lightmap.seconds", baked.seconds.to_string());
-            img.set_attribute(
-                "verity.lightmap.mean_relative_std_error",
-                baked.mean_relative_std_error.to_string(),
-            );
+            let img = baked.to_image(&settings);
             std::fs::create_dir_all(cache_dir).map_err(io_err(cache_dir))?;
             entry.write(&img).map_err(|e| StudyError::Run(e.to_string()))?;
             img

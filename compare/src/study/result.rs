@@ -180,6 +180,8 @@ pub struct VariantResult {
     /// Metrics of the image against the second ground truth per mask (empty unless the study
     /// has `[second_ground_truth]`).
     pub second_ground_truth: Vec<MaskMetrics>,
+    /// The light map a `lightmap_*` variant read: its bake's settings, cost and noise.
+    pub lightmap: Option<super::lightmap::BakeInfo>,
     /// Pixels (whole image) of the approximation that are NaN or ±Inf.
     pub non_finite_pixels: usize,
     /// The approximation's EXR (with `error.<metric>.Y` layers), relative to the report folder.

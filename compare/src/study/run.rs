@@ -402,6 +402,7 @@ fn measure_variant(
             )?,
             None => Vec::new(),
         },
+        lightmap: super::lightmap::bake_info(scene, &settings, opts),
         non_finite_pixels,
         exr,
         png,
