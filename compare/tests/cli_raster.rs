@@ -184,56 +184,34 @@ fn raster_reads_a_baked_light_map() {
          [[light]]\nname = \"bulb\"\ntype = \"point\"\nposition = [0, 1, 0]\nintensity = 2\n",
     )
     .unwrap();
-    let verity = |args: &[&str]| {
+    // One command line, split at spaces (the paths here have none).
+    let verity = |line: &str| {
         Command::new(env!("CARGO_BIN_EXE_verity"))
-            .args(args)
+            .args(line.split(' '))
             .output()
             .unwrap()
     };
     let (scene_s, map) = (scene.display().to_string(), dir.join("map.exr"));
     let map_s = map.display().to_string();
-    let o = verity(&[
-        "bake",
-        &scene_s,
-        "--out",
-        &map_s,
-        "--resolution",
-        "64",
-        "--spp",
-        "4",
-        "--max-depth",
-        "2",
-    ]);
+    let o = verity(&format!(
+        "bake {} --out {} --resolution 64 --spp 4 --max-depth 2",
+        scene_s, map_s
+    ));
     assert!(o.status.success(), "{}", text(&o));
     let raster_out = dir.join("lightmapped.exr");
-    let o = verity(&[
-        "raster",
-        &scene_s,
-        "--method",
-        "lightmap_bilinear",
-        "--lightmap",
-        &map_s,
-        "--out",
-        &raster_out.display().to_string(),
-        "--frames",
-        "1",
-        "--warmup",
-        "0",
-    ]);
+    let o = verity(&format!(
+        "raster {} --method lightmap_bilinear --lightmap {} --out {} --frames 1 --warmup 0",
+        scene_s,
+        map_s,
+        raster_out.display()
+    ));
     assert!(o.status.success(), "{}", text(&o));
     let truth = dir.join("direct.exr");
-    let o = verity(&[
-        "render",
-        &scene_s,
-        "--integrator",
-        "direct",
-        "--pixel-filter",
-        "centre",
-        "--spp",
-        "4",
-        "--out",
-        &truth.display().to_string(),
-    ]);
+    let o = verity(&format!(
+        "render {} --integrator direct --pixel-filter centre --spp 4 --out {}",
+        scene_s,
+        truth.display()
+    ));
     assert!(o.status.success(), "{}", text(&o));
     let (a, r) = (
         LayeredImage::read_exr(&raster_out).unwrap(),
@@ -248,14 +226,11 @@ fn raster_reads_a_baked_light_map() {
         .fold(0.0f32, f32::max);
     assert!(worst < 0.01, "relative difference up to {worst}");
 
-    let o = verity(&[
-        "raster",
-        &scene_s,
-        "--method",
-        "lightmap_bilinear",
-        "--out",
-        &raster_out.display().to_string(),
-    ]);
+    let o = verity(&format!(
+        "raster {} --method lightmap_bilinear --out {}",
+        scene_s,
+        raster_out.display()
+    ));
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(text(&o).contains("none was given"), "{}", text(&o));
     let mut img = LayeredImage::read_exr(&map).unwrap();
@@ -266,16 +241,12 @@ fn raster_reads_a_baked_light_map() {
         img.set_attribute("verity.lightmap.charts", table);
         let bad = dir.join("bad.exr");
         img.write_exr(&bad).unwrap();
-        let o = verity(&[
-            "raster",
-            &scene_s,
-            "--method",
-            "lightmap_bilinear",
-            "--lightmap",
-            &bad.display().to_string(),
-            "--out",
-            &raster_out.display().to_string(),
-        ]);
+        let o = verity(&format!(
+            "raster {} --method lightmap_bilinear --lightmap {} --out {}",
+            scene_s,
+            bad.display(),
+            raster_out.display()
+        ));
         assert_eq!(o.status.code(), Some(2), "{}", text(&o));
         let msg = text(&o);
         assert!(

@@ -9,10 +9,10 @@ use realtime::technique::lightmap::{BakedMap, LightMapMethod};
 use realtime::RasterSettings;
 use scenes::lightmap::LightMap;
 use scenes::Scene;
-use serde::Serialize;
 use sha2::{Digest, Sha256};
 
 use super::cache;
+use super::result::BakeInfo;
 use super::setup::{io_err, RunOptions, StudyError};
 use crate::progress::ProgressMode;
 
@@ -67,27 +67,6 @@ pub fn with_lightmap(
         )?)),
         None => Ok(settings.clone()),
     }
-}
-
-/// What a variant's light map cost and how noisy it is (metrics.json `variants[].lightmap`).
-#[derive(Clone, Debug, Serialize)]
-pub struct BakeInfo {
-    /// Texels along each chart's longer side.
-    pub resolution: u32,
-    /// Samples per texel.
-    pub spp: u32,
-    /// Path depth (Mitsuba semantics).
-    pub max_depth: i32,
-    /// Atlas width and height, texels.
-    pub atlas: [u32; 2],
-    /// Wall time of the bake when it was made, seconds.
-    pub seconds: f64,
-    /// Rays it traced.
-    pub rays: u64,
-    /// Mean over the charts' texels of the relative standard error √var/E.
-    pub mean_relative_std_error: f64,
-    /// Its cache key.
-    pub hash: String,
 }
 
 /// The bake `settings`' method reads on `scene`, as its cache entry records it; None for a

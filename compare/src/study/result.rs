@@ -181,7 +181,7 @@ pub struct VariantResult {
     /// has `[second_ground_truth]`).
     pub second_ground_truth: Vec<MaskMetrics>,
     /// The light map a `lightmap_*` variant read: its bake's settings, cost and noise.
-    pub lightmap: Option<super::lightmap::BakeInfo>,
+    pub lightmap: Option<BakeInfo>,
     /// Pixels (whole image) of the approximation that are NaN or ±Inf.
     pub non_finite_pixels: usize,
     /// The approximation's EXR (with `error.<metric>.Y` layers), relative to the report folder.
@@ -190,6 +190,27 @@ pub struct VariantResult {
     pub png: String,
     /// False-colour error map PNGs (metric name, file), one per metric with a per-pixel map.
     pub error_pngs: Vec<(String, String)>,
+}
+
+/// What a variant's light map cost and how noisy it is (metrics.json `variants[].lightmap`).
+#[derive(Clone, Debug, Serialize)]
+pub struct BakeInfo {
+    /// Texels along each chart's longer side.
+    pub resolution: u32,
+    /// Samples per texel.
+    pub spp: u32,
+    /// Path depth (Mitsuba semantics).
+    pub max_depth: i32,
+    /// Atlas width and height, texels.
+    pub atlas: [u32; 2],
+    /// Wall time of the bake when it was made, seconds.
+    pub seconds: f64,
+    /// Rays it traced.
+    pub rays: u64,
+    /// Mean over the charts' texels of the relative standard error √var/E.
+    pub mean_relative_std_error: f64,
+    /// Its cache key.
+    pub hash: String,
 }
 
 /// The cost of a variant.

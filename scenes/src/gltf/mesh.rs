@@ -140,47 +140,31 @@ fn read_attributes(
         }
     };
     let normals = read3(Semantic::Normals, "NORMAL", unit_types)?;
-    let set = needs.uv_set.unwrap_or(0);
-    let uv_field = format!("{at}.attributes.TEXCOORD_{set}");
-    let uvs: Vec<Vec2> = match prim.get(&Semantic::TexCoords(set)) {
-        Some(acc) => counted(
-            asset,
-            &uv_field,
-            n,
-            read_vec::<2>(asset, &acc, uv_types, &uv_field)?,
-        )?
-        .into_iter()
-        .map(Vec2::from)
-        .collect(),
-        None if needs.uv_set.is_some() => {
-            return Err(asset.err(
-                &uv_field,
-                "the material samples textures with this set, but it is missing",
-            ))
+    // TEXCOORD_`set` (empty when absent), one finite entry per vertex.
+    let read_uvs = |set: u32| -> Result<(Vec<Vec2>, String), SceneError> {
+        let field = format!("{at}.attributes.TEXCOORD_{set}");
+        let uvs: Vec<Vec2> = match prim.get(&Semantic::TexCoords(set)) {
+            Some(acc) => counted(asset, &field, n, read_vec::<2>(asset, &acc, uv_types, &field)?)?
+                .into_iter()
+                .map(Vec2::from)
+                .collect(),
+            None => Vec::new(),
+        };
+        if let Some(i) = uvs.iter().position(|uv| !uv.is_finite()) {
+            return Err(asset.err(&field, format!("vertex {i} is not finite: {}", uvs[i])));
         }
-        None => Vec::new(),
+        Ok((uvs, field))
     };
-    if let Some(i) = uvs.iter().position(|uv| !uv.is_finite()) {
-        return Err(asset.err(&uv_field, format!("vertex {i} is not finite: {}", uvs[i])));
+    let (uvs, uv_field) = read_uvs(needs.uv_set.unwrap_or(0))?;
+    if uvs.is_empty() && needs.uv_set.is_some() {
+        return Err(asset.err(
+            &uv_field,
+            "the material samples textures with this set, but it is missing",
+        ));
     }
     // TEXCOORD_1 always, whatever set the material samples: a light map's chart
     // (scenes::lightmap checks it lies in [0, 1]² and does not overlap itself).
-    let uv1_field = format!("{at}.attributes.TEXCOORD_1");
-    let uv1: Vec<Vec2> = match prim.get(&Semantic::TexCoords(1)) {
-        Some(acc) => counted(
-            asset,
-            &uv1_field,
-            n,
-            read_vec::<2>(asset, &acc, uv_types, &uv1_field)?,
-        )?
-        .into_iter()
-        .map(Vec2::from)
-        .collect(),
-        None => Vec::new(),
-    };
-    if let Some(i) = uv1.iter().position(|uv| !uv.is_finite()) {
-        return Err(asset.err(&uv1_field, format!("vertex {i} is not finite: {}", uv1[i])));
-    }
+    let (uv1, _) = read_uvs(1)?;
     // glTF: without NORMAL, TANGENT is ignored; tangents are only needed for normal maps.
     let tan_field = format!("{at}.attributes.TANGENT");
     let tangents: Vec<Vec4> = match prim.get(&Semantic::Tangents) {
