@@ -199,7 +199,7 @@ fn cli_integrator_reads_either_spelling_and_prints_one() {
 }
 
 /// `verity bake`: the atlas EXR with its channels and chart table, the summary line, and bad
-/// input (a resolution of 0 or 65536, a shape without a chart, an unknown dynamic shape) as
+/// input (a resolution of 0 or 65536, a mesh without TEXCOORD_1, an unknown dynamic shape) as
 /// an error naming it with exit 2, nothing written.
 #[test]
 fn cli_bake_writes_the_atlas_and_refuses_what_it_cannot_bake() {
@@ -255,7 +255,15 @@ fn cli_bake_writes_the_atlas_and_refuses_what_it_cannot_bake() {
         "dynamic shape `flor` is not in the scene",
         "bake --dynamic flor",
     );
-    let out = verity(&["bake", &cornell_box(), "--out", &bad]);
-    assert_usage_error(&out, "is a triangle mesh", "bake of the Cornell box's blocks");
+    let ico = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenes/studies/scenes/shading-sphere.toml")
+        .display()
+        .to_string();
+    let out = verity(&["bake", &ico, "--out", &bad]);
+    assert_usage_error(
+        &out,
+        "shape `ball`: a triangle mesh without a second uv set (glTF TEXCOORD_1)",
+        "bake of an icosphere",
+    );
     assert!(!Path::new(&bad).exists());
 }
