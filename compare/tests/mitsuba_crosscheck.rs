@@ -33,6 +33,7 @@ const CROSSCHECKED: &[&str] = &[
     "studies/scenes/lightmap-room",
     "studies/scenes/lightmap-seams",
     "studies/scenes/lightmap-wall",
+    "studies/scenes/omni-room",
 ];
 
 /// Built-in scenes Mitsuba cannot express, with a phrase of the refusal (README.md lists them).
@@ -233,6 +234,13 @@ fn lightmap_study_scenes_agree() {
     ] {
         agrees(name, Variant::LlvmAdRgb, 48, 256);
     }
+}
+
+/// The omnidirectional-shadow room: a point light inside a closed room with blockers in four
+/// directions, direct light with exact visibility (hard shadows on floor, ceiling and walls).
+#[test]
+fn omni_shadow_room_agrees() {
+    agrees("studies/scenes/omni-room", Variant::LlvmAdRgb, 48, 256);
 }
 
 /// The anti-aliasing study's thin geometry (emissive boxes, as triangle meshes, over an

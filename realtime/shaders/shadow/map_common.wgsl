@@ -38,7 +38,7 @@
 // resampled at texel centres, occludes it), too much detaches shadows from their casters
 // ("peter-panning") and leaks light through thin blockers; points outside a light's frustum
 // (beyond a perspective map's 150° field of view, behind a one-sided emitter's plane, the
-// far side of a point or sphere light's single frustum) are treated as lit; without the
+// far side of a point or sphere light's single frustum, unless it has a cube) are treated as lit; without the
 // receiver-plane bias, wide kernels on receivers tilted to the light self-shadow (one reference
 // depth for the whole kernel), and with it curved receivers still do (the tangent plane leaves
 // the surface across a wide kernel).
@@ -97,7 +97,8 @@ struct ShadowUniforms {
     settings: ShadowSettings,
     // 64 taps in the unit disk, two per vec4 (shadow/poisson.rs `poisson_disk`).
     poisson: array<vec4<f32>, 32>,
-    // Per light slot: first map layer, layer count (1, or its cascades), unused ×2.
+    // Per light slot: first map layer, layer count (1, its cascades, or a cube's 6), 1 for a
+    // cube, unused.
     slots: array<vec4<u32>, 64>,
     // One projection per map layer (shadow/maps.rs MAX_SHADOW_LAYERS).
     layers: array<ShadowLight, 128>,
@@ -240,11 +241,25 @@ fn poisson_tap(k: u32, rot: vec2<f32>) -> vec2<f32> {
     return vec2<f32>(rot.x * t.x - rot.y * t.y, rot.y * t.x + rot.x * t.y);
 }
 
-// The map layer of light slot `slot` for a receiver at camera view depth `view_depth`: the
+// The map layer of light slot `slot` for a receiver at p, camera view depth `view_depth`:
+// under a cube map (slots[slot].z = 1) the face of the major axis of p − light, in the order
+// +x, −x, +y, −y, +z, −z (Gerasimov 2004, "Omnidirectional Shadow Mapping", GPU Gems ch. 12;
+// each face is widened past 90° so that kernels at its edge read its own texels); else the
 // first of its cascades whose far split z_{i+1} is at or beyond it (its last one past them
 // all), or its one layer (Dimitrov 2007's interval-based selection).
-fn shadow_layer(slot: u32, view_depth: f32) -> u32 {
+fn shadow_layer(slot: u32, p: vec3<f32>, view_depth: f32) -> u32 {
     let m = shadow.slots[slot];
+    if m.z == 1u {
+        let d = p - shadow.layers[m.x].eye.xyz;
+        let a = abs(d);
+        var axis = 2u;
+        if a.x >= a.y && a.x >= a.z {
+            axis = 0u;
+        } else if a.y >= a.z {
+            axis = 1u;
+        }
+        return m.x + 2u * axis + select(0u, 1u, d[axis] < 0.0);
+    }
     let last = m.x + max(m.y, 1u) - 1u;
     var layer = m.x;
     while layer < last && view_depth > shadow.layers[layer].search.y {

@@ -14,7 +14,8 @@
 // rest) — a large light half hidden, its bright part behind the blocker, is wrong even with
 // the exact visible fraction; the environment is never shadowed.
 // Each light slot's map is its one layer, or under cascades the layer `shadow_layer` picks by
-// the point's camera view depth (shadow/map_common.wgsl).
+// the point's camera view depth, or under a cube the face it picks by the point's direction
+// from the light (shadow/map_common.wgsl).
 // Inputs: the map layer's ShadowLight and settings, the point and its front geometric normal,
 // the Poisson taps' rotation; for the AOV the emitter or light and the surface point.
 
@@ -51,7 +52,7 @@ fn shadow_visibility(sl: ShadowLight, layer: u32, s: ShadowSettings, p: vec3<f32
 // V of light slot `slot` at the surface point sp seen through target pixel `frag`: its map
 // layer picked by sp's camera view depth, the taps' rotation by the pixel.
 fn slot_shadow_visibility(f: FrameUniforms, sp: SurfacePoint, slot: u32, frag: vec2<f32>) -> f32 {
-    let layer = shadow_layer(slot, view_depth(f, sp.p));
+    let layer = shadow_layer(slot, sp.p, view_depth(f, sp.p));
     let s = shadow.settings;
     return shadow_visibility(shadow.layers[layer], layer, s, sp.p, sp.ng, shadow_tap_rotation(s, frag));
 }

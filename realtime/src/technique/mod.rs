@@ -899,7 +899,7 @@ mod tests {
     #[test]
     fn shadow_methods_have_the_documented_defaults() {
         let common =
-            "n=8, env_n=0, map=1024, bias=0.002, slope_bias=1, normal_offset=1, cascades=1, split_lambda=0.5";
+            "n=8, env_n=0, map=1024, bias=0.002, slope_bias=1, normal_offset=1, cascades=1, split_lambda=0.5, point_maps=frustum";
         for (name, own) in [
             ("shadow_hard", ""),
             ("pcf_hw_2x2", ""),

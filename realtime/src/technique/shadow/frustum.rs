@@ -34,6 +34,8 @@ pub struct LightFrustum {
     pub own_shape: Option<usize>,
     /// A cascade's camera view-depth slice [z_i, z_{i+1}]; None for a map over the scene.
     pub slice: Option<(f32, f32)>,
+    /// One of a cube map's six faces (maps.rs `cube`).
+    pub cube_face: bool,
 }
 
 impl LightFrustum {
@@ -127,6 +129,7 @@ pub fn orthographic(
         size,
         own_shape: None,
         slice: None,
+        cube_face: false,
     }
 }
 

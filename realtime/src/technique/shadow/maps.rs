@@ -5,13 +5,15 @@
 //!
 //! Light slots are the realtime light order: the area emitters (spheres, rectangles, disks) in
 //! scene order, then the scene lights. Emissive meshes light nothing here and get no map. Each
-//! slot owns consecutive map layers (the shaders' `shadow.slots[slot]` = first layer, count;
-//! `shadow.layers[layer]` = that layer's projection): one, or one per cascade.
+//! slot owns consecutive map layers (the shaders' `shadow.slots[slot]` = first layer, count,
+//! cube flag; `shadow.layers[layer]` = that layer's projection): one, one per cascade, or a
+//! cube's six faces.
 //!
 //! | light | projection | field of view / extent |
 //! |---|---|---|
 //! | rectangle, disk | perspective from the centre along the emitting normal | fitted to the other shapes' bounding boxes in front of the light, at most [`MAX_FOV_DEG`] |
 //! | sphere, point | perspective from the centre towards the centre of the other shapes' bounding box | the same fit |
+//! | sphere, point, `point_maps = cube` | six perspective maps along ±x, ±y, ±z (a cube map, Gerasimov 2004) | 90° each, widened by [`CUBE_FACE_MARGIN_TEXELS`] on every side; depth range fitted per face |
 //! | spot | perspective along the spot axis | the fit, at most 2 × the cutoff angle |
 //! | directional (delta or sun disk), `cascades = 1` | orthographic along the light's direction | the scene's bounding box, square |
 //! | directional, `cascades = k ≥ 2` | k orthographic maps along the light's direction (cascades) | cascade i: the camera frustum between view depths z_i and z_{i+1}, clipped to the scene's box, square, snapped to texels |
@@ -40,9 +42,13 @@
 //!
 //! The fit: every corner of every other shape's bounding box, in light view space, must lie
 //! inside the square frustum; a shape whose box crosses the light's plane (depth ≤ 0 — a wall
-//! meeting a ceiling light) forces the widest field of view. One frustum per light, no cube
-//! maps: what falls outside (beyond 150°, behind a one-sided emitter, the far side of a point
-//! or sphere light, the back of a two-sided emitter) is treated as lit. The near plane is
+//! meeting a ceiling light) forces the widest field of view. One frustum per light unless a
+//! point or sphere light gets a cube (`point_maps = cube`): what falls outside (beyond 150°,
+//! behind a one-sided emitter, the far side of a point or sphere light's one frustum, the back
+//! of a two-sided emitter) is treated as lit. A cube's receiver takes the face of the major
+//! axis of its direction from the light; a kernel that reaches past a face's 90° reads the
+//! face's own margin, and past the margin is clamped to its edge texels (no filtering across
+//! faces). The near plane is
 //! [`NEAR_MARGIN`] × the nearest box depth in front of the light (at least
 //! [`MIN_NEAR_FRACTION`] × the scene radius, when a box crosses the light's plane); the far
 //! plane is [`FAR_MARGIN`] × the farthest box depth. PCSS's blocker search assumes no blocker
@@ -69,7 +75,7 @@ use scenes::{Geometry, Light, Scene};
 use wgpu::util::DeviceExt;
 
 use super::poisson::poisson_disk;
-use super::{BlockerDepth, Shadow, ShadowTechnique};
+use super::{BlockerDepth, PointMaps, Shadow, ShadowTechnique};
 use crate::gpu::DEPTH_FORMAT;
 use crate::gpu_types::NONE;
 use crate::technique::Method;
@@ -143,7 +149,8 @@ pub struct GpuShadowUniforms {
     pub settings: GpuShadowSettings,
     /// The Poisson taps, two per entry.
     pub poisson: [[f32; 4]; POISSON_TAPS / 2],
-    /// Per light slot: its first layer, its layer count (1, or the cascades), unused, unused.
+    /// Per light slot: its first layer, its layer count (1, the cascades, or a cube's 6), 1
+    /// for a cube, unused.
     pub slots: [[u32; 4]; MAX_SHADOWED_LIGHTS],
     /// One projection per map layer.
     pub layers: [GpuShadowLight; MAX_SHADOW_LAYERS],
@@ -186,6 +193,11 @@ pub fn light_frusta(scene: &Scene, shadow: &Shadow, aspect: f32) -> Vec<Vec<Ligh
                 (*center, axis, Some(*half_u), size)
             }
             Geometry::Sphere { center, radius } => {
+                let size = light_size.unwrap_or(2.0 * radius);
+                if shadow.point_maps == PointMaps::Cube {
+                    out.push(cube(scene, &shape.name, Some(i), *center, size, shadow.map));
+                    continue;
+                }
                 let axis = towards_scene(scene, Some(i), *center);
                 (*center, axis, None, 2.0 * radius)
             }
@@ -198,13 +210,21 @@ pub fn light_frusta(scene: &Scene, shadow: &Shadow, aspect: f32) -> Vec<Vec<Ligh
             eye,
             axis,
             up,
-            MAX_FOV_DEG,
+            Fov::Fit(MAX_FOV_DEG),
             size,
         )]);
     }
     for light in &scene.lights {
         let name = light.name();
         out.push(match light {
+            Light::Point { position, .. } if shadow.point_maps == PointMaps::Cube => cube(
+                scene,
+                name,
+                None,
+                *position,
+                light_size.unwrap_or(0.0),
+                shadow.map,
+            ),
             Light::Point { position, .. } => {
                 let axis = towards_scene(scene, None, *position);
                 vec![perspective(
@@ -214,7 +234,7 @@ pub fn light_frusta(scene: &Scene, shadow: &Shadow, aspect: f32) -> Vec<Vec<Ligh
                     *position,
                     axis,
                     None,
-                    MAX_FOV_DEG,
+                    Fov::Fit(MAX_FOV_DEG),
                     light_size.unwrap_or(0.0),
                 )]
             }
@@ -233,7 +253,7 @@ pub fn light_frusta(scene: &Scene, shadow: &Shadow, aspect: f32) -> Vec<Vec<Ligh
                     *position,
                     axis,
                     None,
-                    fov,
+                    Fov::Fit(fov),
                     light_size.unwrap_or(0.0),
                 )]
             }
@@ -256,6 +276,57 @@ pub fn light_frusta(scene: &Scene, shadow: &Shadow, aspect: f32) -> Vec<Vec<Ligh
     out
 }
 
+/// Texels a cube face extends past its 90° on every side, so that a filter kernel at a face's
+/// edge still reads the face's own map (chosen here: PCF's widest box kernel is 15 texels,
+/// PCSS's filter radius is clamped to the map's penumbra search, and 16 covers the former).
+pub const CUBE_FACE_MARGIN_TEXELS: f32 = 16.0;
+
+/// The six faces of a cube map at `eye` (Gerasimov 2004, "Omnidirectional Shadow Mapping", GPU
+/// Gems ch. 12), in the order the shaders pick them (shadow/map_common.wgsl `shadow_layer`):
+/// +x, −x, +y, −y, +z, −z; each a 90° square frustum widened by [`CUBE_FACE_MARGIN_TEXELS`]
+/// on each side of a `side`² map, its depth range fitted as any perspective map's.
+fn cube(scene: &Scene, name: &str, own: Option<usize>, eye: Vec3, size: f32, side: u32) -> Vec<LightFrustum> {
+    // tan(half) = 1 + margin: the face's 90° plus the margin's texels at its edge.
+    let fov = 2.0
+        * (1.0 + 2.0 * CUBE_FACE_MARGIN_TEXELS / side as f32)
+            .atan()
+            .to_degrees();
+    [
+        (Vec3::X, Vec3::Y),
+        (Vec3::NEG_X, Vec3::Y),
+        (Vec3::Y, Vec3::Z),
+        (Vec3::NEG_Y, Vec3::Z),
+        (Vec3::Z, Vec3::Y),
+        (Vec3::NEG_Z, Vec3::Y),
+    ]
+    .into_iter()
+    .zip(["+x", "-x", "+y", "-y", "+z", "-z"])
+    .map(|((axis, up), face)| {
+        let mut f = perspective(
+            scene,
+            &format!("{name} cube {face}"),
+            own,
+            eye,
+            axis,
+            Some(up),
+            Fov::Fixed(fov),
+            size,
+        );
+        f.cube_face = true;
+        f
+    })
+    .collect()
+}
+
+/// A perspective map's field of view.
+#[derive(Clone, Copy, Debug)]
+enum Fov {
+    /// Fitted to the other shapes, at most this many degrees.
+    Fit(f32),
+    /// Exactly this many degrees (a cube face).
+    Fixed(f32),
+}
+
 /// Unit direction from `eye` to the centre of the bounding box of every shape but `own`.
 fn towards_scene(scene: &Scene, own: Option<usize>, eye: Vec3) -> Vec3 {
     let (lo, hi) = scene
@@ -272,7 +343,7 @@ fn towards_scene(scene: &Scene, own: Option<usize>, eye: Vec3) -> Vec3 {
 }
 
 /// A perspective frustum from `eye` along `axis` fitted to the other shapes (module docs), its
-/// full field of view at most `max_fov` degrees.
+/// field of view fitted (at most the given degrees) or fixed.
 #[allow(clippy::too_many_arguments)]
 fn perspective(
     scene: &Scene,
@@ -281,7 +352,7 @@ fn perspective(
     eye: Vec3,
     axis: Vec3,
     up: Option<Vec3>,
-    max_fov: f32,
+    fov: Fov,
     size: f32,
 ) -> LightFrustum {
     let up = up
@@ -313,13 +384,12 @@ fn perspective(
             tan_max = tan_max.max(p.x.abs().max(p.y.abs()) / -p.z);
         }
     }
-    let max_half = 0.5 * max_fov.to_radians();
-    let half = if crossing {
-        max_half
-    } else {
-        (tan_max * 1.01)
+    let half = match fov {
+        Fov::Fixed(deg) => 0.5 * deg.to_radians(),
+        Fov::Fit(max) if crossing => 0.5 * max.to_radians(),
+        Fov::Fit(max) => (tan_max * 1.01)
             .atan()
-            .clamp(0.5 * MIN_FOV_DEG.to_radians(), max_half)
+            .clamp(0.5 * MIN_FOV_DEG.to_radians(), 0.5 * max.to_radians()),
     };
     let near_floor = MIN_NEAR_FRACTION * radius;
     let near = if crossing || !z_min.is_finite() {
@@ -347,6 +417,7 @@ fn perspective(
         size,
         own_shape: own,
         slice: None,
+        cube_face: false,
     }
 }
 
@@ -411,7 +482,8 @@ pub fn shadow_uniforms(method: &Method, frusta: &[Vec<LightFrustum>]) -> GpuShad
     }
     let mut first = 0;
     for (slot, layers) in frusta.iter().enumerate().take(MAX_SHADOWED_LIGHTS) {
-        u.slots[slot] = [first as u32, layers.len() as u32, 0, 0];
+        let cube = u32::from(layers.first().is_some_and(|f| f.cube_face));
+        u.slots[slot] = [first as u32, layers.len() as u32, cube, 0];
         for f in layers {
             if let Some(layer) = u.layers.get_mut(first) {
                 *layer = gpu_light(f, s.map);
@@ -687,6 +759,59 @@ pub(in crate::technique::shadow) mod tests {
         // Texel footprint: 2·tan(fov/2)/side per metre of depth.
         let (a, b) = f.texel(1024);
         assert!((a - 2.0 * 2.8 * 1.01 / 1.5 / 1024.0).abs() < 1e-6 && b == 0.0);
+    }
+
+    /// A point light under `point_maps = cube`: six faces along +x, −x, +y, −y, +z, −z (the
+    /// order `shadow_layer` picks them in), each a little over 90° so its 16-texel margin
+    /// overlaps the next face; every direction's point projects inside the face of its major
+    /// axis; the slot is flagged as a cube in the uniform.
+    #[test]
+    fn a_cube_has_six_faces_in_the_shaders_order() {
+        let s = scene(
+            vec![(rect(Vec3::ZERO, 2.0, false), false)],
+            vec![Light::Point {
+                name: "bulb".into(),
+                position: Vec3::new(0.0, 1.0, 0.0),
+                intensity: Vec3::ONE,
+            }],
+        );
+        let shadow = Shadow {
+            point_maps: PointMaps::Cube,
+            ..hard()
+        };
+        let slots = light_frusta(&s, &shadow, 1.0);
+        assert_eq!(slots.len(), 1);
+        let faces = &slots[0];
+        let axes = [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z];
+        assert_eq!(faces.len(), 6);
+        for (f, axis) in faces.iter().zip(axes) {
+            assert!(f.cube_face && f.perspective && f.axis == axis, "{}", f.describe());
+            let want = 2.0 * (1.0 + 32.0 / 1024.0f32).atan().to_degrees();
+            assert!(
+                (f.extent - want).abs() < 1e-4 && f.extent > 90.0,
+                "{}",
+                f.describe()
+            );
+            // A point 45° off the face's axis towards each neighbour is still inside it.
+            for off in [f.axis.any_orthonormal_vector(), -f.axis.any_orthonormal_vector()] {
+                let p = Vec3::new(0.0, 1.0, 0.0) + f.axis + off * 0.999;
+                let c = f.view_proj * p.extend(1.0);
+                let ndc = c.truncate() / c.w;
+                assert!(
+                    ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 && c.w > 0.0,
+                    "{}: {ndc}",
+                    f.describe()
+                );
+            }
+        }
+        let u = shadow_uniforms(&Method::shadowed(shadow), &slots);
+        assert_eq!(u.slots[0], [0, 6, 1, 0]);
+        let single = light_frusta(&s, &hard(), 1.0);
+        assert_eq!(single[0].len(), 1);
+        assert_eq!(
+            shadow_uniforms(&Method::shadowed(hard()), &single).slots[0],
+            [0, 1, 0, 0]
+        );
     }
 
     /// A wall crossing the light's plane forces the widest field of view and the smallest near

@@ -130,6 +130,25 @@ pub struct Shadow {
     pub cascades: u32,
     /// λ of the parallel-split rule (Zhang et al. 2006), 0 (uniform) ..= 1 (logarithmic).
     pub split_lambda: f32,
+    /// How point and sphere lights are mapped.
+    pub point_maps: PointMaps,
+}
+
+/// The maps of a point or sphere light (WGSL: a slot's `slots[slot].z`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PointMaps {
+    /// One perspective frustum towards the scene, at most [`maps::MAX_FOV_DEG`] wide:
+    /// receivers outside it are lit.
+    Frustum,
+    /// A cube: six 90° frusta along ±x, ±y, ±z (Gerasimov 2004, "Omnidirectional Shadow
+    /// Mapping", GPU Gems ch. 12), the receiver's face picked by the major axis of its
+    /// direction from the light.
+    Cube,
+}
+
+impl PointMaps {
+    /// The keywords, in WGSL code order.
+    const NAMES: &'static [&'static str] = &["frustum", "cube"];
 }
 
 impl Shadow {
@@ -146,6 +165,7 @@ impl Shadow {
             rotate: false,
             cascades: 1,
             split_lambda: 0.5,
+            point_maps: PointMaps::Frustum,
         }
     }
 
@@ -243,6 +263,23 @@ pub static COMMON: &[Param<Shadow>] = &[
         get: |s| Some(Value::Real(s.split_lambda)),
         set: |s, v| {
             s.split_lambda = v.real()?;
+            Some(())
+        },
+    },
+    Param {
+        name: "point_maps",
+        kind: Kind::Keyword(PointMaps::NAMES),
+        unit: "",
+        doc: "point and sphere lights: one frustum towards the scene, at most 150° wide (receivers outside it are \
+              lit), or a cube of six 90° faces (every direction)",
+        source: "Gerasimov 2004, \"Omnidirectional Shadow Mapping\", GPU Gems ch. 12",
+        unset: "",
+        get: |s| Some(Value::Keyword(PointMaps::NAMES[s.point_maps as usize])),
+        set: |s, v| {
+            s.point_maps = match v.keyword()? {
+                "cube" => PointMaps::Cube,
+                _ => PointMaps::Frustum,
+            };
             Some(())
         },
     },
