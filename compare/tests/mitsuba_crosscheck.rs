@@ -34,6 +34,7 @@ const CROSSCHECKED: &[&str] = &[
     "studies/scenes/lightmap-seams",
     "studies/scenes/lightmap-wall",
     "studies/scenes/omni-room",
+    "studies/scenes/mesh-lamp",
 ];
 
 /// Built-in scenes Mitsuba cannot express, with a phrase of the refusal (README.md lists them).
@@ -241,6 +242,13 @@ fn lightmap_study_scenes_agree() {
 #[test]
 fn omni_shadow_room_agrees() {
     agrees("studies/scenes/omni-room", Variant::LlvmAdRgb, 48, 256);
+}
+
+/// The emissive-mesh scene: a box lamp of 12 emissive triangles (Mitsuba's `area` emitter
+/// on a PLY mesh) over a floor and a glossy ball.
+#[test]
+fn mesh_lamp_agrees() {
+    agrees("studies/scenes/mesh-lamp", Variant::LlvmAdRgb, 48, 256);
 }
 
 /// The anti-aliasing study's thin geometry (emissive boxes, as triangle meshes, over an

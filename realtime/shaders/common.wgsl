@@ -80,6 +80,9 @@ struct FrameUniforms {
     // Specular anti-aliasing (antialias/specular.wgsl): screen-space variance σ², clamp κ,
     // unused, unused.
     antialias: vec4<f32>,
+    // Emissive meshes as lights: the triangle table's texture record (6 texels a triangle) or
+    // NONE, the quadrature n per triangle (`mesh_n`), unused, unused.
+    mesh_lights: vec4<u32>,
 }
 
 struct Shape {

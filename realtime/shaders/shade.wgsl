@@ -13,9 +13,11 @@
 // exactly; the environment stays unshadowed. Under an environment-mapping method
 // (ENVMAP_METHOD ≠ 0) the reflector is shaded by envmap/envmap.wgsl instead; under a
 // light-map method (LIGHTMAP_METHOD ≠ 0) every shape with a chart by lightmap/lookup.wgsl.
+// Emissive meshes light by `mesh_n`×`mesh_n` quadrature over each triangle
+// (area/quadrature.wgsl) when the method's `mesh_n` > 0, and nothing at 0 (the default).
 // Failure mode: mirror and dielectric surfaces see only the environment (environment.wgsl);
-// emissive meshes are visible but light nothing (only spheres, rectangles and disks are area
-// lights here); `max_depth` < 2 is not modelled.
+// emissive meshes cast no shadow maps (their light is unshadowed under every shadow method,
+// and their cost grows with their triangle count); `max_depth` < 2 is not modelled.
 // Inputs: the frame (camera, counts), the scene arrays (this dispatcher and the entry points
 // are the only readers besides the leaf samplers), a surface point and ωo.
 
@@ -112,6 +114,9 @@ fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>, frag: vec2<f
         term = self_shadowed(f, term, sp, to_light / max(dist, 1e-30), radius / max(dist, 1e-30));
         color += shadowed(f, term, i, sp, frag);
     }
+    // Emissive meshes: every triangle by `mesh_n`×`mesh_n` quadrature (none at 0, the
+    // default), unshadowed under every shadow method.
+    color += emissive_mesh_quadrature(f, b, n, wo, sp.p);
     if f.env_info.x != ENV_NONE && f.env_info.z > 0u {
         color += environment_quadrature(f, b, n, wo, f.env_info.z);
     }

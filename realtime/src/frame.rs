@@ -11,7 +11,7 @@ use scenes::{Camera, Scene};
 use wgpu::util::DeviceExt;
 
 use crate::camera::{camera_near, view_proj};
-use crate::gpu_types::{vec4, FrameUniforms};
+use crate::gpu_types::{vec4, FrameUniforms, NONE};
 use crate::pipelines::Stage;
 use crate::settings::RasterSettings;
 use crate::targets::{cleared_attachments, Targets};
@@ -148,6 +148,10 @@ fn frame_uniforms(
         detail_steps,
         texture: settings.method.texture_filter().uniforms(),
         antialias: settings.method.antialias.map_or([0.0; 4], |a| a.uniforms()),
+        mesh_lights: match settings.method.mesh_n {
+            0 => [NONE, 0, 0, 0],
+            n => [sg.emissive_triangles, n, 0, 0],
+        },
     }
 }
 

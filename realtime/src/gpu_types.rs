@@ -107,8 +107,11 @@ pub struct FrameUniforms {
     /// Specular anti-aliasing: screen-space variance σ², clamp κ, unused, unused
     /// ([`crate::technique::antialias::AntiAliasing::uniforms`]).
     pub antialias: [f32; 4],
+    /// Emissive meshes as lights: the triangle table's texture record or NONE (none, or
+    /// `mesh_n` = 0), the quadrature n per triangle, unused, unused.
+    pub mesh_lights: [u32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 64 + 14 * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 64 + 15 * 16);
 
 /// One shape (WGSL `Shape`).
 #[repr(C)]

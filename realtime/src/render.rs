@@ -702,12 +702,12 @@ fn add_header(
         let maps: Vec<String> = shadow.frusta.iter().map(|f| f.describe()).collect();
         attrs.push(("shadow_maps", maps.join("; ")));
     }
-    if !sg.unlit_emitters.is_empty() {
+    if !sg.emissive_meshes.is_empty() {
         attrs.push((
-            "unlit_emitters",
+            "emissive_mesh_lights",
             format!(
-                "emissive meshes light nothing in realtime: {}",
-                sg.unlit_emitters.join(", ")
+                "lit per triangle by quadrature, unshadowed: {}",
+                sg.emissive_meshes.join(", ")
             ),
         ));
     }

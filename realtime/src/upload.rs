@@ -52,7 +52,9 @@ pub struct SceneGpu {
     pub(crate) emitter_count: u32,
     pub(crate) env: (EnvKind, u32, [f32; 4]),
     /// Shapes that emit but light nothing here (emissive meshes).
-    pub(crate) unlit_emitters: Vec<String>,
+    pub(crate) emissive_meshes: Vec<String>,
+    /// The texture record of the emissive-mesh triangle table, or NONE (WGSL `counts.w`).
+    pub(crate) emissive_triangles: u32,
     /// The scene's textures as a GPU texture array (`tex_anisotropic`; else a stand-in).
     pub(crate) texture_array: TextureArray,
 }
@@ -68,7 +70,11 @@ struct Arrays {
     texels: Vec<[f32; 4]>,
     mesh: Vec<MeshVertex>,
     analytic: Vec<AnalyticVertex>,
-    unlit_emitters: Vec<String>,
+    emissive_meshes: Vec<String>,
+    /// Six texel records per emissive mesh triangle ([`add_emissive_triangles`]).
+    emissive_triangles: Vec<[f32; 4]>,
+    /// Their table's texture record, or NONE (set by [`add_emissive_table`]).
+    emissive_table: u32,
 }
 
 impl SceneGpu {
@@ -109,6 +115,7 @@ impl SceneGpu {
         if let Some(map) = lightmap {
             add_lightmap(&mut a, scene, map).map_err(|e| format!("{src}: light map: {e}"))?;
         }
+        a.emissive_table = add_emissive_table(&mut a).map_err(|e| format!("{src}: emissive meshes: {e}"))?;
         let env = environment(scene).map_err(|e| format!("{src}: environment: {e}"))?;
         let bytes = (a.texels.len() * 16) as u64;
         if bytes > max_binding {
@@ -182,7 +189,8 @@ fn upload(
         shape_count: a.shapes.len() as u32,
         emitter_count: a.emitters.len() as u32,
         env,
-        unlit_emitters: a.unlit_emitters,
+        emissive_meshes: a.emissive_meshes,
+        emissive_triangles: a.emissive_table,
         texture_array,
     }
 }
@@ -575,14 +583,83 @@ fn add_shape(
         g.emission_info[0] = 1;
         g.emission_info[1] = u32::from(*two_sided);
         g.emission_info[2] = tex;
-        if matches!(shape.geometry, Geometry::Mesh(_)) {
-            a.unlit_emitters.push(shape.name.clone());
+        if let Geometry::Mesh(mesh) = &shape.geometry {
+            a.emissive_meshes.push(shape.name.clone());
+            add_emissive_triangles(a, mesh, id, *two_sided)?;
         } else {
             a.emitters.push(id);
         }
     }
     a.shapes.push(g);
     Ok(())
+}
+
+/// Most emissive mesh triangles a scene may have: every pixel integrates each of them
+/// (N² points per triangle), so a larger emitter would stall the frame; chosen here (a 12-
+/// triangle box lamp is typical, a 4096-triangle one already costs 4096·N² evaluations).
+pub const MAX_EMISSIVE_TRIANGLES: usize = 4096;
+
+/// An emissive mesh's triangles as lights (area/quadrature.wgsl `mesh_triangle_quadrature`):
+/// six texel records each — p0 and the shape's index (its bits), the edges p1 − p0 and
+/// p2 − p0 with the area and two-sidedness, the unit front normal, the corners' uvs ((b1, b2)
+/// corners without uvs, as the oracle's MeshLight). Degenerate triangles emit nothing and are
+/// left out.
+fn add_emissive_triangles(a: &mut Arrays, mesh: &Mesh, id: u32, two_sided: bool) -> Result<(), String> {
+    for tri in &mesh.indices {
+        let idx = tri.map(|i| i as usize);
+        let Some(p) = idx
+            .iter()
+            .map(|&i| mesh.positions.get(i).copied())
+            .collect::<Option<Vec<Vec3>>>()
+        else {
+            return Err(format!(
+                "mesh indices {tri:?} are out of range ({} positions)",
+                mesh.positions.len()
+            ));
+        };
+        let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+        let cross = e1.cross(e2);
+        let area = 0.5 * cross.length();
+        if !(area > 0.0 && area.is_finite()) {
+            continue;
+        }
+        let uv = if mesh.uvs.is_empty() {
+            [Vec2::ZERO, Vec2::X, Vec2::Y]
+        } else {
+            idx.map(|i| mesh.uvs[i])
+        };
+        let n = cross / (2.0 * area);
+        a.emissive_triangles.extend([
+            [p[0].x, p[0].y, p[0].z, f32::from_bits(id)],
+            [e1.x, e1.y, e1.z, area],
+            [e2.x, e2.y, e2.z, f32::from(u8::from(two_sided))],
+            [n.x, n.y, n.z, 0.0],
+            [uv[0].x, uv[0].y, uv[1].x, uv[1].y],
+            [uv[2].x, uv[2].y, 0.0, 0.0],
+        ]);
+    }
+    let count = a.emissive_triangles.len() / 6;
+    if count > MAX_EMISSIVE_TRIANGLES {
+        return Err(format!(
+            "the scene's emissive meshes have {count} triangles, more than the {MAX_EMISSIVE_TRIANGLES} the realtime \
+             renderer integrates per pixel (simplify the emitter, or make it an area light)"
+        ));
+    }
+    Ok(())
+}
+
+/// Appends the emissive triangle table as a texture record (6 texels wide, a row per
+/// triangle); returns its index, or NONE without emissive meshes.
+fn add_emissive_table(a: &mut Arrays) -> Result<u32, String> {
+    if a.emissive_triangles.is_empty() {
+        return Ok(NONE);
+    }
+    let index = a.texture_infos.len() as u32;
+    let offset = u32::try_from(a.texels.len()).map_err(|_| "too many texels in total".to_string())?;
+    let rows = (a.emissive_triangles.len() / 6) as u32;
+    a.texture_infos.push(plain_record(offset, 6, rows, 0));
+    a.texels.append(&mut a.emissive_triangles);
+    Ok(index)
 }
 
 /// A displaced shape's detail inputs: its height range, the derivative map of its height

@@ -8,8 +8,9 @@
 //! at every sample into a storage buffer — in chunks of slots when one buffer would exceed the
 //! adapter's storage-binding limit. V follows the oracle's AOV: 0 where the light cannot reach
 //! the point (behind a one-sided emitter, outside a spot's cone, the emitter's own surface),
-//! else the shadow map's V (1 for unshadowed methods). Emissive meshes light nothing in
-//! realtime: their channel is the coverage (V = 1 on every surface, unshadowed).
+//! else the shadow map's V (1 for unshadowed methods). Emissive meshes have no shadow maps
+//! (their light, under `mesh_n` > 0, is unshadowed): their channel is the coverage (V = 1 on
+//! every surface).
 
 use bytemuck::{Pod, Zeroable};
 use scenes::{Geometry, Scene};

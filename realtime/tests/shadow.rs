@@ -161,7 +161,7 @@ fn shadow_pass_is_timed_and_described() {
             img.attribute("parameters"),
             Some(
                 "n=8 env_n=0 map=256 bias=0.002 slope_bias=1 normal_offset=1 cascades=1 \
-                 split_lambda=0.5 blocker_samples=16 filter_samples=32 blocker_depth=search \
+                 split_lambda=0.5 point_maps=frustum blocker_samples=16 filter_samples=32 blocker_depth=search \
                  receiver_plane=on rotate=off"
             )
         );

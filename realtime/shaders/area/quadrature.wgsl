@@ -14,6 +14,10 @@
 //   h = 1 − cos θmax, φ = 2πv), dω = 2πh/N² (the oracle's sampling, pbrt-v4 §6.2.4); from
 //   inside (two-sided only) uniform in area over the sphere;
 // - sun disk: the same cone about the light's direction;
+// - emissive mesh triangle p0 + b1·e1 + b2·e2: uniform in area by b1 = √u·(1 − v),
+//   b2 = √u·v (the square-to-triangle warp of Shirley 1992, "Nonuniform Random Point Sets via
+//   Warping", Graphics Gems III; any area-uniform map serves the midpoint rule), dA = A/N²,
+//   front side only unless two-sided, as the oracle's MeshLight;
 // - environment: cosine-weighted directions about the normal (Malley's method),
 //   weight π/(N²·cos θi).
 // Failure mode: points close to a light compared with a stratum (r ≲ light size / N) see the
@@ -158,6 +162,55 @@ fn sphere_quadrature(s: Shape, b: Bsdf, n: vec3<f32>, wo: vec3<f32>, p: vec3<f32
         }
     }
     return sum * (s.normal.w * inv_n * inv_n);
+}
+
+// Every emissive mesh triangle (upload.rs `add_emissive_triangles`: six texels a triangle in
+// the table `f.mesh_lights.x` names) by N×N midpoint quadrature in area measure (N =
+// `mesh_n`), unshadowed; nothing while `mesh_n` = 0.
+fn emissive_mesh_quadrature(f: FrameUniforms, b: Bsdf, n: vec3<f32>, wo: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
+    if f.mesh_lights.x == NONE {
+        return vec3<f32>(0.0);
+    }
+    let table = texture_infos[f.mesh_lights.x];
+    let nq = f.mesh_lights.y;
+    let inv_n = 1.0 / f32(nq);
+    var total = vec3<f32>(0.0);
+    for (var t = 0u; t < table.height; t++) {
+        let base = table.offset + 6u * t;
+        let r0 = texels[base];
+        let e1 = texels[base + 1u];
+        let e2 = texels[base + 2u];
+        let nl = texels[base + 3u].xyz;
+        let uv01 = texels[base + 4u];
+        let uv2 = texels[base + 5u].xy;
+        let two_sided = e2.w > 0.5;
+        // Nothing from the triangle's plane, nor from behind a one-sided triangle.
+        let side = dot(p - r0.xyz, nl);
+        if side == 0.0 || (!two_sided && side < 0.0) {
+            continue;
+        }
+        let s = shapes[bitcast<u32>(r0.w)];
+        var sum = vec3<f32>(0.0);
+        for (var a = 0u; a < nq; a++) {
+            for (var c = 0u; c < nq; c++) {
+                count_iteration();
+                let m = stratum_midpoint(a, c, inv_n);
+                let su = sqrt(m.x);
+                let b1 = su * (1.0 - m.y);
+                let b2 = su * m.y;
+                let q = r0.xyz + e1.xyz * b1 + e2.xyz * b2;
+                let d = q - p;
+                let r2 = dot(d, d);
+                if r2 > 0.0 {
+                    let wi = d * inverseSqrt(r2);
+                    let uv = uv01.xy * (1.0 - b1 - b2) + uv01.zw * b1 + uv2 * b2;
+                    sum += bsdf_eval(b, n, wo, wi) * emitted_radiance(s, uv) * (abs(dot(nl, wi)) / r2);
+                }
+            }
+        }
+        total += sum * (e1.w * inv_n * inv_n);
+    }
+    return total;
 }
 
 // One emissive shape by quadrature.

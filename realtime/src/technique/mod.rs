@@ -56,6 +56,9 @@ pub struct Method {
     pub area_n: u32,
     /// N of the N×N environment quadrature; 0 = no environment lighting.
     pub env_n: u32,
+    /// N of the N×N quadrature of each emissive mesh triangle; 0 = emissive meshes light
+    /// nothing.
+    pub mesh_n: u32,
     /// Shadow mapping, or None: every light unoccluded.
     pub shadow: Option<Shadow>,
     /// Surface detail on displaced shapes, or None: they are drawn flat (their base surface).
@@ -81,6 +84,7 @@ impl Default for Method {
             area: AreaMethod::Quadrature,
             area_n: 16,
             env_n: 8,
+            mesh_n: 0,
             shadow: None,
             detail: None,
             envmap: None,
@@ -118,6 +122,20 @@ pub static COMMON: &[Param<Method>] = &[
         get: |m| Some(Value::Whole(m.env_n)),
         set: |m, v| {
             m.env_n = v.whole()?;
+            Some(())
+        },
+    },
+    Param {
+        name: "mesh_n",
+        kind: Kind::Whole(0, MAX_QUADRATURE_N),
+        unit: "",
+        doc: "N of the N×N midpoint quadrature of each emissive mesh triangle (uniform in area), unshadowed; its \
+              cost is triangles × N² per pixel",
+        source: "Shirley 1992, \"Nonuniform Random Point Sets via Warping\", Graphics Gems III (the triangle warp)",
+        unset: "0: emissive meshes light nothing",
+        get: |m| (m.mesh_n > 0).then_some(Value::Whole(m.mesh_n)),
+        set: |m, v| {
+            m.mesh_n = v.whole()?;
             Some(())
         },
     },
@@ -435,6 +453,7 @@ impl Method {
             area: AreaMethod::Quadrature,
             area_n: 8,
             env_n: 0,
+            mesh_n: 0,
             shadow: Some(shadow),
             detail: None,
             envmap: None,
@@ -506,6 +525,7 @@ impl Method {
             rows.push(Row::Method(&COMMON[0]));
         }
         rows.push(Row::Method(&COMMON[1]));
+        rows.push(Row::Method(&COMMON[2]));
         if let Some(s) = &self.shadow {
             rows.extend(s.rows().map(Row::Shadow));
         }

@@ -4,7 +4,8 @@
 //! `shadow/pcf.wgsl`, `shadow/pcss.wgsl`).
 //!
 //! Light slots are the realtime light order: the area emitters (spheres, rectangles, disks) in
-//! scene order, then the scene lights. Emissive meshes light nothing here and get no map. Each
+//! scene order, then the scene lights. Emissive meshes get no map (their light, under `mesh_n` > 0, is
+//! unshadowed). Each
 //! slot owns consecutive map layers (the shaders' `shadow.slots[slot]` = first layer, count,
 //! cube flag; `shadow.layers[layer]` = that layer's projection): one, one per cascade, or a
 //! cube's six faces.
