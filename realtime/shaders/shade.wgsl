@@ -32,12 +32,19 @@ fn shadowed(f: FrameUniforms, term: vec3<f32>, slot: u32, sp: SurfacePoint, frag
 }
 
 // `term` of a light in unit direction `wi` with angular radius tan⁻¹(tan_alpha), times the
-// heightfield's own visibility under POM's self-shadowing (detail/ray_march.wgsl; 1 otherwise).
+// heightfield's own visibility under POM's self-shadowing (detail/ray_march.wgsl) or normal
+// and bump mapping's horizon map (detail/horizon.wgsl); 1 otherwise.
 fn self_shadowed(f: FrameUniforms, term: vec3<f32>, sp: SurfacePoint, wi: vec3<f32>, tan_alpha: f32) -> vec3<f32> {
-    if DETAIL_METHOD != DETAIL_POM || all(term == vec3<f32>(0.0)) {
+    if all(term == vec3<f32>(0.0)) {
         return term;
     }
-    return term * detail_self_shadow(f, sp, wi, tan_alpha);
+    if DETAIL_METHOD == DETAIL_POM {
+        return term * detail_self_shadow(f, sp, wi, tan_alpha);
+    }
+    if DETAIL_METHOD == DETAIL_NORMAL_MAPPING || DETAIL_METHOD == DETAIL_BUMP_MAPPING {
+        return term * horizon_visibility(f, sp, wi, tan_alpha);
+    }
+    return term;
 }
 
 // Shaded colour and the albedo AOV of a surface point.

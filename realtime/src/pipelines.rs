@@ -60,7 +60,7 @@ pub use crate::gpu::{COLOR_FORMAT, DEPTH_FORMAT};
 
 /// The WGSL sources in dependency order; WGSL has no includes, so they form one module, with
 /// `counters_on.wgsl` or `counters_off.wgsl` appended.
-const SHADER_SOURCES: [(&str, &str); 35] = [
+const SHADER_SOURCES: [(&str, &str); 36] = [
     ("common.wgsl", include_str!("../shaders/common.wgsl")),
     ("texture.wgsl", include_str!("../shaders/texture.wgsl")),
     ("surface.wgsl", include_str!("../shaders/surface.wgsl")),
@@ -83,6 +83,10 @@ const SHADER_SOURCES: [(&str, &str); 35] = [
     (
         "detail/cone_step.wgsl",
         include_str!("../shaders/detail/cone_step.wgsl"),
+    ),
+    (
+        "detail/horizon.wgsl",
+        include_str!("../shaders/detail/horizon.wgsl"),
     ),
     ("bsdf.wgsl", include_str!("../shaders/bsdf.wgsl")),
     (

@@ -700,7 +700,20 @@ fn add_displacement(
     add_texture(a, &derivative_map(height, d.channel))?;
     if let Some(kind) = detail.and_then(|m| m.technique.cone_kind()) {
         g.detail[3] = a.texture_infos.len() as u32;
-        add_texture(a, &cones.get(height, d.channel, d.scale, kind))?;
+        add_texture(a, &cones.get(height, d.channel, d.scale, kind)[0])?;
+    }
+    // The horizon maps of normal and bump mapping's self-shadowing (rectangles: heightfield
+    // patches), in consecutive records.
+    let horizon = detail.map_or(0, |m| m.horizon);
+    if horizon > 0 && g.kind == ShapeKind::Rectangle as u32 {
+        let size = glam::Vec2::new(
+            2.0 * Vec3::from_slice(&g.half_u[..3]).length(),
+            2.0 * Vec3::from_slice(&g.half_v[..3]).length(),
+        );
+        g.detail[3] = a.texture_infos.len() as u32;
+        for map in cones.horizon(height, d.channel, d.scale, size, horizon).iter() {
+            add_texture(a, map)?;
+        }
     }
     Ok(())
 }

@@ -252,7 +252,7 @@ fn rays_leaving_the_patch_are_discarded() {
     assert!(pom < flat - 1.0, "POM covers {pom} pixels, the flat base {flat}");
 }
 
-/// Cone maps are built once per height texture, kind and scale.
+/// Cone and horizon maps are built once per height texture, kind and scale.
 #[test]
 fn cone_maps_are_cached_by_content() {
     let cache = realtime::technique::detail::ConeCache::default();
@@ -264,8 +264,12 @@ fn cone_maps_are_cached_by_content() {
     let c = cache.get(&t, 0, 0.1, kind);
     assert!(!Arc::ptr_eq(&a, &c), "another scale: another map");
     // Twice the heights, half the ratio (uv per metre).
-    let (ra, rc) = (a.sample(Vec2::splat(0.3)).x, c.sample(Vec2::splat(0.3)).x);
+    let (ra, rc) = (a[0].sample(Vec2::splat(0.3)).x, c[0].sample(Vec2::splat(0.3)).x);
     assert!((ra - 2.0 * rc).abs() <= 1e-3 * ra, "{ra} vs {rc}");
     let d = Detail::by_name("cone_step").unwrap();
     assert_eq!(d.technique.cone_kind(), Some(kind));
+    // Horizon maps share the cache under their own arguments: 8 azimuths, two RGBA maps.
+    let h = cache.horizon(&t, 0, 0.05, Vec2::ONE, 8);
+    assert!(Arc::ptr_eq(&h, &cache.horizon(&t, 0, 0.05, Vec2::ONE, 8)));
+    assert!(!Arc::ptr_eq(&h, &a) && h.len() == 2);
 }

@@ -25,8 +25,10 @@ use scenes::texture::Texture;
 
 use super::param::{spec_named, Kind, MethodSpec, Param, Value};
 use cone_map::{cone_map, ConeKind};
+use horizon_map::{horizon_maps, MAX_HORIZON_DIRECTIONS};
 
 pub mod cone_map;
+pub mod horizon_map;
 
 /// Most linear-search steps (`steps`, `min_steps`, `max_steps`, `shadow_steps`).
 pub const MAX_DETAIL_STEPS: u32 = 256;
@@ -130,6 +132,9 @@ pub struct Detail {
     pub technique: DetailTechnique,
     /// k in w = k·s·h (1: the displacement's own heights).
     pub height_scale: f32,
+    /// Azimuths of the horizon map that shadows `normal_mapping` and `bump_mapping` (Max
+    /// 1988; 0: none).
+    pub horizon: u32,
 }
 
 impl Detail {
@@ -138,6 +143,7 @@ impl Detail {
         Detail {
             technique,
             height_scale: 1.0,
+            horizon: 0,
         }
     }
 
@@ -151,14 +157,15 @@ impl Detail {
         COMMON.iter().chain(self.technique.spec().params)
     }
 
-    /// The frame uniform's `detail` (height_scale, bias, delta, 0) and `detail_steps`
+    /// The frame uniform's `detail` (height_scale, bias, delta, horizon azimuths) and `detail_steps`
     /// (linear steps or POM's minimum, POM's maximum, binary steps, self-shadow steps; 0 where
     /// the technique has none).
     pub fn uniforms(&self) -> ([f32; 4], [u32; 4]) {
         let k = self.height_scale;
+        let horizon = self.horizon as f32;
         match self.technique {
-            DetailTechnique::NormalMapping => ([k, 0.0, 1.0, 0.0], [0; 4]),
-            DetailTechnique::BumpMapping { delta } => ([k, 0.0, delta, 0.0], [0; 4]),
+            DetailTechnique::NormalMapping => ([k, 0.0, 1.0, horizon], [0; 4]),
+            DetailTechnique::BumpMapping { delta } => ([k, 0.0, delta, horizon], [0; 4]),
             DetailTechnique::Parallax { bias } | DetailTechnique::ParallaxOffsetLimited { bias } => {
                 ([k, bias, 1.0, 0.0], [0; 4])
             }
@@ -258,6 +265,30 @@ const BINARY_STEPS: Param<Detail> = Param {
     },
 };
 
+/// `horizon` of the methods that keep the base point (normal and bump mapping).
+const HORIZON: Param<Detail> = Param {
+    name: "horizon",
+    kind: Kind::Whole(0, MAX_HORIZON_DIRECTIONS),
+    unit: "azimuths",
+    doc: "self-shadowing from a precomputed horizon map: per texel the horizon's elevation in this many azimuths, \
+          interpolated between them; heightfield patches (rectangles) only",
+    source: "Max 1988, \"Horizon Mapping: Shadows for Bump-Mapped Surfaces\"; Sloan & Cohen 2000, EGWR",
+    unset: "0: no self-shadowing",
+    get: |d| match d.technique {
+        DetailTechnique::NormalMapping | DetailTechnique::BumpMapping { .. } if d.horizon > 0 => {
+            Some(Value::Whole(d.horizon))
+        }
+        _ => None,
+    },
+    set: |d, v| match d.technique {
+        DetailTechnique::NormalMapping | DetailTechnique::BumpMapping { .. } => {
+            d.horizon = v.whole()?;
+            Some(())
+        }
+        _ => None,
+    },
+};
+
 /// `bias` of the parallax offsets.
 const PARALLAX_BIAS: Param<Detail> = Param {
     name: "bias",
@@ -331,7 +362,7 @@ pub static METHODS: &[MethodSpec<Detail>] = &[
         summary: "the base point, shaded with the normal of a normal map baked from h (a derivative map); 4 fetches",
         source: "Mikkelsen 2010, \"Bump Mapping Unparametrized Surfaces on the GPU\", JGT 15(1)",
         default: || Detail::new(DetailTechnique::NormalMapping),
-        params: &[],
+        params: &[HORIZON],
     },
     MethodSpec {
         name: "bump_mapping",
@@ -356,7 +387,7 @@ pub static METHODS: &[MethodSpec<Detail>] = &[
                 }
                 _ => None,
             },
-        }],
+        }, HORIZON],
     },
     MethodSpec {
         name: "parallax",
@@ -548,24 +579,31 @@ pub fn cone_texture(height: &Texture, channel: usize, scale: f32, kind: ConeKind
     Texture::from_texels(height.width, height.height, texels, height.wrap)
 }
 
-/// Cone maps already built, keyed by a hash of the heights they were built from, so that a
-/// study rendering one scene many times pays for each map once (a 512² map takes seconds).
+/// Cone and horizon maps already built, keyed by a hash of the heights and arguments they were
+/// built from, so that a study rendering one scene many times pays for each map once (a 512²
+/// cone map takes seconds).
 #[derive(Default)]
 pub struct ConeCache {
-    maps: Mutex<HashMap<u64, Arc<Texture>>>,
+    maps: Mutex<HashMap<u64, Arc<Vec<Texture>>>>,
 }
 
 impl ConeCache {
-    /// The [`cone_texture`] of these arguments, built on first use.
-    pub fn get(&self, height: &Texture, channel: usize, scale: f32, kind: ConeKind) -> Arc<Texture> {
+    /// The maps `build` makes from channel `channel` of `height`, built on first use for these
+    /// `arguments` (every input besides the heights, as bits).
+    fn cached(
+        &self,
+        height: &Texture,
+        channel: usize,
+        arguments: &[u32],
+        build: impl FnOnce() -> Vec<Texture>,
+    ) -> Arc<Vec<Texture>> {
         let mut hasher = std::collections::hash_map::DefaultHasher::new();
         (
             height.width,
             height.height,
             format!("{:?}", height.wrap),
             channel,
-            scale.to_bits(),
-            kind,
+            arguments,
         )
             .hash(&mut hasher);
         for t in &height.texels {
@@ -573,9 +611,29 @@ impl ConeCache {
         }
         let key = hasher.finish();
         let mut maps = self.maps.lock().unwrap_or_else(|e| e.into_inner());
-        maps.entry(key)
-            .or_insert_with(|| Arc::new(cone_texture(height, channel, scale, kind)))
-            .clone()
+        maps.entry(key).or_insert_with(|| Arc::new(build())).clone()
+    }
+
+    /// The [`cone_texture`] of these arguments.
+    pub fn get(&self, height: &Texture, channel: usize, scale: f32, kind: ConeKind) -> Arc<Vec<Texture>> {
+        self.cached(height, channel, &[0, scale.to_bits(), kind as u32], || {
+            vec![cone_texture(height, channel, scale, kind)]
+        })
+    }
+
+    /// The [`horizon_maps`] of these arguments.
+    pub fn horizon(
+        &self,
+        height: &Texture,
+        channel: usize,
+        scale: f32,
+        size: glam::Vec2,
+        directions: u32,
+    ) -> Arc<Vec<Texture>> {
+        let arguments = [1, scale.to_bits(), size.x.to_bits(), size.y.to_bits(), directions];
+        self.cached(height, channel, &arguments, || {
+            horizon_maps(height, channel, scale, size, directions)
+        })
     }
 }
 
@@ -591,9 +649,10 @@ mod tests {
             let d = Detail::by_name(spec.name).unwrap();
             assert_eq!(d.technique.name(), spec.name);
             assert_eq!(d.technique.shader_code() as usize, k + 1);
+            // Every row has a default, or says what unset means.
             for row in d.rows() {
                 assert!(
-                    (row.get)(&d).is_some(),
+                    (row.get)(&d).is_some() || !row.unset.is_empty(),
                     "{}: {} has no default",
                     spec.name,
                     row.name
