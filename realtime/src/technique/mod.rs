@@ -16,7 +16,9 @@
 //!
 //! Every method takes [`COMMON`]'s `n` (N×N quadrature of each area light and sun disk; not
 //! `area_representative_point`) and `env_n` (`env_n`×`env_n` cosine-weighted midpoint
-//! quadrature of the environment, 0: none; the environment is never shadowed), then its
+//! quadrature of the environment, 0: none; the environment is never shadowed) and `mesh_n`
+//! (`mesh_n`×`mesh_n` midpoint quadrature of each emissive mesh triangle, unshadowed; unset, 0:
+//! emissive meshes light nothing), then its
 //! family's shared parameters, then its own. [`markdown`] writes all of it as
 //! docs/methods.md, [`param_help`] as `verity raster --help`'s.
 
