@@ -15,7 +15,7 @@
 //! | light maps | [`lightmap`] | `lightmap_bilinear`, `lightmap_bicubic` | `path` with the bake's `max_depth` |
 //!
 //! Every method takes [`COMMON`]'s `n` (N×N quadrature of each area light and sun disk; not
-//! `area_representative_point`) and `env_n` (`env_n`×`env_n` cosine-weighted midpoint
+//! `area_representative_point`), `env_n` (`env_n`×`env_n` cosine-weighted midpoint
 //! quadrature of the environment, 0: none; the environment is never shadowed) and `mesh_n`
 //! (`mesh_n`×`mesh_n` midpoint quadrature of each emissive mesh triangle, unshadowed; unset, 0:
 //! emissive meshes light nothing), then its
