@@ -203,8 +203,16 @@ fn bsdf_eval_split(b: Bsdf, n: vec3<f32>, wo: vec3<f32>, wi: vec3<f32>) -> BsdfV
     return v;
 }
 
+// When true, bsdf_eval returns the specular part alone: a light-mapped surface under
+// `specular = direct` takes its diffuse light from the map and the lights' specular per pixel
+// (shade.wgsl), through the same light loop and quadratures as every other surface.
+var<private> bsdf_specular_only: bool = false;
+
 fn bsdf_eval(b: Bsdf, n: vec3<f32>, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     let v = bsdf_eval_split(b, n, wo, wi);
+    if bsdf_specular_only {
+        return v.specular;
+    }
     return v.diffuse + v.specular;
 }
 

@@ -77,9 +77,15 @@ fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>, frag: vec2<f
     }
     // A static surface under a light-map method: its diffuse lighting, every light and every
     // bounce, from the baked map; nothing per light (lightmap/lookup.wgsl).
+    // Under `specular = direct` the lights' specular lobes follow per pixel (bsdf_eval's
+    // specular part alone, reset below).
     if is_lightmapped(shape) {
         count_iteration();
-        return Shaded(color + lightmap_albedo(b) / PI * lightmap_irradiance(shape, sp.p), bsdf_albedo(b));
+        color += lightmap_albedo(b) / PI * lightmap_irradiance(shape, sp.p);
+        if LIGHTMAP_SPECULAR == 0u {
+            return Shaded(color, bsdf_albedo(b));
+        }
+        bsdf_specular_only = true;
     }
     let nq = f.counts.z;
     for (var i = 0u; i < f.counts.x; i++) {
@@ -127,5 +133,6 @@ fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>, frag: vec2<f
     if f.env_info.x != ENV_NONE && f.env_info.z > 0u {
         color += environment_quadrature(f, b, n, wo, f.env_info.z);
     }
+    bsdf_specular_only = false;
     return Shaded(color, bsdf_albedo(b));
 }

@@ -671,7 +671,8 @@ impl Pipelines {
             ("SPECULAR_AA", f64::from(specular)),
             ("SHADING_FREQUENCY", f64::from(shading & 0xff)),
             ("VERTEX_ALBEDO", f64::from(shading >> 8)),
-            ("LIGHTMAP_METHOD", f64::from(lightmap)),
+            ("LIGHTMAP_METHOD", f64::from(lightmap & 0xff)),
+            ("LIGHTMAP_SPECULAR", f64::from(lightmap >> 8)),
         ];
         let module = &*self.module(device, counters, texture & 0xff);
         let options = wgpu::PipelineCompilationOptions {

@@ -29,7 +29,8 @@ fn floor_scene() -> scenes::Scene {
          [film]\nwidth = 32\nheight = 32\n\
          [[material]]\nname = \"m\"\ntype = \"diffuse\"\nalbedo = [0.5, 0.5, 0.5]\n\
          [[shape]]\nname = \"floor\"\ntype = \"rectangle\"\nmaterial = \"m\"\ncenter = [0, 0, 0]\n\
-         size = [4, 4]\nnormal = [0, 1, 0]\n",
+         size = [4, 4]\nnormal = [0, 1, 0]\n\
+         [[light]]\nname = \"bulb\"\ntype = \"point\"\nposition = [0.5, 1, 0]\nintensity = 3\n",
         std::path::Path::new("floor.toml"),
     )
     .unwrap_or_else(|e| panic!("{e}"))
@@ -174,5 +175,42 @@ fn maps_and_methods_must_go_together() {
     assert!(
         matches!(&e, RasterError::Scene(m) if m.contains("chart `floor` names no shape")),
         "{e}"
+    );
+}
+
+/// `specular = direct` adds the lights' specular lobes per pixel: on a Lambertian floor under a
+/// point light (which has none) the image is the plain map's bit for bit, and without the
+/// option the light adds nothing (the map holds every light).
+#[test]
+fn direct_specular_adds_nothing_to_a_diffuse_surface() {
+    let scene = floor_scene();
+    let map = affine_map(&scene);
+    let render = |params: &[(&str, &str)]| {
+        let s = RasterSettings::new(SIZE, SIZE)
+            .method(method("lightmap_bilinear", params))
+            .frames(0, 1)
+            .lightmap(map.clone());
+        renderer()
+            .render(&scene, &s)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .image
+            .rgb("")
+            .unwrap()
+    };
+    let (plain, direct) = (render(&[]), render(&[("specular", "direct")]));
+    assert!(
+        plain.iter().zip(&direct).all(|(a, b)| a == b),
+        "a diffuse floor changed"
+    );
+    let mut unlit = scene.clone();
+    unlit.lights.clear();
+    let s = RasterSettings::new(SIZE, SIZE)
+        .method(method("lightmap_bilinear", &[]))
+        .frames(0, 1)
+        .lightmap(map);
+    let without = renderer().render(&unlit, &s).unwrap().image.rgb("").unwrap();
+    assert!(
+        plain.iter().zip(&without).all(|(a, b)| a == b),
+        "the map holds every light"
     );
 }

@@ -16,11 +16,15 @@
 // Failure modes: detail finer than a texel is blurred; a map baked at texel corners shifts
 // everything by half a texel; across a chart's border a lookup reads dilated padding (seams);
 // a texel spanning a thin wall averages both sides (leaks); only the diffuse part of a
-// material is in the map — specular lobes of static surfaces are lost; dynamic shapes have no
-// chart and are lit per pixel by direct light (shade.wgsl).
+// material is in the map — specular lobes of static surfaces are lost unless `specular =
+// direct` adds every light's direct specular per pixel (unshadowed, and without the specular
+// of indirect light); dynamic shapes have no chart and are lit per pixel by direct light
+// (shade.wgsl).
 // Inputs: the shape's `lightmap` record (atlas texture, chart origin and size), the texel buffer.
 
 override LIGHTMAP_METHOD: u32 = 0u;
+// 1: add the specular lobes' direct light per pixel (`specular = direct`), 0: none.
+override LIGHTMAP_SPECULAR: u32 = 0u;
 
 // A mesh fragment's light-map chart coordinates (its interpolated uv1), set by the forward
 // pass's mesh entry point: SurfacePoint carries one uv set, and only this lookup reads the

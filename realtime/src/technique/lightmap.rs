@@ -49,6 +49,9 @@ pub struct LightMapMethod {
     /// Shapes left out of the bake (a glob over shape names, `scenes::glob`), or None: every
     /// shape is static.
     pub dynamic: Option<String>,
+    /// Add the specular lobes' direct light per pixel (engines' usual complement of a diffuse
+    /// light map: every light, unshadowed, as the per-pixel methods shade it).
+    pub direct_specular: bool,
     /// The bake's path depth (Mitsuba semantics), not a parameter: a study's ground truth
     /// sets it (`verity report` bakes the map with the depth it measures against), so that it
     /// is part of the render request; None for a map read from a file.
@@ -62,6 +65,11 @@ impl LightMapMethod {
             LightMapFilter::Bilinear => 1,
             LightMapFilter::Bicubic => 2,
         }
+    }
+
+    /// [`Self::shader_code`] in the low byte, WGSL `LIGHTMAP_SPECULAR` (0 none, 1 direct) above.
+    pub fn pipeline_code(&self) -> u32 {
+        self.shader_code() | u32::from(self.direct_specular) << 8
     }
 
     /// The method's row in [`METHODS`].
@@ -82,6 +90,7 @@ impl LightMapMethod {
             padding: 2,
             texel_offset: 0.0,
             dynamic: None,
+            direct_specular: false,
             max_depth: None,
         }
     }
@@ -142,6 +151,20 @@ pub static COMMON: &[Param<LightMapMethod>] = &[
         get: |m| Some(Value::Real(m.texel_offset)),
         set: |m, v| {
             m.texel_offset = v.real()?;
+            Some(())
+        },
+    },
+    Param {
+        name: "specular",
+        kind: Kind::Keyword(&["none", "direct"]),
+        unit: "",
+        doc: "the specular lobes of light-mapped surfaces: none (the map holds diffuse light only), or every light's \
+              direct specular added per pixel, unshadowed (the engines' usual complement)",
+        source: "",
+        unset: "",
+        get: |m| Some(Value::Keyword(if m.direct_specular { "direct" } else { "none" })),
+        set: |m, v| {
+            m.direct_specular = v.keyword()? == "direct";
             Some(())
         },
     },

@@ -645,9 +645,10 @@ impl Method {
         self.shading.map_or(0, |s| s.shader_code() | s.albedo_code() << 8)
     }
 
-    /// The WGSL `LIGHTMAP_METHOD` of this method (0: no light map).
+    /// The WGSL `LIGHTMAP_METHOD` of this method (0: no light map) in the low byte,
+    /// `LIGHTMAP_SPECULAR` above it.
     pub fn lightmap_code(&self) -> u32 {
-        self.lightmap.as_ref().map_or(0, LightMapMethod::shader_code)
+        self.lightmap.as_ref().map_or(0, LightMapMethod::pipeline_code)
     }
 
     /// The WGSL `SHADOW_METHOD` of this method (0: unshadowed).
