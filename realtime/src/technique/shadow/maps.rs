@@ -813,6 +813,28 @@ pub(in crate::technique::shadow) mod tests {
             shadow_uniforms(&Method::shadowed(hard()), &single).slots[0],
             [0, 1, 0, 0]
         );
+        // A sphere emitter gets a cube too, its own shape left out of every face, its
+        // diameter the PCSS light size; the rectangle emitter keeps its one frustum.
+        let lamps = scene(
+            vec![
+                (rect(Vec3::ZERO, 2.0, false), false),
+                (
+                    Geometry::Sphere {
+                        center: Vec3::Y,
+                        radius: 0.1,
+                    },
+                    true,
+                ),
+                (rect(Vec3::new(0.0, 2.0, 0.0), 0.2, true), true),
+            ],
+            Vec::new(),
+        );
+        let slots = light_frusta(&lamps, &shadow, 1.0);
+        assert_eq!(slots.iter().map(Vec::len).collect::<Vec<_>>(), [6, 1]);
+        assert!(slots[0]
+            .iter()
+            .all(|f| f.cube_face && f.own_shape == Some(1) && (f.size - 0.2).abs() < 1e-6));
+        assert!(!slots[1][0].cube_face);
     }
 
     /// A wall crossing the light's plane forces the widest field of view and the smallest near
