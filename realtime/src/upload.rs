@@ -51,9 +51,10 @@ pub struct SceneGpu {
     pub(crate) shape_count: u32,
     pub(crate) emitter_count: u32,
     pub(crate) env: (EnvKind, u32, [f32; 4]),
-    /// Shapes that emit but light nothing here (emissive meshes).
+    /// The emissive meshes (lit per triangle under `mesh_n` > 0, unshadowed).
     pub(crate) emissive_meshes: Vec<String>,
-    /// The texture record of the emissive-mesh triangle table, or NONE (WGSL `counts.w`).
+    /// The texture record of the emissive-mesh triangle table, or NONE (WGSL
+    /// `frame.mesh_lights.x` under `mesh_n` > 0).
     pub(crate) emissive_triangles: u32,
     /// The scene's textures as a GPU texture array (`tex_anisotropic`; else a stand-in).
     pub(crate) texture_array: TextureArray,
@@ -599,7 +600,7 @@ fn add_shape(
 /// triangle box lamp is typical, a 4096-triangle one already costs 4096·N² evaluations).
 pub const MAX_EMISSIVE_TRIANGLES: usize = 4096;
 
-/// An emissive mesh's triangles as lights (area/quadrature.wgsl `mesh_triangle_quadrature`):
+/// An emissive mesh's triangles as lights (area/quadrature.wgsl `emissive_mesh_quadrature`):
 /// six texel records each — p0 and the shape's index (its bits), the edges p1 − p0 and
 /// p2 − p0 with the area and two-sidedness, the unit front normal, the corners' uvs ((b1, b2)
 /// corners without uvs, as the oracle's MeshLight). Degenerate triangles emit nothing and are
