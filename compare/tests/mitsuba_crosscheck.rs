@@ -34,6 +34,7 @@ const CROSSCHECKED: &[&str] = &[
     "studies/scenes/lightmap-seams",
     "studies/scenes/lightmap-wall",
     "studies/scenes/omni-room",
+    "studies/scenes/ssao-yard",
     "studies/scenes/mesh-lamp",
 ];
 
@@ -242,6 +243,13 @@ fn lightmap_study_scenes_agree() {
 #[test]
 fn omni_shadow_room_agrees() {
     agrees("studies/scenes/omni-room", Variant::LlvmAdRgb, 48, 256);
+}
+
+/// The SSAO studies' yard: white clay under a constant white sky, the sky's direct light with
+/// exact visibility (the sky-lit image the SSAO methods are also measured against).
+#[test]
+fn ssao_yard_agrees() {
+    agrees("studies/scenes/ssao-yard", Variant::LlvmAdRgb, 48, 256);
 }
 
 /// The emissive-mesh scene: a box lamp of 12 emissive triangles (Mitsuba's `area` emitter

@@ -83,6 +83,8 @@ struct FrameUniforms {
     // Emissive meshes as lights: the triangle table's texture record (6 texels a triangle) or
     // NONE, the quadrature n per triangle (`mesh_n`), unused, unused.
     mesh_lights: vec4<u32>,
+    // Screen-space AO: the lighting's output (0 the shaded image, 1 the AO factor), unused ×3.
+    ambient_occlusion: vec4<u32>,
 }
 
 struct Shape {

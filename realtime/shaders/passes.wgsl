@@ -18,7 +18,8 @@
 // pass is a full-screen pass over a G-buffer, untimed, that stores every light's V.
 // Inputs: vertex buffers (meshes: de-indexed triangles with per-triangle flat data; analytic
 // proxies: position + shape), group 0 (scene, shadow uniforms), group 1 (G-buffer: lighting
-// and visibility AOV passes), group 2 (shadow maps: every shading pass).
+// and visibility AOV passes; the lighting's also the SSAO passes' obscurance), group 2 (shadow
+// maps: every shading pass).
 
 struct MeshVertexIn {
     @location(0) position: vec3<f32>,
@@ -90,6 +91,9 @@ struct GBufferDepthOut {
 @group(1) @binding(3) var gbuffer_ms0: texture_multisampled_2d<f32>;
 @group(1) @binding(4) var gbuffer_ms1: texture_multisampled_2d<f32>;
 @group(1) @binding(5) var gbuffer_ms2: texture_multisampled_2d<f32>;
+// Ambient obscurance 1 − AO per pixel, written by the SSAO passes (ssao/*.wgsl); zero, so
+// nothing occluded, where no SSAO method ran.
+@group(1) @binding(6) var ao_obscurance: texture_2d<f32>;
 
 @vertex
 fn vs_mesh(v: MeshVertexIn) -> MeshVarying {
@@ -314,7 +318,13 @@ fn fs_lighting(@builtin(position) pos: vec4<f32>) -> ShadedOut {
         set_hardware_footprint(vec2<f32>(g1.w, g2.w));
     }
     set_normal_derivatives(g1.xyz);
-    let out = lit_sample(g0, g1, g2, pos.xy);
+    ambient_occlusion = 1.0 - textureLoad(ao_obscurance, px, 0).r;
+    var out = lit_sample(g0, g1, g2, pos.xy);
+    // An SSAO method's `output = ao`: the AO factor itself, 0 on the background (the oracle's
+    // `ao` integrator).
+    if frame.ambient_occlusion.x == 1u {
+        out.color = vec4<f32>(vec3<f32>(select(0.0, ambient_occlusion, g0.w >= 0.5)), 1.0);
+    }
     flush_counters(u32(pos.y));
     return out;
 }

@@ -55,6 +55,12 @@ struct Shaded {
 
 // Light reaching ωo from the surface point `sp` (ωo = −camera ray direction) seen through
 // target pixel `frag` (the shadow taps' rotation).
+// The ambient occlusion of the point being shaded: what the deferred lighting pass read from
+// the SSAO passes' output (1 − obscurance), 1 everywhere else. It multiplies the environment's
+// light, diffuse and specular lobes alike (the environment is the ambient light; specular
+// occlusion taken equal to AO), nothing else.
+var<private> ambient_occlusion: f32 = 1.0;
+
 fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>, frag: vec2<f32>) -> Shaded {
     let shape = shapes[sp.shape];
     var b = resolve_bsdf(materials[shape.material], sp.uv);
@@ -131,7 +137,7 @@ fn shade_surface(f: FrameUniforms, sp: SurfacePoint, wo: vec3<f32>, frag: vec2<f
     // default), unshadowed under every shadow method.
     color += emissive_mesh_quadrature(f, b, n, wo, sp.p);
     if f.env_info.x != ENV_NONE && f.env_info.z > 0u {
-        color += environment_quadrature(f, b, n, wo, f.env_info.z);
+        color += ambient_occlusion * environment_quadrature(f, b, n, wo, f.env_info.z);
     }
     bsdf_specular_only = false;
     return Shaded(color, bsdf_albedo(b));

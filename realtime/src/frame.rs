@@ -17,6 +17,8 @@ use crate::settings::RasterSettings;
 use crate::targets::{cleared_attachments, Targets};
 use crate::technique::antialias::post::AntiAliasPasses;
 use crate::technique::shadow::maps::ShadowMaps;
+use crate::technique::ssao::passes::SsaoPasses;
+use crate::technique::ssao::SsaoOutput;
 use crate::timestamps::Timestamps;
 use crate::upload::SceneGpu;
 
@@ -152,6 +154,17 @@ fn frame_uniforms(
             0 => [NONE, 0, 0, 0],
             n => [sg.emissive_triangles, n, 0, 0],
         },
+        ambient_occlusion: [
+            u32::from(
+                settings
+                    .method
+                    .ssao
+                    .is_some_and(|a| a.output == SsaoOutput::AoFactor),
+            ),
+            0,
+            0,
+            0,
+        ],
     }
 }
 
@@ -164,6 +177,9 @@ pub(crate) struct ShadingGroups<'a> {
     pub(crate) shadow: &'a ShadowMaps,
     /// The environment maps (group 3), or their placeholder.
     pub(crate) envmap: &'a wgpu::BindGroup,
+    /// The SSAO passes between the G-buffer and the lighting (None: no SSAO method, or a frame
+    /// that does not light).
+    pub(crate) ssao: Option<&'a SsaoPasses>,
 }
 
 /// One timed pass of a frame. The frame runs its passes in the order of [`Pass::of_frame`], and
@@ -173,8 +189,9 @@ pub(crate) struct ShadingGroups<'a> {
 /// The stages of a frame, in order (docs/ARCHITECTURE.md "Passes of one frame"):
 /// 1. [`Pass::Shadow`]: depth from each light (under a shadow method with a map layer);
 /// 2. [`Pass::Forward`], or [`Pass::GBuffer`]: the scene rasterised once;
-/// 3. *G-buffer post-passes* (after `GBuffer`, before `Lighting`): passes that read depth and
-///    normals and write an input of the lighting, e.g. screen-space AO and its blur;
+/// 3. [`Pass::AmbientOcclusion`], the G-buffer post-passes (after `GBuffer`, before
+///    `Lighting`): they read positions and normals and write an input of the lighting, the
+///    SSAO methods' obscurance (technique/ssao/passes.rs);
 /// 4. [`Pass::Lighting`]: the deferred full-screen lighting;
 /// 5. [`Pass::Resolve`]: the MSAA resolve (under `aa_msaa`), then [`Pass::PostProcess`]: the
 ///    anti-aliasing that reads the lit image (FXAA, MLAA's three passes, TAA), timed together.
@@ -189,6 +206,8 @@ pub(crate) enum Pass {
     Forward,
     /// The scene's G-buffer.
     GBuffer,
+    /// Screen-space AO: its estimate, blur and upsampling passes, timed together.
+    AmbientOcclusion,
     /// The full-screen deferred lighting reading the G-buffer.
     Lighting,
     /// The MSAA resolve into the outputs.
@@ -200,10 +219,12 @@ pub(crate) enum Pass {
 impl Pass {
     /// The passes of a frame with these pipelines, in the order they run: the shadow pass when
     /// `stages` holds the shadow pipelines and the method has map layers, the geometry pass, and
-    /// the lighting pass when `stages` holds the lighting pipeline.
+    /// the lighting pass when `stages` holds the lighting pipeline, after the SSAO passes when
+    /// there are some.
     pub(crate) fn of_frame(
         stages: &[(Stage, Arc<wgpu::RenderPipeline>)],
         shadow: &ShadowMaps,
+        ssao: Option<&SsaoPasses>,
         targets: &Targets,
         aa: Option<&AntiAliasPasses>,
     ) -> Vec<Pass> {
@@ -218,6 +239,9 @@ impl Pass {
             Pass::Forward
         });
         if has(|s| s == Stage::Lighting) {
+            if ssao.is_some() && targets.gbuffer_views.is_some() {
+                passes.push(Pass::AmbientOcclusion);
+            }
             passes.push(Pass::Lighting);
         }
         if aa.is_some_and(AntiAliasPasses::resolves) {
@@ -235,6 +259,7 @@ impl Pass {
             Pass::Shadow => "shadow pass",
             Pass::Forward => "forward pass",
             Pass::GBuffer => "G-buffer pass",
+            Pass::AmbientOcclusion => "SSAO pass",
             Pass::Lighting => "lighting pass",
             Pass::Resolve => "MSAA resolve pass",
             Pass::PostProcess => "post-process pass",
@@ -254,7 +279,7 @@ pub(crate) fn encode_passes(
     aa: Option<&AntiAliasPasses>,
     queries: Option<&Timestamps>,
 ) {
-    for (i, pass) in Pass::of_frame(stages, groups.shadow, targets, aa)
+    for (i, pass) in Pass::of_frame(stages, groups.shadow, groups.ssao, targets, aa)
         .into_iter()
         .enumerate()
     {
@@ -263,6 +288,11 @@ pub(crate) fn encode_passes(
             Pass::Shadow => encode_shadow_passes(encoder, frame, stages, sg, groups.shadow, queries),
             Pass::Forward | Pass::GBuffer => {
                 encode_geometry_pass(encoder, frame, targets, stages, sg, groups, queries)
+            }
+            Pass::AmbientOcclusion => {
+                if let Some(ssao) = groups.ssao {
+                    ssao.encode(encoder, queries);
+                }
             }
             Pass::Lighting => {
                 let lighting = stages.iter().find(|(s, _)| *s == Stage::Lighting);

@@ -110,8 +110,11 @@ pub struct FrameUniforms {
     /// Emissive meshes as lights: the triangle table's texture record or NONE (none, or
     /// `mesh_n` = 0), the quadrature n per triangle, unused, unused.
     pub mesh_lights: [u32; 4],
+    /// Screen-space AO: what the lighting writes (0 the shaded image, 1 the AO factor: an
+    /// SSAO method's `output = ao`), unused ×3.
+    pub ambient_occlusion: [u32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 64 + 15 * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 64 + 16 * 16);
 
 /// One shape (WGSL `Shape`).
 #[repr(C)]

@@ -468,7 +468,10 @@ impl Pipelines {
         }));
         let scene_layout = bind_group_layout(device, "scene bind group layout", &scene_entries);
         let gbuffer_entries: Vec<_> = (0..3).map(|b| unfilterable_texture(b, vf, false)).collect();
-        let gbuffer_layout = bind_group_layout(device, "G-buffer bind group layout", &gbuffer_entries);
+        // The lighting's group 1 adds the SSAO obscurance (binding 6) to the three layers.
+        let mut lighting_entries = gbuffer_entries.clone();
+        lighting_entries.push(unfilterable_texture(6, vf, false));
+        let gbuffer_layout = bind_group_layout(device, "G-buffer bind group layout", &lighting_entries);
         let gbuffer_msaa_entries: Vec<_> = (3..6).map(|b| unfilterable_texture(b, vf, true)).collect();
         let gbuffer_msaa_layout = bind_group_layout(
             device,

@@ -29,6 +29,7 @@ use crate::technique::antialias::{taa, AntiAliasing};
 use crate::technique::detail::ConeCache;
 use crate::technique::envmap::build::EnvMapBuilder;
 use crate::technique::shadow::maps::ShadowMaps;
+use crate::technique::ssao::passes::{SsaoPasses, SsaoPipelines};
 use crate::timestamps::Timestamps;
 use crate::timing::{median, Counters, PassTime, Timing, TimingSource};
 use crate::upload::SceneGpu;
@@ -61,6 +62,8 @@ pub struct Renderer {
     envmaps: EnvMapBuilder,
     /// The anti-aliasing passes after shading (MSAA resolve, FXAA, MLAA, TAA), built on first use.
     post: PostPipelines,
+    /// The SSAO passes between the G-buffer and the lighting, built on first use.
+    ssao: SsaoPipelines,
 }
 
 impl Renderer {
@@ -71,6 +74,7 @@ impl Renderer {
         let pipelines = Pipelines::new(&gpu.device);
         let envmaps = EnvMapBuilder::new(&gpu.device, &pipelines.envmap_layout);
         let post = PostPipelines::new(&gpu.device);
+        let ssao = SsaoPipelines::new(&gpu.device);
         let r = Renderer {
             gpu,
             pipelines,
@@ -78,6 +82,7 @@ impl Renderer {
             cones: ConeCache::default(),
             envmaps,
             post,
+            ssao,
         };
         r.gpu.check_errors("compiling the shaders")?;
         Ok(r)
@@ -113,11 +118,6 @@ impl Renderer {
         let envmap = self
             .envmaps
             .build(&self.gpu, &self.pipelines, &self.cones, scene, settings)?;
-        let groups = ShadingGroups {
-            empty: &self.pipelines.empty_bind_group,
-            shadow: &shadow,
-            envmap: &envmap.bind_group,
-        };
         let aa = settings.method.antialias.unwrap_or(AntiAliasing::None);
         let k = settings.supersampling();
         let samples = aa.msaa_samples();
@@ -131,6 +131,17 @@ impl Renderer {
             targets.msaa = Some(MultisampledOutputs::new(device, tw, th, samples, deferred));
         }
         let aa_passes = AntiAliasPasses::new(device, &self.post, &aa, &targets);
+        let ssao_passes = settings
+            .method
+            .ssao
+            .as_ref()
+            .and_then(|ao| SsaoPasses::new(device, &self.ssao, ao, &targets, scene));
+        let groups = ShadingGroups {
+            empty: &self.pipelines.empty_bind_group,
+            shadow: &shadow,
+            envmap: &envmap.bind_group,
+            ssao: ssao_passes.as_ref(),
+        };
         let stages = self
             .pipelines
             .stages(device, &settings.method, settings.pipeline, false, samples);
@@ -267,7 +278,7 @@ impl Renderer {
         (warmup_frames, timed_frames): (u32, u32),
         before: &dyn Fn(u32),
     ) -> Result<Timing, RasterError> {
-        let passes = Pass::of_frame(stages, groups.shadow, targets, aa);
+        let passes = Pass::of_frame(stages, groups.shadow, groups.ssao, targets, aa);
         let queries = self
             .gpu
             .has_timestamps()

@@ -133,6 +133,12 @@ impl RasterSettings {
                 "method {m}: derivatives = analytic needs the forward pipeline (the G-buffer stores no ray differentials)"
             ));
         }
+        if m.ssao.is_some() && self.pipeline != PipelineKind::Deferred {
+            return bad(format!(
+                "method {m}: screen-space ambient occlusion reads the G-buffer; use the deferred pipeline \
+                 (`--pipeline deferred`; in a study, `pipeline = \"deferred\"`)"
+            ));
+        }
         match (&m.lightmap, &self.lightmap) {
             (Some(_), None) => {
                 return bad(format!(

@@ -2,13 +2,37 @@
 //!
 //! The three outputs (colour, normal + depth, albedo + object id) are Rgba32Float, so the HDR
 //! image comes back as the shader wrote it, bit for bit. The deferred pipeline adds a G-buffer
-//! of three more Rgba32Float layers; both share one Depth32Float buffer.
+//! of three more Rgba32Float layers and the SSAO passes' R32Float obscurance; both share one
+//! Depth32Float buffer.
 
 use crate::gpu::{COLOR_FORMAT, DEPTH_FORMAT};
 use crate::pipelines::PipelineKind;
 
 /// Bytes of one Rgba32Float texel.
 const TEXEL_BYTES: u32 = 16;
+
+/// The SSAO passes' targets: one f32 channel (renderable everywhere, not filterable; every
+/// read is a `textureLoad`).
+pub(crate) const OBSCURANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
+/// A `w`×`h` single-channel target of the SSAO passes, readable by the next pass.
+pub(crate) fn obscurance_texture(device: &wgpu::Device, label: &str, w: u32, h: u32) -> wgpu::TextureView {
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: OBSCURANCE_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    });
+    labelled_view(&texture, label)
+}
 
 /// Targets of a `width`×`height` render.
 pub struct Targets {
@@ -18,9 +42,12 @@ pub struct Targets {
     pub(crate) outputs: [wgpu::Texture; 3],
     pub(crate) output_views: [wgpu::TextureView; 3],
     pub(crate) depth_view: wgpu::TextureView,
-    /// G-buffer (deferred only) and its bind group.
+    /// G-buffer (deferred only) and its bind group (the three layers, then the obscurance).
     pub(crate) gbuffer_views: Option<[wgpu::TextureView; 3]>,
     pub(crate) gbuffer_bind_group: Option<wgpu::BindGroup>,
+    /// Ambient obscurance 1 − AO per pixel (deferred only; [`OBSCURANCE_FORMAT`]), written by
+    /// the SSAO passes and read by the lighting: zero, nothing occluded, unless one ran.
+    pub(crate) obscurance_view: Option<wgpu::TextureView>,
     /// The multisampled outputs the forward pass draws into under `aa_msaa`, resolved into
     /// the outputs (None: it draws into the outputs).
     pub(crate) msaa: Option<MultisampledOutputs>,
@@ -196,7 +223,7 @@ impl Targets {
             view_formats: &[],
         });
         let depth_view = labelled_view(&depth, "depth view");
-        let (gbuffer_views, gbuffer_bind_group) = if kind == PipelineKind::Deferred {
+        let (gbuffer_views, gbuffer_bind_group, obscurance_view) = if kind == PipelineKind::Deferred {
             let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
             let layers = [
                 "G-buffer 0 (position, object id)",
@@ -205,15 +232,17 @@ impl Targets {
             ]
             .map(|label| color_texture(device, label, width, height, usage));
             let views = [0, 1, 2].map(|i| labelled_view(&layers[i], "G-buffer view"));
-            let entries = view_entries(&views, 0);
+            let obscurance = obscurance_texture(device, "ambient obscurance (SSAO)", width, height);
+            let mut entries = view_entries(&views, 0);
+            entries.extend(view_entries([&obscurance], 6));
             let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("G-buffer bind group"),
                 layout: gbuffer_layout,
                 entries: &entries,
             });
-            (Some(views), Some(bind_group))
+            (Some(views), Some(bind_group), Some(obscurance))
         } else {
-            (None, None)
+            (None, None, None)
         };
         Targets {
             width,
@@ -223,6 +252,7 @@ impl Targets {
             depth_view,
             gbuffer_views,
             gbuffer_bind_group,
+            obscurance_view,
             msaa: None,
         }
     }

@@ -88,6 +88,10 @@ pub struct SecondGroundTruth {
     /// Whether the scene sweep's values are written into it too (`scene_sweep`, default
     /// true); when false it is rendered once, with `[scene_set]` only, and serves every point.
     pub follows_scene_sweep: bool,
+    /// Its own oracle integrator (`integrator`), or None: the first ground truth's. E.g. the
+    /// SSAO studies measure the AO factor against `ao` and the image it lights against
+    /// `direct` under the same sky.
+    pub integrator: Option<IntegratorKind>,
 }
 
 impl SecondGroundTruth {

@@ -239,10 +239,11 @@ fn list<T>(
 }
 
 /// `[second_ground_truth]`: `name`, `scene` (relative to the study file; the study's scene
-/// when absent), `scene_set` (its own edits, after the study's), `scene_sweep`.
+/// when absent), `scene_set` (its own edits, after the study's), `scene_sweep`, `integrator`
+/// (the first's when absent).
 fn second_ground_truth(t: &Table, ctx: &Ctx, study_scene: &Path) -> Result<SecondGroundTruth, SceneError> {
     t.only(
-        &["name", "scene", "scene_set", "scene_sweep"],
+        &["name", "scene", "scene_set", "scene_sweep", "integrator"],
         "[second_ground_truth]",
     )?;
     let name = t.req("name")?.str()?.to_string();
@@ -267,6 +268,10 @@ fn second_ground_truth(t: &Table, ctx: &Ctx, study_scene: &Path) -> Result<Secon
         scene,
         scene_set,
         follows_scene_sweep: t.bool_or("scene_sweep", true)?,
+        integrator: t
+            .get("integrator")
+            .map(|f| f.one_of(&IntegratorKind::SPELLINGS))
+            .transpose()?,
     })
 }
 

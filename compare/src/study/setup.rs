@@ -83,7 +83,10 @@ pub fn prepare_second(
     let Some(second) = &study.second_ground_truth else {
         return Ok(None);
     };
-    let (scene, settings) = prepare_file(study, &second.scene, quick, &second.overrides(study, point))?;
+    let (scene, mut settings) = prepare_file(study, &second.scene, quick, &second.overrides(study, point))?;
+    if let Some(integrator) = second.integrator {
+        settings.integrator = integrator;
+    }
     if scene.camera != first.camera {
         return Err(StudyError::Input(format!(
             "its camera differs from the first ground truth's (the two are compared pixel by pixel, so their scenes must be seen from the same camera; {} with its edits against {})",

@@ -13,6 +13,7 @@
 //! | shading frequency | [`shading`] | `shading_phong`, `shading_gouraud`, `shading_flat` | `direct-unshadowed` of the same mesh |
 //! | anti-aliasing | [`antialias`] | `aa_none`, `aa_ssaa`, `aa_msaa`, `aa_fxaa`, `aa_mlaa`, `aa_taa` | the pixel's box filter |
 //! | light maps | [`lightmap`] | `lightmap_bilinear`, `lightmap_bicubic` | `path` with the bake's `max_depth` |
+//! | ambient occlusion | [`ssao`] | `ssao_crytek`, `ssao_hemisphere`, `ssao_hbao`, `ssao_gtao` | `ao` with the same radius |
 //!
 //! Every method takes [`COMMON`]'s `n` (N×N quadrature of each area light and sun disk; not
 //! `area_representative_point`), `env_n` (`env_n`×`env_n` cosine-weighted midpoint
@@ -31,6 +32,7 @@ pub mod lightmap;
 pub mod param;
 pub mod shading;
 pub mod shadow;
+pub mod ssao;
 pub mod texture;
 
 use std::fmt;
@@ -44,6 +46,7 @@ use lightmap::LightMapMethod;
 use param::{spec_named, Kind, MethodSpec, Param, Value};
 use shading::ShadingFrequency;
 use shadow::Shadow;
+use ssao::AmbientOcclusion;
 use texture::TextureFilter;
 
 /// Largest `n` / `env_n` accepted (N² samples per light per pixel).
@@ -77,6 +80,8 @@ pub struct Method {
     pub shading: Option<ShadingFrequency>,
     /// The light map of a `lightmap_*` method, or None: every surface lit per pixel.
     pub lightmap: Option<LightMapMethod>,
+    /// The screen-space AO of an `ssao_*` method, or None: the environment unoccluded.
+    pub ssao: Option<AmbientOcclusion>,
 }
 
 impl Default for Method {
@@ -94,6 +99,7 @@ impl Default for Method {
             antialias: None,
             shading: None,
             lightmap: None,
+            ssao: None,
         }
     }
 }
@@ -194,11 +200,13 @@ pub enum Family {
     AntiAliasing,
     /// [`lightmap`].
     LightMap,
+    /// [`ssao`].
+    AmbientOcclusion,
 }
 
 impl Family {
     /// Every family, in the order the docs list them.
-    pub const ALL: [Family; 9] = [
+    pub const ALL: [Family; 10] = [
         Family::Area,
         Family::Shadow,
         Family::Detail,
@@ -208,6 +216,7 @@ impl Family {
         Family::Shading,
         Family::AntiAliasing,
         Family::LightMap,
+        Family::AmbientOcclusion,
     ];
 
     /// Its heading in the docs.
@@ -222,6 +231,7 @@ impl Family {
             Family::Shading => "Shading frequency",
             Family::AntiAliasing => "Anti-aliasing",
             Family::LightMap => "Light maps",
+            Family::AmbientOcclusion => "Screen-space ambient occlusion",
         }
     }
 
@@ -247,6 +257,7 @@ impl Family {
             Family::Shading => infos(shading::METHODS),
             Family::AntiAliasing => infos(antialias::METHODS),
             Family::LightMap => infos(lightmap::METHODS),
+            Family::AmbientOcclusion => infos(ssao::METHODS),
         }
     }
 
@@ -257,6 +268,7 @@ impl Family {
             Family::Area | Family::Texture | Family::Shading | Family::AntiAliasing => Vec::new(),
             Family::Shadow => shadow::COMMON.iter().map(Row::Shadow).collect(),
             Family::LightMap => lightmap::COMMON.iter().map(Row::LightMap).collect(),
+            Family::AmbientOcclusion => ssao::COMMON.iter().map(Row::Ssao).collect(),
             Family::Detail => detail::COMMON.iter().map(Row::Detail).collect(),
             Family::EnvMap | Family::DistanceImpostor => envmap::COMMON
                 .iter()
@@ -297,6 +309,8 @@ pub enum Row {
     Shading(&'static Param<ShadingFrequency>),
     /// A row of its light map.
     LightMap(&'static Param<LightMapMethod>),
+    /// A row of its screen-space AO.
+    Ssao(&'static Param<AmbientOcclusion>),
 }
 
 /// The same field of whichever table a row is from.
@@ -311,6 +325,7 @@ macro_rules! row_field {
             Row::AntiAlias(p) => p.$field,
             Row::Shading(p) => p.$field,
             Row::LightMap(p) => p.$field,
+            Row::Ssao(p) => p.$field,
         }
     };
 }
@@ -357,6 +372,7 @@ impl Row {
             Row::AntiAlias(p) => m.antialias.as_ref().and_then(|a| (p.get)(a)),
             Row::Shading(p) => m.shading.as_ref().and_then(|s| (p.get)(s)),
             Row::LightMap(p) => m.lightmap.as_ref().and_then(|l| (p.get)(l)),
+            Row::Ssao(p) => m.ssao.as_ref().and_then(|a| (p.get)(a)),
         }
     }
 
@@ -371,6 +387,7 @@ impl Row {
             Row::AntiAlias(p) => (p.set)(m.antialias.as_mut()?, value),
             Row::Shading(p) => (p.set)(m.shading.as_mut()?, value),
             Row::LightMap(p) => (p.set)(m.lightmap.as_mut()?, value),
+            Row::Ssao(p) => (p.set)(m.ssao.as_mut()?, value),
         }
     }
 }
@@ -421,6 +438,12 @@ impl Method {
                 ..Method::quadrature_8()
             });
         }
+        if let Some(s) = spec_named(ssao::METHODS, name) {
+            return Some(Method {
+                ssao: Some((s.default)()),
+                ..Method::quadrature_8()
+            });
+        }
         if let Some(s) = spec_named(lightmap::METHODS, name) {
             return Some(Method {
                 lightmap: Some((s.default)()),
@@ -463,6 +486,7 @@ impl Method {
             antialias: None,
             shading: None,
             lightmap: None,
+            ssao: None,
         }
     }
 
@@ -550,6 +574,9 @@ impl Method {
         if let Some(l) = &self.lightmap {
             rows.extend(l.rows().map(Row::LightMap));
         }
+        if let Some(a) = &self.ssao {
+            rows.extend(a.rows().map(Row::Ssao));
+        }
         rows
     }
 
@@ -616,6 +643,9 @@ impl Method {
 
     /// The method's name.
     pub fn name(&self) -> &'static str {
+        if let Some(a) = &self.ssao {
+            return a.spec().name;
+        }
         if let Some(l) = &self.lightmap {
             return l.spec().name;
         }

@@ -759,6 +759,7 @@ impl Build<'_> {
             empty: &self.pipelines.empty_bind_group,
             shadow: &shadow,
             envmap: &placeholder.bind_group,
+            ssao: None,
         };
         let stages = self
             .pipelines

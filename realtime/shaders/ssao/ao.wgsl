@@ -1,0 +1,15 @@
+// ssao/ao.wgsl — the AO pass's entry point: one AO texel per fragment, read from the G-buffer
+// pixel it stands for (every second pixel in each axis at half resolution: point decimation),
+// estimated by the method's `ambient_occlusion` (its own file, ahead of this one) and stored
+// as obscurance 1 − AO. The background stores 0.
+
+@fragment
+fn fs_ao(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let px = vec2<i32>(pos.xy) * i32(ssao.params.w);
+    let g = gsample(px);
+    if !g.valid {
+        return vec4<f32>(0.0);
+    }
+    let ao = clamp(ambient_occlusion(px, g), 0.0, 1.0);
+    return vec4<f32>(1.0 - ao, 0.0, 0.0, 0.0);
+}

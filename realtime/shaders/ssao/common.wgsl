@@ -1,0 +1,121 @@
+// ssao/common.wgsl — what every SSAO pass shares: the G-buffer it reads, the camera, the
+// method's parameters, the per-pixel rotation and the falloff.
+//
+// The passes (technique/ssao/passes.rs) are full-screen triangles into R32Float targets that
+// hold the ambient *obscurance* 1 − AO, so that the lighting's AO texture, zero where no pass
+// wrote it, leaves the image unchanged. Positions come from the G-buffer (world space, f32: the
+// position a depth-buffer reconstruction gives, without its quantisation); "depth" below is the
+// view depth along the camera's axis, what a depth buffer stores.
+
+struct SsaoUniforms {
+    view_proj: mat4x4<f32>,
+    // Camera position (xyz), focal length in target pixels (w): (H/2)/tan(fov_y/2).
+    cam_pos: vec4<f32>,
+    // Camera axes in world space: right (x), up (y), forward (−z of its frame).
+    cam_right: vec4<f32>,
+    cam_up: vec4<f32>,
+    cam_forward: vec4<f32>,
+    // Target width, height; AO width, height.
+    sizes: vec4<u32>,
+    // Radius r (m), bias × r (m), blur radius (texels), AO texel → target pixel scale.
+    params: vec4<f32>,
+    // Samples, directions, steps, falloff (0 none, 1 cutoff, 2 quadratic).
+    counts: vec4<u32>,
+}
+
+// One pass's own inputs: the previous pass's obscurance, and the blur axis (x, y).
+struct PassUniforms {
+    axis: vec4<i32>,
+}
+
+@group(0) @binding(0) var gbuffer0: texture_2d<f32>;
+@group(0) @binding(1) var gbuffer1: texture_2d<f32>;
+@group(0) @binding(2) var<uniform> ssao: SsaoUniforms;
+@group(1) @binding(0) var obscurance_in: texture_2d<f32>;
+@group(1) @binding(1) var<uniform> pass_info: PassUniforms;
+
+const PI: f32 = 3.14159265358979;
+const GOLDEN_ANGLE: f32 = 2.39996322972865;
+
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    return vec4<f32>(uv * vec2<f32>(2.0, -2.0) + vec2<f32>(-1.0, 1.0), 0.0, 1.0);
+}
+
+// A G-buffer texel: the surface point and its shading normal turned towards the camera, or
+// `valid` false where the pixel sees the background.
+struct GSample {
+    p: vec3<f32>,
+    n: vec3<f32>,
+    valid: bool,
+}
+
+fn in_target(px: vec2<i32>) -> bool {
+    return all(px >= vec2<i32>(0)) && all(px < vec2<i32>(ssao.sizes.xy));
+}
+
+fn gsample(px: vec2<i32>) -> GSample {
+    let g0 = textureLoad(gbuffer0, px, 0);
+    if g0.w < 0.5 {
+        return GSample(vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0), false);
+    }
+    var n = normalize(textureLoad(gbuffer1, px, 0).xyz);
+    if dot(n, ssao.cam_pos.xyz - g0.xyz) < 0.0 {
+        n = -n;
+    }
+    return GSample(g0.xyz, n, true);
+}
+
+// The position only (the depth-only methods read nothing else).
+fn gposition(px: vec2<i32>) -> vec4<f32> {
+    return textureLoad(gbuffer0, px, 0);
+}
+
+fn view_depth(p: vec3<f32>) -> f32 {
+    return dot(p - ssao.cam_pos.xyz, ssao.cam_forward.xyz);
+}
+
+// The target pixel (continuous, row 0 at the top) a world point projects to.
+fn project(p: vec3<f32>) -> vec2<f32> {
+    let c = ssao.view_proj * vec4<f32>(p, 1.0);
+    let ndc = c.xy / c.w;
+    return vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * vec2<f32>(ssao.sizes.xy);
+}
+
+// Interleaved gradient noise (Jimenez 2014, "Next Generation Post Processing in Call of Duty:
+// Advanced Warfare", SIGGRAPH course): a per-pixel value in [0, 1) whose 3×3 neighbourhoods
+// are nearly stratified, so a small blur removes most of the pattern.
+fn pixel_noise(px: vec2<i32>) -> f32 {
+    let p = vec2<f32>(px);
+    return fract(52.9829189 * fract(dot(p, vec2<f32>(0.06711056, 0.00583715))));
+}
+
+// The weight of an occluder at distance d (falloff 0 none, 1 cutoff, 2 quadratic).
+fn falloff_weight(d: f32) -> f32 {
+    let r = ssao.params.x;
+    switch ssao.counts.w {
+        case 0u: {
+            return 1.0;
+        }
+        case 1u: {
+            return select(0.0, 1.0, d <= r);
+        }
+        default: {
+            return max(0.0, 1.0 - d * d / (r * r));
+        }
+    }
+}
+
+// A frame with `n` as its z axis (Duff et al. 2017, "Building an Orthonormal Basis, Revisited",
+// JCGT 6(1)).
+fn basis(n: vec3<f32>) -> mat3x3<f32> {
+    let s = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (s + n.z);
+    let b = n.x * n.y * a;
+    return mat3x3<f32>(
+        vec3<f32>(1.0 + s * n.x * n.x * a, s * b, -s * n.x),
+        vec3<f32>(b, s + n.y * n.y * a, -n.y),
+        n,
+    );
+}

@@ -1,0 +1,352 @@
+//! Screen-space ambient occlusion: a G-buffer post-pass (docs/ARCHITECTURE.md "Passes of one
+//! frame", stage 3) that estimates, from depth and normals alone, how much of each visible
+//! point's hemisphere is open within a radius r, and that the deferred lighting multiplies into
+//! the environment's light (the ambient term). Passes and pipelines: [`passes`]; WGSL:
+//! shaders/ssao/, one file per technique.
+//!
+//! Ground truth: the oracle's `ao` integrator with the same radius, `ao_radius` = r:
+//! AO(x) = (1/π) ∫ V_r(x, ω) cos θ dω, V_r = 1 when no surface lies within r along ω — the
+//! cosine-weighted visibility within r (Zhukov et al. 1998 with a hard cut-off). GTAO estimates
+//! exactly that quantity (under a depth layer of infinite thickness). The others estimate their
+//! own, each measured against that closest exact quantity:
+//! - Crytek's, the fraction of the ball of radius r around x in front of the depth buffer,
+//!   doubled so that a flat open surface reads 1;
+//! - the normal-oriented hemisphere's, the fraction of points of cosine-distributed segments of
+//!   length r that lie in front of the depth buffer (a segment partly behind it counts
+//!   partly, where V_r counts the whole ray as blocked);
+//! - HBAO's, the solid-angle (not cosine) weighted fraction of the hemisphere above the
+//!   horizon.
+//!
+//! `falloff` is how an occluder's weight fades with its distance d from x: `cutoff` (1 within
+//! r, 0 beyond: the oracle's definition), `quadratic` (1 − d²/r², Bavoil et al.'s attenuation)
+//! or `none` (no distance test: whatever the search reaches on screen occludes, however far
+//! behind in depth — the dark halos around foreground objects).
+//!
+//! Failure modes, each a study (scenes/studies/ssao-*.toml): what is off screen or behind the
+//! front depth layer does not occlude (screen edges, occluders hidden behind others), the depth
+//! layer is taken as infinitely thick (a thin pole occludes everything behind it), a few samples
+//! per pixel are noise that the blur trades for bias, and the noise pattern is fixed to the
+//! screen, so it swims under camera motion.
+
+pub mod passes;
+
+use super::param::{Kind, MethodSpec, Param, Value};
+
+/// The estimator of an SSAO method (WGSL `SSAO_METHOD` − 1 is its index in [`METHODS`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SsaoTechnique {
+    /// Depth-only point samples in a ball (Mittring 2007).
+    Crytek,
+    /// Point samples in the normal's hemisphere (Filion & McNaughton 2008).
+    Hemisphere,
+    /// Horizon angles along screen directions, solid-angle weighted (Bavoil et al. 2008).
+    Hbao,
+    /// Horizon angles per slice, cosine weighted (Jimenez et al. 2016).
+    Gtao,
+}
+
+/// How an occluder's weight fades with its distance from the shaded point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Falloff {
+    /// No distance test.
+    None,
+    /// 1 within the radius, 0 beyond.
+    Cutoff,
+    /// 1 − d²/r².
+    Quadratic,
+}
+
+impl Falloff {
+    const WORDS: &'static [&'static str] = &["none", "cutoff", "quadratic"];
+
+    /// Its position in [`Falloff::WORDS`] (the shaders' code).
+    pub fn code(self) -> u32 {
+        match self {
+            Falloff::None => 0,
+            Falloff::Cutoff => 1,
+            Falloff::Quadratic => 2,
+        }
+    }
+}
+
+/// What the lighting pass writes under an SSAO method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SsaoOutput {
+    /// The shaded image, the environment's light multiplied by AO.
+    Shaded,
+    /// The AO factor itself (R = G = B; background 0, as the oracle's `ao` writes it).
+    AoFactor,
+}
+
+/// An SSAO method with its parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AmbientOcclusion {
+    /// The estimator.
+    pub technique: SsaoTechnique,
+    /// The radius r in metres, or None: the scene's `[render] ao_radius`, the one its ground
+    /// truth (the oracle's `ao`) uses.
+    pub radius: Option<f32>,
+    /// How an occluder's weight fades with its distance.
+    pub falloff: Falloff,
+    /// Height above the tangent plane (horizon methods) or depth behind the depth buffer
+    /// (point methods) an occluder needs, as a fraction of the radius.
+    pub bias: f32,
+    /// Point samples per pixel (Crytek, hemisphere).
+    pub samples: u32,
+    /// Screen directions (HBAO) or slices (GTAO, each searched both ways) per pixel.
+    pub directions: u32,
+    /// Samples along each direction (each side of a GTAO slice).
+    pub steps: u32,
+    /// Compute at half the resolution in each axis, then upsample guided by depth and normals.
+    pub half_res: bool,
+    /// Radius in texels of the separable cross-bilateral blur (0: none).
+    pub blur: u32,
+    /// What the lighting writes.
+    pub output: SsaoOutput,
+}
+
+impl AmbientOcclusion {
+    /// The WGSL `SSAO_METHOD`: 1 + its index in [`METHODS`].
+    pub fn shader_code(&self) -> u32 {
+        match self.technique {
+            SsaoTechnique::Crytek => 1,
+            SsaoTechnique::Hemisphere => 2,
+            SsaoTechnique::Hbao => 3,
+            SsaoTechnique::Gtao => 4,
+        }
+    }
+
+    /// The method's row in [`METHODS`].
+    pub fn spec(&self) -> &'static MethodSpec<AmbientOcclusion> {
+        &METHODS[self.shader_code() as usize - 1]
+    }
+
+    /// Its parameter rows: [`COMMON`], then its own.
+    pub fn rows(&self) -> impl Iterator<Item = &'static Param<AmbientOcclusion>> {
+        COMMON.iter().chain(self.spec().params.iter())
+    }
+
+    /// Whether it marches along screen directions (HBAO, GTAO) rather than point samples.
+    pub fn marches_horizons(&self) -> bool {
+        matches!(self.technique, SsaoTechnique::Hbao | SsaoTechnique::Gtao)
+    }
+
+    fn with(technique: SsaoTechnique, directions: u32, steps: u32) -> AmbientOcclusion {
+        AmbientOcclusion {
+            technique,
+            radius: None,
+            falloff: Falloff::Cutoff,
+            bias: 0.02,
+            samples: 16,
+            directions,
+            steps,
+            half_res: false,
+            blur: 0,
+            output: SsaoOutput::Shaded,
+        }
+    }
+}
+
+/// The parameters every SSAO method has.
+pub static COMMON: &[Param<AmbientOcclusion>] = &[
+    Param {
+        name: "radius",
+        kind: Kind::Real(1e-3, 1e3),
+        unit: "m",
+        doc: "the occlusion radius r: occluders further than r from the point do not count",
+        source: "",
+        unset: "the scene's `[render] ao_radius`, its ground truth's",
+        get: |a| a.radius.map(Value::Real),
+        set: |a, v| {
+            a.radius = Some(v.real()?);
+            Some(())
+        },
+    },
+    Param {
+        name: "falloff",
+        kind: Kind::Keyword(Falloff::WORDS),
+        unit: "",
+        doc: "an occluder's weight against its distance d: cutoff (1 within r, the ground truth's definition), \
+              quadratic (1 − d²/r²), none (no distance test: halos behind foreground objects)",
+        source: "quadratic: Bavoil, Sainz & Dimitrov 2008, §2",
+        unset: "",
+        get: |a| Some(Value::Keyword(Falloff::WORDS[a.falloff.code() as usize])),
+        set: |a, v| {
+            a.falloff = match v.keyword()? {
+                "none" => Falloff::None,
+                "cutoff" => Falloff::Cutoff,
+                _ => Falloff::Quadratic,
+            };
+            Some(())
+        },
+    },
+    Param {
+        name: "bias",
+        kind: Kind::Real(0.0, 0.5),
+        unit: "× radius",
+        doc: "what an occluder needs to count: height above the tangent plane (HBAO, GTAO) or depth behind the depth \
+              buffer (Crytek, hemisphere), against self-occlusion of flat and tessellated surfaces",
+        source: "",
+        unset: "",
+        get: |a| Some(Value::Real(a.bias)),
+        set: |a, v| {
+            a.bias = v.real()?;
+            Some(())
+        },
+    },
+    Param {
+        name: "half_res",
+        kind: Kind::Switch,
+        unit: "",
+        doc: "compute AO on every second pixel in each axis (a quarter of the cost), then upsample with weights from \
+              depth and normals (joint bilateral upsampling)",
+        source: "Kopf, Cohen, Lischinski & Uyttendaele 2007, \"Joint Bilateral Upsampling\", SIGGRAPH",
+        unset: "",
+        get: |a| Some(Value::Switch(a.half_res)),
+        set: |a, v| {
+            a.half_res = v.switch()?;
+            Some(())
+        },
+    },
+    Param {
+        name: "blur",
+        kind: Kind::Whole(0, 16),
+        unit: "texels",
+        doc: "radius of the separable cross-bilateral blur over the AO (Gaussian σ = radius/2, weighted by view depth \
+              and normal); separable, so not the 2-D bilateral filter across diagonal edges",
+        source: "Tomasi & Manduchi 1998, \"Bilateral Filtering for Gray and Color Images\", ICCV; separable: Pham & \
+                 van Vliet 2005, ICME",
+        unset: "no blur",
+        get: |a| (a.blur > 0).then_some(Value::Whole(a.blur)),
+        set: |a, v| {
+            a.blur = v.whole()?;
+            Some(())
+        },
+    },
+    Param {
+        name: "output",
+        kind: Kind::Keyword(&["shaded", "ao"]),
+        unit: "",
+        doc: "shaded: the image, the environment's light × AO; ao: the AO factor itself (R = G = B, background 0), \
+              the oracle's `ao` integrator's quantity",
+        source: "",
+        unset: "",
+        get: |a| {
+            Some(Value::Keyword(match a.output {
+                SsaoOutput::Shaded => "shaded",
+                SsaoOutput::AoFactor => "ao",
+            }))
+        },
+        set: |a, v| {
+            a.output = match v.keyword()? {
+                "ao" => SsaoOutput::AoFactor,
+                _ => SsaoOutput::Shaded,
+            };
+            Some(())
+        },
+    },
+];
+
+/// Largest number of samples, directions or steps.
+const MAX_SAMPLES: u32 = 256;
+
+const SAMPLES: Param<AmbientOcclusion> = Param {
+    name: "samples",
+    kind: Kind::Whole(1, MAX_SAMPLES),
+    unit: "per pixel",
+    doc: "point samples per pixel, a low-discrepancy set rotated per pixel",
+    source: "",
+    unset: "",
+    get: |a| Some(Value::Whole(a.samples)),
+    set: |a, v| {
+        a.samples = v.whole()?;
+        Some(())
+    },
+};
+
+const DIRECTIONS: Param<AmbientOcclusion> = Param {
+    name: "directions",
+    kind: Kind::Whole(1, 64),
+    unit: "per pixel",
+    doc: "screen-space directions (HBAO) or slices searched both ways (GTAO), rotated per pixel",
+    source: "",
+    unset: "",
+    get: |a| Some(Value::Whole(a.directions)),
+    set: |a, v| {
+        a.directions = v.whole()?;
+        Some(())
+    },
+};
+
+const STEPS: Param<AmbientOcclusion> = Param {
+    name: "steps",
+    kind: Kind::Whole(1, 64),
+    unit: "per direction",
+    doc: "depth samples along each direction out to the radius's projection, the first jittered per pixel",
+    source: "",
+    unset: "",
+    get: |a| Some(Value::Whole(a.steps)),
+    set: |a, v| {
+        a.steps = v.whole()?;
+        Some(())
+    },
+};
+
+/// The SSAO methods.
+pub static METHODS: &[MethodSpec<AmbientOcclusion>] = &[
+    MethodSpec {
+        name: "ssao_crytek",
+        summary: "depth only: the fraction of point samples in the ball of radius r that lie in front of the depth \
+                  buffer, doubled (a flat open surface reads 1)",
+        source: "Mittring 2007, \"Finding Next Gen: CryEngine 2\", SIGGRAPH course, §8.5.4.3",
+        default: || AmbientOcclusion::with(SsaoTechnique::Crytek, 0, 0),
+        params: &[SAMPLES],
+    },
+    MethodSpec {
+        name: "ssao_hemisphere",
+        summary: "point samples in the normal's hemisphere (cosine-distributed directions, distances up to r), \
+                  occluded where the depth buffer is in front of them",
+        source: "Filion & McNaughton 2008, \"StarCraft II: Effects & Techniques\", SIGGRAPH course, §5.4",
+        default: || AmbientOcclusion::with(SsaoTechnique::Hemisphere, 0, 0),
+        params: &[SAMPLES],
+    },
+    MethodSpec {
+        name: "ssao_hbao",
+        summary: "horizon-based: the highest elevation above the tangent plane along screen directions, AO = 1 − \
+                  mean of the attenuated sin(horizon) increments (solid-angle weighted)",
+        source: "Bavoil, Sainz & Dimitrov 2008, \"Image-Space Horizon-Based Ambient Occlusion\", SIGGRAPH talk",
+        default: || AmbientOcclusion::with(SsaoTechnique::Hbao, 8, 6),
+        params: &[DIRECTIONS, STEPS],
+    },
+    MethodSpec {
+        name: "ssao_gtao",
+        summary: "ground-truth-based: two horizons per view-aligned slice, the cosine-weighted visibility between \
+                  them integrated in closed form over the projected normal's hemisphere",
+        source: "Jimenez, Wu, Pesce & Jarabo 2016, \"Practical Real-Time Strategies for Accurate Indirect \
+                 Occlusion\", SIGGRAPH course, §4",
+        default: || AmbientOcclusion::with(SsaoTechnique::Gtao, 4, 8),
+        params: &[DIRECTIONS, STEPS],
+    },
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shader_codes_follow_the_table() {
+        for (i, spec) in METHODS.iter().enumerate() {
+            assert_eq!((spec.default)().shader_code() as usize, i + 1, "{}", spec.name);
+            assert_eq!((spec.default)().spec().name, spec.name);
+        }
+    }
+
+    #[test]
+    fn falloff_words_follow_the_codes() {
+        for f in [Falloff::None, Falloff::Cutoff, Falloff::Quadratic] {
+            let mut a = (METHODS[0].default)();
+            (COMMON[1].set)(&mut a, Value::Keyword(Falloff::WORDS[f.code() as usize]));
+            assert_eq!(a.falloff, f);
+        }
+    }
+}

@@ -1,0 +1,297 @@
+//! The SSAO passes of one render (docs/ARCHITECTURE.md "Passes of one frame", stage 3): after
+//! the G-buffer pass and before the lighting, full-screen passes into single-channel targets
+//! that hold the ambient obscurance 1 − AO (targets.rs `OBSCURANCE_FORMAT`):
+//!
+//! | pass | reads | writes |
+//! |---|---|---|
+//! | AO (`fs_ao`, the method's file) | G-buffer positions, normals | obscurance at AO resolution |
+//! | blur x, blur y (`fs_blur`, under `blur`) | G-buffer, obscurance | obscurance |
+//! | upsample (`fs_upsample`, under `half_res`) | G-buffer, half-resolution obscurance | obscurance |
+//!
+//! The last pass writes the targets' obscurance, which the lighting reads. Each estimator is a
+//! shader module of its own (common.wgsl, march.wgsl, its file, ao.wgsl); the blur and the
+//! upsampling share one (common.wgsl, filter.wgsl). The pipelines are built on first use and
+//! held by the renderer.
+
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec2;
+use scenes::Scene;
+use wgpu::util::DeviceExt;
+
+use super::{AmbientOcclusion, SsaoTechnique};
+use crate::camera::{camera_near, view_proj};
+use crate::gpu_types::vec4;
+use crate::pipelines::unfilterable_texture;
+use crate::targets::{cleared_attachments, obscurance_texture, view_entries, Targets, OBSCURANCE_FORMAT};
+use crate::timestamps::Timestamps;
+
+const COMMON: &str = include_str!("../../../shaders/ssao/common.wgsl");
+const MARCH: &str = include_str!("../../../shaders/ssao/march.wgsl");
+const AO: &str = include_str!("../../../shaders/ssao/ao.wgsl");
+const FILTER: &str = include_str!("../../../shaders/ssao/filter.wgsl");
+
+/// A pass's entry point (and the module holding it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum Entry {
+    Ao(SsaoTechnique),
+    Blur,
+    Upsample,
+}
+
+impl Entry {
+    fn fragment(self) -> &'static str {
+        match self {
+            Entry::Ao(_) => "fs_ao",
+            Entry::Blur => "fs_blur",
+            Entry::Upsample => "fs_upsample",
+        }
+    }
+
+    fn source(self) -> String {
+        let technique = match self {
+            Entry::Ao(SsaoTechnique::Crytek) => include_str!("../../../shaders/ssao/crytek.wgsl"),
+            Entry::Ao(SsaoTechnique::Hemisphere) => include_str!("../../../shaders/ssao/hemisphere.wgsl"),
+            Entry::Ao(SsaoTechnique::Hbao) => include_str!("../../../shaders/ssao/hbao.wgsl"),
+            Entry::Ao(SsaoTechnique::Gtao) => include_str!("../../../shaders/ssao/gtao.wgsl"),
+            Entry::Blur | Entry::Upsample => return format!("{COMMON}\n{FILTER}"),
+        };
+        format!("{COMMON}\n{MARCH}\n{technique}\n{AO}")
+    }
+}
+
+/// WGSL `SsaoUniforms` (ssao/common.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct SsaoUniforms {
+    view_proj: [[f32; 4]; 4],
+    /// Camera position, focal length in target pixels.
+    cam_pos: [f32; 4],
+    cam_right: [f32; 4],
+    cam_up: [f32; 4],
+    cam_forward: [f32; 4],
+    /// Target width, height; AO width, height.
+    sizes: [u32; 4],
+    /// Radius, bias (m), blur radius, AO texel → target pixel scale.
+    params: [f32; 4],
+    /// Samples, directions, steps, falloff.
+    counts: [u32; 4],
+}
+
+/// The layouts and the pipelines, cached by entry point.
+pub(crate) struct SsaoPipelines {
+    /// Group 0: G-buffer positions and normals, the uniforms.
+    shared_layout: wgpu::BindGroupLayout,
+    /// Group 1: the previous pass's obscurance, the pass's axis.
+    pass_layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    cache: Mutex<HashMap<Entry, Arc<wgpu::RenderPipeline>>>,
+}
+
+fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+impl SsaoPipelines {
+    pub(crate) fn new(device: &wgpu::Device) -> SsaoPipelines {
+        let fragment = wgpu::ShaderStages::FRAGMENT;
+        let shared_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("SSAO bind group layout (G-buffer, uniforms)"),
+            entries: &[
+                unfilterable_texture(0, fragment, false),
+                unfilterable_texture(1, fragment, false),
+                uniform_entry(2),
+            ],
+        });
+        let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("SSAO pass bind group layout (obscurance, axis)"),
+            entries: &[unfilterable_texture(0, fragment, false), uniform_entry(1)],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("SSAO pipeline layout"),
+            bind_group_layouts: &[&shared_layout, &pass_layout],
+            push_constant_ranges: &[],
+        });
+        SsaoPipelines {
+            shared_layout,
+            pass_layout,
+            pipeline_layout,
+            cache: Mutex::new(HashMap::new()),
+        }
+    }
+
+    fn get(&self, device: &wgpu::Device, entry: Entry) -> Arc<wgpu::RenderPipeline> {
+        let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
+        cache
+            .entry(entry)
+            .or_insert_with(|| {
+                let label = format!("SSAO: {entry:?}");
+                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(&label),
+                    source: wgpu::ShaderSource::Wgsl(entry.source().into()),
+                });
+                let targets = [Some(wgpu::ColorTargetState {
+                    format: OBSCURANCE_FORMAT,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })];
+                Arc::new(device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(&label),
+                    layout: Some(&self.pipeline_layout),
+                    vertex: wgpu::VertexState {
+                        module: &module,
+                        entry_point: Some("vs_fullscreen"),
+                        compilation_options: Default::default(),
+                        buffers: &[],
+                    },
+                    primitive: wgpu::PrimitiveState::default(),
+                    depth_stencil: None,
+                    multisample: wgpu::MultisampleState::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module: &module,
+                        entry_point: Some(entry.fragment()),
+                        compilation_options: Default::default(),
+                        targets: &targets,
+                    }),
+                    multiview: None,
+                    cache: None,
+                }))
+            })
+            .clone()
+    }
+}
+
+/// One full-screen pass: its pipeline, its input and axis, its target.
+struct SsaoPass {
+    label: &'static str,
+    pipeline: Arc<wgpu::RenderPipeline>,
+    inputs: wgpu::BindGroup,
+    target: wgpu::TextureView,
+}
+
+/// The SSAO passes of one render, over `targets`' G-buffer into its obscurance.
+pub(crate) struct SsaoPasses {
+    shared: wgpu::BindGroup,
+    passes: Vec<SsaoPass>,
+}
+
+impl SsaoPasses {
+    /// The passes of `ao` for deferred `targets` (None for targets without a G-buffer), seen
+    /// from `scene`'s camera, with `scene`'s `ao_radius` where `ao` names no radius.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        pipelines: &SsaoPipelines,
+        ao: &AmbientOcclusion,
+        targets: &Targets,
+        scene: &Scene,
+    ) -> Option<SsaoPasses> {
+        let (gbuffer, output) = (targets.gbuffer_views.as_ref()?, targets.obscurance_view.as_ref()?);
+        let (w, h) = (targets.width, targets.height);
+        let scale = if ao.half_res { 2 } else { 1 };
+        let (aw, ah) = (w.div_ceil(scale), h.div_ceil(scale));
+        let camera = &scene.camera;
+        let radius = ao.radius.unwrap_or(scene.render.ao_radius);
+        let near = camera_near(scene);
+        let m = camera.to_world.matrix3;
+        let focal = 0.5 * h as f32 / (0.5 * camera.fov_y_deg.to_radians()).tan();
+        let uniforms = SsaoUniforms {
+            view_proj: view_proj(camera, w, h, near, Vec2::ZERO).to_cols_array_2d(),
+            cam_pos: vec4(camera.position(), focal),
+            cam_right: vec4(m.x_axis.into(), 0.0),
+            cam_up: vec4(m.y_axis.into(), 0.0),
+            cam_forward: vec4(camera.forward(), 0.0),
+            sizes: [w, h, aw, ah],
+            params: [radius, ao.bias * radius, ao.blur as f32, scale as f32],
+            counts: [ao.samples, ao.directions, ao.steps, ao.falloff.code()],
+        };
+        let uniform_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("SSAO uniforms"),
+            contents: bytemuck::bytes_of(&uniforms),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let mut shared_entries = view_entries(&gbuffer[..2], 0);
+        shared_entries.push(wgpu::BindGroupEntry {
+            binding: 2,
+            resource: uniform_buffer.as_entire_binding(),
+        });
+        let shared = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("SSAO bind group (G-buffer, uniforms)"),
+            layout: &pipelines.shared_layout,
+            entries: &shared_entries,
+        });
+        let a = obscurance_texture(device, "SSAO obscurance A", aw, ah);
+        let b = obscurance_texture(device, "SSAO obscurance B", aw, ah);
+        let pass = |label, entry, input: &wgpu::TextureView, axis: [i32; 4], target: &wgpu::TextureView| {
+            let axis = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("SSAO pass axis"),
+                contents: bytemuck::bytes_of(&axis),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let mut entries = view_entries([input], 0);
+            entries.push(wgpu::BindGroupEntry {
+                binding: 1,
+                resource: axis.as_entire_binding(),
+            });
+            SsaoPass {
+                label,
+                pipeline: pipelines.get(device, entry),
+                inputs: device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some(label),
+                    layout: &pipelines.pass_layout,
+                    entries: &entries,
+                }),
+                target: target.clone(),
+            }
+        };
+        let estimate = Entry::Ao(ao.technique);
+        let (x, y, none) = ([1, 0, 0, 0], [0, 1, 0, 0], [0; 4]);
+        let passes = match (ao.half_res, ao.blur > 0) {
+            (false, false) => vec![pass("SSAO: estimate", estimate, &b, none, output)],
+            (false, true) => vec![
+                pass("SSAO: estimate", estimate, &b, none, &a),
+                pass("SSAO: blur x", Entry::Blur, &a, x, &b),
+                pass("SSAO: blur y", Entry::Blur, &b, y, output),
+            ],
+            (true, false) => vec![
+                pass("SSAO: estimate (half resolution)", estimate, &b, none, &a),
+                pass("SSAO: upsample", Entry::Upsample, &a, none, output),
+            ],
+            (true, true) => vec![
+                pass("SSAO: estimate (half resolution)", estimate, &b, none, &a),
+                pass("SSAO: blur x", Entry::Blur, &a, x, &b),
+                pass("SSAO: blur y", Entry::Blur, &b, y, &a),
+                pass("SSAO: upsample", Entry::Upsample, &a, none, output),
+            ],
+        };
+        Some(SsaoPasses { shared, passes })
+    }
+
+    /// Records the passes, timed together as frame pass `queries.1`.
+    pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, queries: Option<(&Timestamps, u32)>) {
+        let last = self.passes.len() - 1;
+        for (i, p) in self.passes.iter().enumerate() {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(p.label),
+                color_attachments: &cleared_attachments([&p.target]),
+                depth_stencil_attachment: None,
+                timestamp_writes: queries.and_then(|(q, k)| q.span_writes(k, i == 0, i == last)),
+                occlusion_query_set: None,
+            });
+            pass.set_pipeline(&p.pipeline);
+            pass.set_bind_group(0, &self.shared, &[]);
+            pass.set_bind_group(1, &p.inputs, &[]);
+            pass.draw(0..3, 0..1);
+        }
+    }
+}
