@@ -25,7 +25,7 @@ pub const SCHEMA_VERSION: u32 = 1;
 /// |---|---|---|
 /// | relmse | > 1e-3 | about 3 % RMS relative error per pixel |
 /// | mse | > 1e-4 | about 1 % RMS of a unit-radiance image |
-/// | rmse | > 1e-2 | the same as mse |
+/// | rmse, mae | > 1e-2 | the same as mse |
 /// | smape | > 1e-2 | about 2 % mean relative difference |
 /// | psnr | < 40 dB | the same as mse |
 /// | ssim | < 0.99 | structure kept almost exactly |
@@ -39,7 +39,7 @@ pub fn default_fail_bound(metric: Metric) -> f64 {
     match metric {
         Metric::RelMse => 1e-3,
         Metric::Mse => 1e-4,
-        Metric::Rmse | Metric::Smape => 1e-2,
+        Metric::Rmse | Metric::Mae | Metric::Smape => 1e-2,
         Metric::Psnr => 40.0,
         Metric::Ssim => 0.99,
         Metric::FlipLdr | Metric::FlipHdr => 0.05,

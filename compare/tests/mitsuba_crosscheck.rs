@@ -35,6 +35,7 @@ const CROSSCHECKED: &[&str] = &[
     "studies/scenes/lightmap-wall",
     "studies/scenes/omni-room",
     "studies/scenes/ssao-yard",
+    "studies/scenes/ssao-edge",
     "studies/scenes/mesh-lamp",
 ];
 
@@ -250,6 +251,12 @@ fn omni_shadow_room_agrees() {
 #[test]
 fn ssao_yard_agrees() {
     agrees("studies/scenes/ssao-yard", Variant::LlvmAdRgb, 48, 256);
+}
+
+/// The SSAO screen-edge scene: a wall just outside the frame, over a floor under the white sky.
+#[test]
+fn ssao_edge_agrees() {
+    agrees("studies/scenes/ssao-edge", Variant::LlvmAdRgb, 48, 256);
 }
 
 /// The emissive-mesh scene: a box lamp of 12 emissive triangles (Mitsuba's `area` emitter

@@ -318,7 +318,7 @@ fn fs_lighting(@builtin(position) pos: vec4<f32>) -> ShadedOut {
         set_hardware_footprint(vec2<f32>(g1.w, g2.w));
     }
     set_normal_derivatives(g1.xyz);
-    ambient_occlusion = 1.0 - textureLoad(ao_obscurance, px, 0).r;
+    ambient_occlusion = clamp(1.0 - textureLoad(ao_obscurance, px, 0).r, 0.0, 1.0);
     var out = lit_sample(g0, g1, g2, pos.xy);
     // An SSAO method's `output = ao`: the AO factor itself, 0 on the background (the oracle's
     // `ao` integrator).

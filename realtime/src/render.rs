@@ -148,8 +148,13 @@ impl Renderer {
         self.gpu
             .check_errors("creating the scene buffers and pipelines")?;
 
-        let timing = match (&aa, aa_passes.post()) {
-            (AntiAliasing::Taa { frames, jitter, .. }, Some(post)) => {
+        let temporal_ssao = settings
+            .method
+            .ssao
+            .filter(|a| a.temporal > 0)
+            .zip(ssao_passes.as_ref());
+        let timing = match (&aa, aa_passes.post(), temporal_ssao) {
+            (AntiAliasing::Taa { frames, jitter, .. }, Some(post), _) => {
                 let near = camera_near(scene);
                 let view = |i: u32| {
                     let camera = taa::camera(&aa, &scene.camera, i);
@@ -179,6 +184,45 @@ impl Renderer {
                     &|i| view(i.saturating_sub(settings.warmup_frames)),
                 )?;
                 // The AOV frames below see the scene's own view, unjittered.
+                frame.set_view(
+                    &self.gpu.queue,
+                    scene,
+                    &scene.camera,
+                    Vec2::ZERO,
+                    &scene_gpu,
+                    settings,
+                    k,
+                );
+                timing
+            }
+            (_, _, Some((ao, passes))) => {
+                let near = camera_near(scene);
+                // The accumulation's frames, each with its rotation and (under motion) its
+                // camera; warm-up frames are its first frame, each starting the history anew.
+                let view = |i: u32| {
+                    let camera = ao.camera(&scene.camera, i);
+                    frame.set_view(
+                        &self.gpu.queue,
+                        scene,
+                        &camera,
+                        Vec2::ZERO,
+                        &scene_gpu,
+                        settings,
+                        k,
+                    );
+                    let previous = ao.camera(&scene.camera, i.saturating_sub(1));
+                    passes.set_frame(&self.gpu.queue, i, &camera, &previous, near);
+                };
+                let timing = self.timed_frames(
+                    &frame,
+                    &targets,
+                    &stages,
+                    &scene_gpu,
+                    &groups,
+                    Some(&aa_passes),
+                    (settings.warmup_frames, ao.temporal),
+                    &|i| view(i.saturating_sub(settings.warmup_frames)),
+                )?;
                 frame.set_view(
                     &self.gpu.queue,
                     scene,

@@ -133,6 +133,13 @@ impl RasterSettings {
                 "method {m}: derivatives = analytic needs the forward pipeline (the G-buffer stores no ray differentials)"
             ));
         }
+        if let Some(ao) = m.ssao.filter(|a| a.orbit_degrees > 0.0 && a.temporal == 0) {
+            return bad(format!(
+                "method {m}: orbit_degrees = {} moves the camera between the frames of a temporal accumulation; \
+                 set temporal (frames) too",
+                ao.orbit_degrees
+            ));
+        }
         if m.ssao.is_some() && self.pipeline != PipelineKind::Deferred {
             return bad(format!(
                 "method {m}: screen-space ambient occlusion reads the G-buffer; use the deferred pipeline \

@@ -8,6 +8,8 @@
 //!   foot is darkened under both;
 //! - `output = ao` is the shaded image divided by the albedo (the sky is 1 and the env
 //!   quadrature exact for it); the frame's timing names the SSAO pass;
+//! - temporal accumulation of one rotated slice per frame approaches eight slices in one frame,
+//!   under a still and an orbiting camera;
 //! - the forward pipeline and bad parameters are refused.
 //!
 //! Accuracy against the oracle's `ao` is the studies' (scenes/studies/ssao-*.toml).
@@ -146,6 +148,40 @@ fn ao_output_is_the_shaded_image_over_the_albedo() {
         occluded += usize::from(ao[i] < 0.9);
     }
     assert!(occluded > 20, "the wall occludes the floor at its foot");
+}
+
+#[test]
+fn temporal_accumulation_averages_the_rotations() {
+    // One slice per frame, its rotation advanced every frame: eight frames accumulated come
+    // close to eight slices in one frame, where one frame of one slice does not.
+    let yard = scene(1.0, Some(-1.0));
+    let one = |extra: &[(&'static str, &'static str)]| {
+        let mut params = vec![("output", "ao"), ("directions", "1")];
+        params.extend_from_slice(extra);
+        render(&yard, &settings("ssao_gtao", &params))
+    };
+    let (single, ids) = one(&[]);
+    let (accumulated, _) = one(&[("temporal", "8")]);
+    let (moving, _) = one(&[("temporal", "8"), ("orbit_degrees", "1"), ("orbit_distance", "3")]);
+    let (eight, _) = render(
+        &yard,
+        &settings("ssao_gtao", &[("output", "ao"), ("directions", "8")]),
+    );
+    let floor: Vec<usize> = (0..ids.len()).filter(|i| ids[*i] == 1.0).collect();
+    let mean_diff =
+        |a: &[f32]| floor.iter().map(|i| (a[*i] - eight[*i]).abs()).sum::<f32>() / floor.len() as f32;
+    let (d1, d8, dm) = (mean_diff(&single), mean_diff(&accumulated), mean_diff(&moving));
+    assert!(d8 < 0.5 * d1, "accumulated {d8} against one frame {d1}");
+    // Under motion the reprojected history still averages (the last frame is the scene's view).
+    assert!(
+        dm < 0.7 * d1,
+        "accumulated under motion {dm} against one frame {d1}"
+    );
+    let still = settings("ssao_gtao", &[("orbit_degrees", "1")]);
+    match renderer().render(&yard, &still) {
+        Err(RasterError::Settings(m)) => assert!(m.contains("temporal"), "{m}"),
+        other => panic!("expected a settings error, got {:?}", other.map(|_| ())),
+    }
 }
 
 #[test]

@@ -52,6 +52,8 @@ pub enum Metric {
     Mse,
     /// Root of [`Metric::Mse`].
     Rmse,
+    /// Mean absolute error of linear RGB, |a − r|.
+    Mae,
     /// Relative MSE, (a − r)²/(r² + 0.01).
     RelMse,
     /// Symmetric mean absolute percentage error, |a − r|/(|a| + |r| + 0.01).
@@ -68,9 +70,10 @@ pub enum Metric {
 
 impl Metric {
     /// Every metric, in report order.
-    pub const ALL: [Metric; 8] = [
+    pub const ALL: [Metric; 9] = [
         Metric::Mse,
         Metric::Rmse,
+        Metric::Mae,
         Metric::RelMse,
         Metric::Smape,
         Metric::Psnr,
@@ -84,6 +87,7 @@ impl Metric {
         match self {
             Metric::Mse => "mse",
             Metric::Rmse => "rmse",
+            Metric::Mae => "mae",
             Metric::RelMse => "relmse",
             Metric::Smape => "smape",
             Metric::Psnr => "psnr",
@@ -112,7 +116,7 @@ impl Metric {
     /// PSNR (+∞ at zero MSE). A bound outside this range can never hold or always holds.
     pub fn range(self) -> (f64, f64) {
         match self {
-            Metric::Mse | Metric::Rmse | Metric::RelMse | Metric::Smape => (0.0, f64::INFINITY),
+            Metric::Mse | Metric::Rmse | Metric::Mae | Metric::RelMse | Metric::Smape => (0.0, f64::INFINITY),
             Metric::FlipLdr | Metric::FlipHdr => (0.0, 1.0),
             Metric::Ssim => (-1.0, 1.0),
             Metric::Psnr => (f64::NEG_INFINITY, f64::INFINITY),
@@ -345,6 +349,7 @@ pub(crate) fn value_and_map(
     match metric {
         Metric::Mse => pixelwise(reference, test, mask, squared_error),
         Metric::Rmse => (pixelwise(reference, test, mask, squared_error).0.sqrt(), None),
+        Metric::Mae => pixelwise(reference, test, mask, absolute_error),
         Metric::RelMse => pixelwise(reference, test, mask, relative_squared_error),
         Metric::Smape => pixelwise(reference, test, mask, smape_term),
         Metric::Psnr => (psnr(pixelwise(reference, test, mask, squared_error).0), None),
@@ -396,6 +401,11 @@ fn pixelwise(
 /// (a − r)².
 fn squared_error(a: f64, r: f64) -> f64 {
     (a - r) * (a - r)
+}
+
+/// |a − r|: the AO factor's usual error (an AO of 0.7 read as 0.6 is off by 0.1).
+fn absolute_error(a: f64, r: f64) -> f64 {
+    (a - r).abs()
 }
 
 /// (a − r)² / (r² + ε): Rousselle, Knaus, Zwicker, "Adaptive Sampling and Reconstruction using

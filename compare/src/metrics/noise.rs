@@ -7,6 +7,8 @@
 //! - MSE: E[(t − r)²] = σ², so the floor is the mean of σ² over the mask and channels; RMSE its
 //!   root; PSNR that MSE in dB.
 //! - relMSE: E[(t − r)²/(r² + ε)] ≈ σ²/(r² + ε) (to first order in σ/r).
+//! - MAE: E|t − r| = σ·√(2/π) for a normal error (the mean absolute deviation of a normal
+//!   distribution), per channel.
 //! - SMAPE, SSIM, FLIP have no closed form: the floor is the metric of a *resampled* image
 //!   r + σ·z (z standard normal, a fixed hash of pixel and channel, so reports are repeatable)
 //!   against r. Its difference from r has the distribution of t − r, which is what the floor
@@ -62,6 +64,7 @@ impl NoiseFloors {
                     Metric::Rmse => mse.sqrt(),
                     Metric::Psnr => psnr(mse),
                     Metric::RelMse => per_pixel(&|r, v| v / (r * r + f64::from(RELATIVE_EPSILON))),
+                    Metric::Mae => per_pixel(&|_, v| (2.0 * v / std::f64::consts::PI).sqrt()),
                     Metric::Smape | Metric::Ssim | Metric::FlipLdr | Metric::FlipHdr => {
                         let noisy = resampled.get_or_insert_with(|| resample(reference, variance));
                         value_and_map(m, reference, noisy, mask).0
@@ -127,7 +130,13 @@ mod tests {
         let floors = NoiseFloors::new(
             &r,
             &mask,
-            &[Metric::Mse, Metric::RelMse, Metric::Psnr, Metric::Smape],
+            &[
+                Metric::Mse,
+                Metric::RelMse,
+                Metric::Psnr,
+                Metric::Smape,
+                Metric::Mae,
+            ],
         );
         assert!((floors.get(Metric::Mse) - 1e-4).abs() < 1e-9);
         assert!((floors.get(Metric::RelMse) - 1e-4 / 0.26).abs() < 1e-8);
@@ -135,6 +144,13 @@ mod tests {
         let noisy = resample(&r, r.variance.as_ref().unwrap());
         let mse = value_and_map(Metric::Mse, &r, &noisy, &mask).0;
         assert!((mse / 1e-4 - 1.0).abs() < 0.05, "resampled MSE {mse}");
+        // MAE: σ·√(2/π) = 0.01 × 0.7979, and the resampled image's MAE agrees.
+        assert!((floors.get(Metric::Mae) - 0.007_978_845_6).abs() < 1e-8);
+        let mae = value_and_map(Metric::Mae, &r, &noisy, &mask).0;
+        assert!(
+            (mae / floors.get(Metric::Mae) - 1.0).abs() < 0.05,
+            "resampled MAE {mae}"
+        );
         // SMAPE of N(0, 0.01) noise on 0.5: E|z|·0.01/(1.01) = 0.7979·0.01/1.01.
         let want = 0.797_9 * 0.01 / 1.01;
         assert!(

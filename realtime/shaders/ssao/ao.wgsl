@@ -10,6 +10,8 @@ fn fs_ao(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     if !g.valid {
         return vec4<f32>(0.0);
     }
-    let ao = clamp(ambient_occlusion(px, g), 0.0, 1.0);
-    return vec4<f32>(1.0 - ao, 0.0, 0.0, 0.0);
+    // Not clamped here: one pixel's estimate may leave [0, 1] (a single GTAO slice reads up to
+    // ~1.5 on an open plane, where the mean over slices is 1), and the blur and the temporal
+    // accumulation must average it as it is; the lighting clamps what reaches it.
+    return vec4<f32>(1.0 - ambient_occlusion(px, g), 0.0, 0.0, 0.0);
 }

@@ -21,9 +21,14 @@ struct SsaoUniforms {
     params: vec4<f32>,
     // Samples, directions, steps, falloff (0 none, 1 cutoff, 2 quadratic).
     counts: vec4<u32>,
+    // Temporal accumulation: the previous frame's view-projection.
+    prev_view_proj: mat4x4<f32>,
+    // Frame index in the accumulation, frames accumulated (0: none), unused ×2.
+    temporal: vec4<u32>,
 }
 
-// One pass's own inputs: the previous pass's obscurance, and the blur axis (x, y).
+// One pass's own inputs: the previous pass's obscurance, the blur axis (x, y), and the temporal
+// history (obscurance, view depth; the temporal pass alone reads it).
 struct PassUniforms {
     axis: vec4<i32>,
 }
@@ -33,6 +38,7 @@ struct PassUniforms {
 @group(0) @binding(2) var<uniform> ssao: SsaoUniforms;
 @group(1) @binding(0) var obscurance_in: texture_2d<f32>;
 @group(1) @binding(1) var<uniform> pass_info: PassUniforms;
+@group(1) @binding(2) var history: texture_2d<f32>;
 
 const PI: f32 = 3.14159265358979;
 const GOLDEN_ANGLE: f32 = 2.39996322972865;
@@ -85,9 +91,11 @@ fn project(p: vec3<f32>) -> vec2<f32> {
 
 // Interleaved gradient noise (Jimenez 2014, "Next Generation Post Processing in Call of Duty:
 // Advanced Warfare", SIGGRAPH course): a per-pixel value in [0, 1) whose 3×3 neighbourhoods
-// are nearly stratified, so a small blur removes most of the pattern.
+// are nearly stratified, so a small blur removes most of the pattern; each frame of a temporal
+// accumulation moves the pattern by 5.588238 pixels in x and y (the same talk), so successive
+// frames take other rotations.
 fn pixel_noise(px: vec2<i32>) -> f32 {
-    let p = vec2<f32>(px);
+    let p = vec2<f32>(px) + 5.588238 * f32(ssao.temporal.x);
     return fract(52.9829189 * fract(dot(p, vec2<f32>(0.06711056, 0.00583715))));
 }
 

@@ -9,6 +9,14 @@
 //   across diagonal edges (Pham & van Vliet 2005, "Separable Bilateral Filtering for Fast Video
 //   Preprocessing", ICME); and a blur wide enough to hide few samples' noise flattens contact
 //   shadows and thin occluders' AO.
+// - fs_temporal, temporal accumulation (reverse reprojection: Nehab, Sander, Lawrence,
+//   Tatarchuk & Isidoro 2007, "Accelerating Real-Time Shading with Reverse Reprojection
+//   Caching", Graphics Hardware; over the frames' rotations: Jimenez et al. 2016, §5): the
+//   point's position through the previous frame's view-projection finds its history texel; the
+//   history is kept where the depth stored there is the point's own previous depth within 2 %,
+//   and blended as the mean of the frames so far, then with weight 1/frames. Failure modes: a
+//   history dropped at disocclusions restarts from one frame's noise there, and a history
+//   read at the nearest texel of a moving view is resampled, so detail blurs and lags.
 // - fs_upsample, joint bilateral upsampling (Kopf, Cohen, Lischinski & Uyttendaele 2007, "Joint
 //   Bilateral Upsampling", SIGGRAPH) of half-resolution AO: the four AO texels around each
 //   pixel, bilinear weights × the same geometric weights; where none is the same surface (a
@@ -92,4 +100,38 @@ fn fs_upsample(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         return vec4<f32>(nearest, 0.0, 0.0, 0.0);
     }
     return vec4<f32>(sum / weights, 0.0, 0.0, 0.0);
+}
+
+const HISTORY_DEPTH_TOLERANCE: f32 = 0.02;
+
+struct TemporalOut {
+    @location(0) obscurance: vec4<f32>,
+    // The next frame's history: obscurance, this frame's view depth (0: background).
+    @location(1) history: vec4<f32>,
+}
+
+@fragment
+fn fs_temporal(@builtin(position) pos: vec4<f32>) -> TemporalOut {
+    let p = vec2<i32>(pos.xy);
+    let g0 = gposition(p);
+    if g0.w < 0.5 {
+        return TemporalOut(vec4<f32>(0.0), vec4<f32>(0.0));
+    }
+    let current = textureLoad(obscurance_in, p, 0).r;
+    let depth = (ssao.view_proj * vec4<f32>(g0.xyz, 1.0)).w;
+    var value = current;
+    let frame = ssao.temporal.x;
+    let c = ssao.prev_view_proj * vec4<f32>(g0.xyz, 1.0);
+    if frame > 0u && c.w > 0.0 {
+        let ndc = c.xy / c.w;
+        let q = vec2<i32>(floor(vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * vec2<f32>(ssao.sizes.xy)));
+        if in_target(q) {
+            let h = textureLoad(history, q, 0);
+            if h.g > 0.0 && abs(h.g - c.w) < HISTORY_DEPTH_TOLERANCE * c.w {
+                let weight = 1.0 / f32(min(frame + 1u, ssao.temporal.y));
+                value = mix(h.r, current, weight);
+            }
+        }
+    }
+    return TemporalOut(vec4<f32>(value, 0.0, 0.0, 0.0), vec4<f32>(value, depth, 0.0, 0.0));
 }

@@ -101,6 +101,14 @@ pub struct AmbientOcclusion {
     pub half_res: bool,
     /// Radius in texels of the separable cross-bilateral blur (0: none).
     pub blur: u32,
+    /// Frames of temporal accumulation, each with its own sample rotation, the history
+    /// reprojected into the next (0: none).
+    pub temporal: u32,
+    /// Degrees the camera orbited per frame of the accumulation before the measured one (the
+    /// test's motion: [`camera`]).
+    pub orbit_degrees: f32,
+    /// Distance ahead of the camera of the point it orbits, metres.
+    pub orbit_distance: f32,
     /// What the lighting writes.
     pub output: SsaoOutput,
 }
@@ -126,9 +134,12 @@ impl AmbientOcclusion {
         COMMON.iter().chain(self.spec().params.iter())
     }
 
-    /// Whether it marches along screen directions (HBAO, GTAO) rather than point samples.
-    pub fn marches_horizons(&self) -> bool {
-        matches!(self.technique, SsaoTechnique::Hbao | SsaoTechnique::Gtao)
+    /// The camera of frame `i` of the temporal accumulation, from the scene's `camera` (the last
+    /// frame's): (temporal − 1 − i)·orbit_degrees before it, so the measured frame is the scene's
+    /// own view and its ground truth the study's.
+    pub fn camera(&self, camera: &scenes::Camera, i: u32) -> scenes::Camera {
+        let behind = self.temporal.saturating_sub(1 + i) as f32;
+        camera.orbited(-behind * self.orbit_degrees, self.orbit_distance)
     }
 
     fn with(technique: SsaoTechnique, directions: u32, steps: u32) -> AmbientOcclusion {
@@ -142,6 +153,9 @@ impl AmbientOcclusion {
             steps,
             half_res: false,
             blur: 0,
+            temporal: 0,
+            orbit_degrees: 0.0,
+            orbit_distance: 5.0,
             output: SsaoOutput::Shaded,
         }
     }
@@ -220,6 +234,50 @@ pub static COMMON: &[Param<AmbientOcclusion>] = &[
         get: |a| (a.blur > 0).then_some(Value::Whole(a.blur)),
         set: |a, v| {
             a.blur = v.whole()?;
+            Some(())
+        },
+    },
+    Param {
+        name: "temporal",
+        kind: Kind::Whole(0, 64),
+        unit: "frames",
+        doc: "temporal accumulation: this many frames, each with the per-pixel rotation advanced, the AO averaged \
+              with the history reprojected from the previous frame (its mean until `temporal` frames, then an \
+              exponential average of weight 1/temporal), the history dropped where its depth differs by 2 % \
+              (disocclusion)",
+        source: "Jimenez, Wu, Pesce & Jarabo 2016, §5 (temporal accumulation of the rotations); Nehab et al. 2007, \
+                 \"Accelerating Real-Time Shading with Reverse Reprojection Caching\", Graphics Hardware",
+        unset: "no accumulation",
+        get: |a| (a.temporal > 0).then_some(Value::Whole(a.temporal)),
+        set: |a, v| {
+            a.temporal = v.whole()?;
+            Some(())
+        },
+    },
+    Param {
+        name: "orbit_degrees",
+        kind: Kind::Real(0.0, 10.0),
+        unit: "degrees",
+        doc: "the test's motion, not the method's (needs temporal): the camera orbited this much per frame about \
+              world +Y before arriving at the scene's view",
+        source: "",
+        unset: "0: a still view",
+        get: |a| (a.orbit_degrees > 0.0).then_some(Value::Real(a.orbit_degrees)),
+        set: |a, v| {
+            a.orbit_degrees = v.real()?;
+            Some(())
+        },
+    },
+    Param {
+        name: "orbit_distance",
+        kind: Kind::Real(0.01, 1000.0),
+        unit: "m",
+        doc: "distance ahead of the camera of the point it orbits (with orbit_degrees)",
+        source: "",
+        unset: "5, used with orbit_degrees",
+        get: |a| (a.orbit_degrees > 0.0).then_some(Value::Real(a.orbit_distance)),
+        set: |a, v| {
+            a.orbit_distance = v.real()?;
             Some(())
         },
     },

@@ -7,8 +7,10 @@
 //! | AO (`fs_ao`, the method's file) | G-buffer positions, normals | obscurance at AO resolution |
 //! | blur x, blur y (`fs_blur`, under `blur`) | G-buffer, obscurance | obscurance |
 //! | upsample (`fs_upsample`, under `half_res`) | G-buffer, half-resolution obscurance | obscurance |
+//! | temporal (`fs_temporal`, under `temporal`) | G-buffer positions, obscurance, history | obscurance, next history |
 //!
-//! The last pass writes the targets' obscurance, which the lighting reads. Each estimator is a
+//! The last pass writes the targets' obscurance, which the lighting reads; under `temporal` the
+//! next history is then copied over the history (obscurance and view depth, Rg32Float). Each estimator is a
 //! shader module of its own (common.wgsl, march.wgsl, its file, ao.wgsl); the blur and the
 //! upsampling share one (common.wgsl, filter.wgsl). The pipelines are built on first use and
 //! held by the renderer.
@@ -18,7 +20,7 @@ use std::sync::{Arc, Mutex};
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec2;
-use scenes::Scene;
+use scenes::{Camera, Scene};
 use wgpu::util::DeviceExt;
 
 use super::{AmbientOcclusion, SsaoTechnique};
@@ -39,6 +41,7 @@ enum Entry {
     Ao(SsaoTechnique),
     Blur,
     Upsample,
+    Temporal,
 }
 
 impl Entry {
@@ -47,6 +50,7 @@ impl Entry {
             Entry::Ao(_) => "fs_ao",
             Entry::Blur => "fs_blur",
             Entry::Upsample => "fs_upsample",
+            Entry::Temporal => "fs_temporal",
         }
     }
 
@@ -56,7 +60,7 @@ impl Entry {
             Entry::Ao(SsaoTechnique::Hemisphere) => include_str!("../../../shaders/ssao/hemisphere.wgsl"),
             Entry::Ao(SsaoTechnique::Hbao) => include_str!("../../../shaders/ssao/hbao.wgsl"),
             Entry::Ao(SsaoTechnique::Gtao) => include_str!("../../../shaders/ssao/gtao.wgsl"),
-            Entry::Blur | Entry::Upsample => return format!("{COMMON}\n{FILTER}"),
+            Entry::Blur | Entry::Upsample | Entry::Temporal => return format!("{COMMON}\n{FILTER}"),
         };
         format!("{COMMON}\n{MARCH}\n{technique}\n{AO}")
     }
@@ -78,7 +82,14 @@ struct SsaoUniforms {
     params: [f32; 4],
     /// Samples, directions, steps, falloff.
     counts: [u32; 4],
+    /// The previous frame's view-projection (temporal accumulation).
+    prev_view_proj: [[f32; 4]; 4],
+    /// Frame index, frames accumulated (0: none), unused ×2.
+    temporal: [u32; 4],
 }
+
+/// The temporal history's format: obscurance and view depth.
+const HISTORY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
 
 /// The layouts and the pipelines, cached by entry point.
 pub(crate) struct SsaoPipelines {
@@ -115,8 +126,12 @@ impl SsaoPipelines {
             ],
         });
         let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("SSAO pass bind group layout (obscurance, axis)"),
-            entries: &[unfilterable_texture(0, fragment, false), uniform_entry(1)],
+            label: Some("SSAO pass bind group layout (obscurance, axis, history)"),
+            entries: &[
+                unfilterable_texture(0, fragment, false),
+                uniform_entry(1),
+                unfilterable_texture(2, fragment, false),
+            ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("SSAO pipeline layout"),
@@ -141,11 +156,17 @@ impl SsaoPipelines {
                     label: Some(&label),
                     source: wgpu::ShaderSource::Wgsl(entry.source().into()),
                 });
-                let targets = [Some(wgpu::ColorTargetState {
-                    format: OBSCURANCE_FORMAT,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })];
+                let target = |format| {
+                    Some(wgpu::ColorTargetState {
+                        format,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })
+                };
+                let targets = match entry {
+                    Entry::Temporal => vec![target(OBSCURANCE_FORMAT), target(HISTORY_FORMAT)],
+                    _ => vec![target(OBSCURANCE_FORMAT)],
+                };
                 Arc::new(device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                     label: Some(&label),
                     layout: Some(&self.pipeline_layout),
@@ -172,18 +193,48 @@ impl SsaoPipelines {
     }
 }
 
-/// One full-screen pass: its pipeline, its input and axis, its target.
+/// One full-screen pass: its pipeline, its inputs and axis, its targets.
 struct SsaoPass {
     label: &'static str,
     pipeline: Arc<wgpu::RenderPipeline>,
     inputs: wgpu::BindGroup,
-    target: wgpu::TextureView,
+    targets: Vec<wgpu::TextureView>,
+}
+
+/// Temporal accumulation's history: read by the temporal pass, rewritten from `next` after it.
+struct History {
+    current: wgpu::Texture,
+    next: wgpu::Texture,
 }
 
 /// The SSAO passes of one render, over `targets`' G-buffer into its obscurance.
 pub(crate) struct SsaoPasses {
     shared: wgpu::BindGroup,
     passes: Vec<SsaoPass>,
+    uniforms: wgpu::Buffer,
+    base: SsaoUniforms,
+    history: Option<History>,
+}
+
+/// A `w`×`h` history texture (render target, read by the next frame, copied).
+fn history_texture(device: &wgpu::Device, label: &str, w: u32, h: u32) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: HISTORY_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
 }
 
 impl SsaoPasses {
@@ -214,11 +265,13 @@ impl SsaoPasses {
             sizes: [w, h, aw, ah],
             params: [radius, ao.bias * radius, ao.blur as f32, scale as f32],
             counts: [ao.samples, ao.directions, ao.steps, ao.falloff.code()],
+            prev_view_proj: view_proj(camera, w, h, near, Vec2::ZERO).to_cols_array_2d(),
+            temporal: [0, ao.temporal, 0, 0],
         };
         let uniform_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("SSAO uniforms"),
             contents: bytemuck::bytes_of(&uniforms),
-            usage: wgpu::BufferUsages::UNIFORM,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
         let mut shared_entries = view_entries(&gbuffer[..2], 0);
         shared_entries.push(wgpu::BindGroupEntry {
@@ -232,6 +285,26 @@ impl SsaoPasses {
         });
         let a = obscurance_texture(device, "SSAO obscurance A", aw, ah);
         let b = obscurance_texture(device, "SSAO obscurance B", aw, ah);
+        let history = (ao.temporal > 0).then(|| History {
+            current: history_texture(device, "SSAO history", w, h),
+            next: history_texture(device, "SSAO next history", w, h),
+        });
+        let history_views = history.as_ref().map(|h| {
+            let view = |t: &wgpu::Texture| t.create_view(&wgpu::TextureViewDescriptor::default());
+            (view(&h.current), view(&h.next))
+        });
+        // Under temporal accumulation the chain ends in a full-resolution texture the temporal
+        // pass reads. Binding 2 (the history) is bound in every pass: the others, which read
+        // none, get the history too, or without one a texel that no pass writes (a texture
+        // bound for reading may not be the pass's target).
+        let accumulated = history
+            .as_ref()
+            .map(|_| obscurance_texture(device, "SSAO this frame", w, h));
+        let placeholder = obscurance_texture(device, "SSAO history placeholder", 1, 1);
+        let (last, unread) = match (&accumulated, &history_views) {
+            (Some(t), Some((current, _))) => (t, current),
+            _ => (output, &placeholder),
+        };
         let pass = |label, entry, input: &wgpu::TextureView, axis: [i32; 4], target: &wgpu::TextureView| {
             let axis = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("SSAO pass axis"),
@@ -243,6 +316,7 @@ impl SsaoPasses {
                 binding: 1,
                 resource: axis.as_entire_binding(),
             });
+            entries.extend(view_entries([unread], 2));
             SsaoPass {
                 label,
                 pipeline: pipelines.get(device, entry),
@@ -251,30 +325,72 @@ impl SsaoPasses {
                     layout: &pipelines.pass_layout,
                     entries: &entries,
                 }),
-                target: target.clone(),
+                targets: vec![target.clone()],
             }
         };
         let estimate = Entry::Ao(ao.technique);
         let (x, y, none) = ([1, 0, 0, 0], [0, 1, 0, 0], [0; 4]);
-        let passes = match (ao.half_res, ao.blur > 0) {
-            (false, false) => vec![pass("SSAO: estimate", estimate, &b, none, output)],
+        let mut passes = match (ao.half_res, ao.blur > 0) {
+            (false, false) => vec![pass("SSAO: estimate", estimate, &b, none, last)],
             (false, true) => vec![
                 pass("SSAO: estimate", estimate, &b, none, &a),
                 pass("SSAO: blur x", Entry::Blur, &a, x, &b),
-                pass("SSAO: blur y", Entry::Blur, &b, y, output),
+                pass("SSAO: blur y", Entry::Blur, &b, y, last),
             ],
             (true, false) => vec![
                 pass("SSAO: estimate (half resolution)", estimate, &b, none, &a),
-                pass("SSAO: upsample", Entry::Upsample, &a, none, output),
+                pass("SSAO: upsample", Entry::Upsample, &a, none, last),
             ],
             (true, true) => vec![
                 pass("SSAO: estimate (half resolution)", estimate, &b, none, &a),
                 pass("SSAO: blur x", Entry::Blur, &a, x, &b),
                 pass("SSAO: blur y", Entry::Blur, &b, y, &a),
-                pass("SSAO: upsample", Entry::Upsample, &a, none, output),
+                pass("SSAO: upsample", Entry::Upsample, &a, none, last),
             ],
         };
-        Some(SsaoPasses { shared, passes })
+        if let (Some(this_frame), Some((_, next))) = (&accumulated, &history_views) {
+            let mut temporal = pass(
+                "SSAO: temporal accumulation",
+                Entry::Temporal,
+                this_frame,
+                none,
+                output,
+            );
+            temporal.targets.push(next.clone());
+            passes.push(temporal);
+        }
+        Some(SsaoPasses {
+            shared,
+            passes,
+            uniforms: uniform_buffer,
+            base: uniforms,
+            history,
+        })
+    }
+
+    /// Frame `i` of a temporal accumulation, seen from `camera` after `previous` (both at the
+    /// targets' size and near plane of [`SsaoPasses::new`]).
+    pub(crate) fn set_frame(
+        &self,
+        queue: &wgpu::Queue,
+        i: u32,
+        camera: &Camera,
+        previous: &Camera,
+        near: f32,
+    ) {
+        let (w, h) = (self.base.sizes[0], self.base.sizes[1]);
+        let m = camera.to_world.matrix3;
+        let u = SsaoUniforms {
+            view_proj: view_proj(camera, w, h, near, Vec2::ZERO).to_cols_array_2d(),
+            cam_pos: vec4(camera.position(), self.base.cam_pos[3]),
+            cam_right: vec4(m.x_axis.into(), 0.0),
+            cam_up: vec4(m.y_axis.into(), 0.0),
+            cam_forward: vec4(camera.forward(), 0.0),
+            prev_view_proj: view_proj(previous, w, h, near, Vec2::ZERO).to_cols_array_2d(),
+            temporal: [i, self.base.temporal[1], 0, 0],
+            ..self.base
+        };
+        queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
     }
 
     /// Records the passes, timed together as frame pass `queries.1`.
@@ -283,7 +399,7 @@ impl SsaoPasses {
         for (i, p) in self.passes.iter().enumerate() {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(p.label),
-                color_attachments: &cleared_attachments([&p.target]),
+                color_attachments: &cleared_attachments(&p.targets),
                 depth_stencil_attachment: None,
                 timestamp_writes: queries.and_then(|(q, k)| q.span_writes(k, i == 0, i == last)),
                 occlusion_query_set: None,
@@ -292,6 +408,13 @@ impl SsaoPasses {
             pass.set_bind_group(0, &self.shared, &[]);
             pass.set_bind_group(1, &p.inputs, &[]);
             pass.draw(0..3, 0..1);
+        }
+        if let Some(h) = &self.history {
+            encoder.copy_texture_to_texture(
+                h.next.as_image_copy(),
+                h.current.as_image_copy(),
+                h.current.size(),
+            );
         }
     }
 }
