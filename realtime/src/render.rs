@@ -251,8 +251,13 @@ impl Renderer {
         let main = self.read_back(&targets)?;
         let counters = if settings.counters {
             let taps = self.post_taps(&aa_passes, &targets, settings)?;
+            let loads = match &ssao_passes {
+                Some(p) => Some(self.ssao_loads(p, settings)?),
+                None => None,
+            };
             let mut c = self.counting_frame(&frame, &targets, &scene_gpu, &groups, settings)?;
             c.post_taps_per_pixel = taps;
+            c.ssao_loads_per_pixel = loads;
             Some(c)
         } else {
             None
@@ -578,7 +583,29 @@ impl Renderer {
             texel_fetches_per_pixel: sums[0] as f64 / pixels,
             loop_iterations_per_pixel: sums[1] as f64 / pixels,
             post_taps_per_pixel: None,
+            ssao_loads_per_pixel: None,
         })
+    }
+
+    /// Texture loads per final pixel of the SSAO passes, counted by running them once more
+    /// on the last frame's G-buffer (`SsaoPasses::encode_load_count`).
+    fn ssao_loads(&self, passes: &SsaoPasses, settings: &RasterSettings) -> Result<f64, RasterError> {
+        let device = &self.gpu.device;
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("SSAO load count encoder"),
+        });
+        let rows = passes.encode_load_count(device, &self.ssao, &mut encoder);
+        let bytes = self.submit_and_read(
+            encoder,
+            rows,
+            "SSAO load counters read-back",
+            "counting the SSAO loads",
+        )?;
+        let sum: u64 = bytes
+            .chunks_exact(4)
+            .map(|c| u64::from(u32::from_le_bytes([c[0], c[1], c[2], c[3]])))
+            .sum();
+        Ok(sum as f64 / (f64::from(settings.width) * f64::from(settings.height)))
     }
 
     /// Texel loads per final pixel of the anti-aliasing passes after shading, counted by
@@ -749,6 +776,9 @@ fn add_header(
             "loop_iterations_per_pixel",
             format!("{:.4}", c.loop_iterations_per_pixel),
         ));
+        if let Some(t) = c.ssao_loads_per_pixel {
+            attrs.push(("ssao_loads_per_pixel", format!("{t:.4}")));
+        }
         if let Some(t) = c.post_taps_per_pixel {
             attrs.push(("post_taps_per_pixel", format!("{t:.4}")));
         }

@@ -97,17 +97,24 @@ pub struct Counters {
     /// of the last frame, or None without such a pass.
     #[serde(default)]
     pub post_taps_per_pixel: Option<f64>,
+    /// Texture loads of the SSAO passes (G-buffer, obscurance, history) of the last frame, or
+    /// None without them.
+    #[serde(default)]
+    pub ssao_loads_per_pixel: Option<f64>,
 }
 
 impl Counters {
-    /// `0.0 texel fetches, 257.0 loop iterations per pixel` (`, 31.2 post-process taps` after
-    /// it when the method has such passes).
+    /// `0.0 texel fetches, 257.0 loop iterations per pixel` (`, 31.2 post-process taps` and
+    /// `, 66.0 SSAO loads` after it when the method has such passes).
     pub fn summary(&self) -> String {
         let taps = self
             .post_taps_per_pixel
             .map_or(String::new(), |t| format!(", {t:.1} post-process taps"));
+        let loads = self
+            .ssao_loads_per_pixel
+            .map_or(String::new(), |t| format!(", {t:.1} SSAO loads"));
         format!(
-            "{:.1} texel fetches, {:.1} loop iterations per pixel{taps}",
+            "{:.1} texel fetches, {:.1} loop iterations per pixel{taps}{loads}",
             self.texel_fetches_per_pixel, self.loop_iterations_per_pixel
         )
     }

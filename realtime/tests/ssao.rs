@@ -7,7 +7,8 @@
 //!   and darkened without it (the depth threshold's lower bound), and the floor at the wall's
 //!   foot is darkened under both;
 //! - `output = ao` is the shaded image divided by the albedo (the sky is 1 and the env
-//!   quadrature exact for it); the frame's timing names the SSAO pass;
+//!   quadrature exact for it); the frame's timing names the SSAO pass, and its counters the
+//!   passes' texture loads;
 //! - temporal accumulation of one rotated slice per frame approaches eight slices in one frame,
 //!   under a still and an orbiting camera;
 //! - the forward pipeline and bad parameters are refused.
@@ -185,18 +186,42 @@ fn temporal_accumulation_averages_the_rotations() {
 }
 
 #[test]
-fn the_timing_names_the_ssao_pass() {
+fn the_timing_and_the_counters_name_the_ssao_passes() {
     let yard = scene(1.0, Some(-1.0));
-    let out = renderer()
-        .render(
-            &yard,
-            &settings("ssao_hbao", &[("blur", "2"), ("half_res", "on")]),
-        )
-        .unwrap();
+    let run = |params: &[(&str, &str)]| {
+        renderer()
+            .render(&yard, &settings("ssao_gtao", params).counters(true))
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let out = run(&[("blur", "2"), ("half_res", "on")]);
     if !out.timing.passes.is_empty() {
         let names: Vec<&str> = out.timing.passes.iter().map(|p| p.name.as_str()).collect();
         assert_eq!(names, ["G-buffer pass", "SSAO pass", "lighting pass"]);
     }
+    // Texture loads per pixel: a surface pixel's estimate reads its own texel (position and
+    // normal) and at most 2 × directions × steps positions; the background one position.
+    let loads = |params: &[(&str, &str)]| {
+        run(params)
+            .counters
+            .and_then(|c| c.ssao_loads_per_pixel)
+            .expect("SSAO loads counted")
+    };
+    let (full, half, blurred) = (loads(&[]), loads(&[("half_res", "on")]), loads(&[("blur", "2")]));
+    assert!(full > 10.0 && full <= 2.0 + 2.0 * 4.0 * 8.0, "{full}");
+    // Half resolution: a quarter of the estimates, then 4 × 3 loads (+ 1 own) per pixel.
+    assert!(
+        half < 0.5 * full + 13.0 && half > 0.25 * full,
+        "{half} against {full}"
+    );
+    // The blur's two passes: 5 taps of position, normal and obscurance, plus the centre.
+    assert!(
+        blurred > full + 10.0 && blurred <= full + 2.0 * (2.0 + 5.0 * 3.0),
+        "{blurred}"
+    );
+    let plain = renderer()
+        .render(&yard, &settings("area_quadrature", &[]).counters(true))
+        .unwrap();
+    assert_eq!(plain.counters.and_then(|c| c.ssao_loads_per_pixel), None);
 }
 
 #[test]

@@ -200,7 +200,7 @@ fn pass_times(passes: &[realtime::timing::PassTime]) -> String {
 }
 
 fn metric_table(h: &mut String, r: &StudyResult) {
-    h.push_str("<h2>Metrics (mask <code>all</code>; other masks in metrics.json)</h2><table><thead><tr><th class=l onclick=\"sortTable(this)\">variant</th><th onclick=\"sortTable(this)\">ms/frame</th><th onclick=\"sortTable(this)\">texel fetches/px</th><th onclick=\"sortTable(this)\">loop iterations/px</th><th onclick=\"sortTable(this)\">samples/px</th><th onclick=\"sortTable(this)\">post-process taps/px</th><th onclick=\"sortTable(this)\">NaN/Inf px</th>");
+    h.push_str("<h2>Metrics (mask <code>all</code>; other masks in metrics.json)</h2><table><thead><tr><th class=l onclick=\"sortTable(this)\">variant</th><th onclick=\"sortTable(this)\">ms/frame</th><th onclick=\"sortTable(this)\">texel fetches/px</th><th onclick=\"sortTable(this)\">loop iterations/px</th><th onclick=\"sortTable(this)\">samples/px</th><th onclick=\"sortTable(this)\">post-process taps/px</th><th onclick=\"sortTable(this)\">SSAO loads/px</th><th onclick=\"sortTable(this)\">NaN/Inf px</th>");
     for m in &r.metrics {
         let _ = write!(h, "<th onclick=\"sortTable(this)\">{m}</th>");
     }
@@ -211,7 +211,7 @@ fn metric_table(h: &mut String, r: &StudyResult) {
         let opt = |x: Option<f64>| x.map_or("–".into(), num);
         let _ = write!(
             h,
-            "<tr class=\"{}\"><td class=l>{}</td><td title=\"{}\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>",
+            "<tr class=\"{}\"><td class=l>{}</td><td title=\"{}\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>",
             if failing(r, v) { "fail" } else { "" },
             esc(&v.label),
             esc(&pass_times(&v.cost.passes)),
@@ -220,6 +220,7 @@ fn metric_table(h: &mut String, r: &StudyResult) {
             opt(v.cost.loop_iterations_per_pixel),
             v.cost.samples_per_pixel,
             opt(v.cost.post_taps_per_pixel),
+            opt(v.cost.ssao_loads_per_pixel),
             v.non_finite_pixels
         );
         if let Some(all) = v.metrics.first() {

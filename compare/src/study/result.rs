@@ -229,6 +229,9 @@ pub struct Cost {
     /// Texel loads of the anti-aliasing passes after shading per pixel (hardware-independent;
     /// absent without such passes or counters).
     pub post_taps_per_pixel: Option<f64>,
+    /// Texture loads of the SSAO passes per pixel (hardware-independent; absent without such
+    /// passes or counters).
+    pub ssao_loads_per_pixel: Option<f64>,
     /// Samples taken in each pixel: k² supersamples × MSAA samples × TAA frames
     /// (hardware-independent; `realtime::render::samples_per_pixel`).
     pub samples_per_pixel: u32,
@@ -438,7 +441,8 @@ impl StudyResult {
     pub fn to_csv(&self) -> String {
         let mut s = String::from(
             "variant,method,params,scene,on,mask,metric,value,noise_floor,non_finite,frame_ms,gpu_ms,wall_ms,\
-             texel_fetches_per_pixel,loop_iterations_per_pixel,samples_per_pixel,post_taps_per_pixel\n",
+             texel_fetches_per_pixel,loop_iterations_per_pixel,samples_per_pixel,post_taps_per_pixel,\
+             ssao_loads_per_pixel\n",
         );
         let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
         for v in &self.variants {
@@ -453,7 +457,7 @@ impl StudyResult {
             for (on, m) in tagged {
                 for e in &m.values {
                     s += &format!(
-                        "\"{}\",{},\"{}\",\"{}\",{on},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+                        "\"{}\",{},\"{}\",\"{}\",{on},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
                         v.label,
                         v.method,
                         params.join(" "),
@@ -469,7 +473,8 @@ impl StudyResult {
                         opt(v.cost.texel_fetches_per_pixel),
                         opt(v.cost.loop_iterations_per_pixel),
                         v.cost.samples_per_pixel,
-                        opt(v.cost.post_taps_per_pixel)
+                        opt(v.cost.post_taps_per_pixel),
+                        opt(v.cost.ssao_loads_per_pixel)
                     );
                 }
             }

@@ -387,6 +387,7 @@ fn measure_variant(
             texel_fetches_per_pixel: out.counters.map(|c| c.texel_fetches_per_pixel),
             loop_iterations_per_pixel: out.counters.map(|c| c.loop_iterations_per_pixel),
             post_taps_per_pixel: out.counters.and_then(|c| c.post_taps_per_pixel),
+            ssao_loads_per_pixel: out.counters.and_then(|c| c.ssao_loads_per_pixel),
             samples_per_pixel: realtime::render::samples_per_pixel(&settings),
             passes: out.timing.passes.clone(),
         },

@@ -5,6 +5,12 @@
 
 @fragment
 fn fs_ao(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let out = estimate(pos);
+    flush_loads(pos.y);
+    return out;
+}
+
+fn estimate(pos: vec4<f32>) -> vec4<f32> {
     let px = vec2<i32>(pos.xy) * i32(ssao.params.w);
     let g = gsample(px);
     if !g.valid {

@@ -36,9 +36,24 @@ struct PassUniforms {
 @group(0) @binding(0) var gbuffer0: texture_2d<f32>;
 @group(0) @binding(1) var gbuffer1: texture_2d<f32>;
 @group(0) @binding(2) var<uniform> ssao: SsaoUniforms;
+// Texture loads of the passes, one counter per target row, under COUNT_LOADS (the counting
+// run only: passes.rs `SsaoPasses::encode_load_count`; the timed frames skip the atomics).
+@group(0) @binding(3) var<storage, read_write> load_rows: array<atomic<u32>>;
 @group(1) @binding(0) var obscurance_in: texture_2d<f32>;
 @group(1) @binding(1) var<uniform> pass_info: PassUniforms;
 @group(1) @binding(2) var history: texture_2d<f32>;
+
+override COUNT_LOADS: bool = false;
+
+// Texture loads of the fragment being processed.
+var<private> loads: u32;
+
+// Adds the fragment's loads to its row's counter (under COUNT_LOADS). Call once, last.
+fn flush_loads(y: f32) {
+    if COUNT_LOADS {
+        atomicAdd(&load_rows[u32(y)], loads);
+    }
+}
 
 const PI: f32 = 3.14159265358979;
 const GOLDEN_ANGLE: f32 = 2.39996322972865;
@@ -63,9 +78,11 @@ fn in_target(px: vec2<i32>) -> bool {
 
 fn gsample(px: vec2<i32>) -> GSample {
     let g0 = textureLoad(gbuffer0, px, 0);
+    loads += 1u;
     if g0.w < 0.5 {
         return GSample(vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0), false);
     }
+    loads += 1u;
     var n = normalize(textureLoad(gbuffer1, px, 0).xyz);
     if dot(n, ssao.cam_pos.xyz - g0.xyz) < 0.0 {
         n = -n;
@@ -75,7 +92,14 @@ fn gsample(px: vec2<i32>) -> GSample {
 
 // The position only (the depth-only methods read nothing else).
 fn gposition(px: vec2<i32>) -> vec4<f32> {
+    loads += 1u;
     return textureLoad(gbuffer0, px, 0);
+}
+
+// The previous pass's obscurance at `q`.
+fn obscurance_at(q: vec2<i32>) -> f32 {
+    loads += 1u;
+    return textureLoad(obscurance_in, q, 0).r;
 }
 
 fn view_depth(p: vec3<f32>) -> f32 {

@@ -34,6 +34,12 @@ fn geometric_weight(c: GSample, o: GSample) -> f32 {
 
 @fragment
 fn fs_blur(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let out = blur(pos);
+    flush_loads(pos.y);
+    return out;
+}
+
+fn blur(pos: vec4<f32>) -> vec4<f32> {
     let q = vec2<i32>(pos.xy);
     let scale = i32(ssao.params.w);
     let c = gsample(q * scale);
@@ -56,7 +62,7 @@ fn fs_blur(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         }
         let x = f32(i) / sigma;
         let w = exp(-0.5 * x * x) * geometric_weight(c, o);
-        sum += w * textureLoad(obscurance_in, t, 0).r;
+        sum += w * obscurance_at(t);
         weights += w;
     }
     return vec4<f32>(sum / weights, 0.0, 0.0, 0.0);
@@ -64,6 +70,12 @@ fn fs_blur(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 
 @fragment
 fn fs_upsample(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let out = upsample(pos);
+    flush_loads(pos.y);
+    return out;
+}
+
+fn upsample(pos: vec4<f32>) -> vec4<f32> {
     let p = vec2<i32>(pos.xy);
     let c = gsample(p);
     if !c.valid {
@@ -85,7 +97,7 @@ fn fs_upsample(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         if !g.valid {
             continue;
         }
-        let value = textureLoad(obscurance_in, q, 0).r;
+        let value = obscurance_at(q);
         let bilinear = mix(1.0 - t.x, t.x, f32(o.x)) * mix(1.0 - t.y, t.y, f32(o.y));
         let w = bilinear * geometric_weight(c, g);
         sum += w * value;
@@ -112,12 +124,18 @@ struct TemporalOut {
 
 @fragment
 fn fs_temporal(@builtin(position) pos: vec4<f32>) -> TemporalOut {
+    let out = accumulate(pos);
+    flush_loads(pos.y);
+    return out;
+}
+
+fn accumulate(pos: vec4<f32>) -> TemporalOut {
     let p = vec2<i32>(pos.xy);
     let g0 = gposition(p);
     if g0.w < 0.5 {
         return TemporalOut(vec4<f32>(0.0), vec4<f32>(0.0));
     }
-    let current = textureLoad(obscurance_in, p, 0).r;
+    let current = obscurance_at(p);
     let depth = (ssao.view_proj * vec4<f32>(g0.xyz, 1.0)).w;
     var value = current;
     let frame = ssao.temporal.x;
@@ -127,6 +145,7 @@ fn fs_temporal(@builtin(position) pos: vec4<f32>) -> TemporalOut {
         let q = vec2<i32>(floor(vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * vec2<f32>(ssao.sizes.xy)));
         if in_target(q) {
             let h = textureLoad(history, q, 0);
+            loads += 1u;
             if h.g > 0.0 && abs(h.g - c.w) < HISTORY_DEPTH_TOLERANCE * c.w {
                 let weight = 1.0 / f32(min(frame + 1u, ssao.temporal.y));
                 value = mix(h.r, current, weight);

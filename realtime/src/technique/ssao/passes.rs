@@ -98,7 +98,8 @@ pub(crate) struct SsaoPipelines {
     /// Group 1: the previous pass's obscurance, the pass's axis.
     pass_layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
-    cache: Mutex<HashMap<Entry, Arc<wgpu::RenderPipeline>>>,
+    /// By entry point and whether it counts its loads (`COUNT_LOADS`).
+    cache: Mutex<HashMap<(Entry, bool), Arc<wgpu::RenderPipeline>>>,
 }
 
 fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
@@ -118,11 +119,21 @@ impl SsaoPipelines {
     pub(crate) fn new(device: &wgpu::Device) -> SsaoPipelines {
         let fragment = wgpu::ShaderStages::FRAGMENT;
         let shared_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("SSAO bind group layout (G-buffer, uniforms)"),
+            label: Some("SSAO bind group layout (G-buffer, uniforms, load counters)"),
             entries: &[
                 unfilterable_texture(0, fragment, false),
                 unfilterable_texture(1, fragment, false),
                 uniform_entry(2),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: fragment,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: false },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
             ],
         });
         let pass_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -146,12 +157,18 @@ impl SsaoPipelines {
         }
     }
 
-    fn get(&self, device: &wgpu::Device, entry: Entry) -> Arc<wgpu::RenderPipeline> {
+    /// The pipeline of `entry`, counting its loads or not, built on first use.
+    fn get(&self, device: &wgpu::Device, entry: Entry, counting: bool) -> Arc<wgpu::RenderPipeline> {
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
         cache
-            .entry(entry)
+            .entry((entry, counting))
             .or_insert_with(|| {
-                let label = format!("SSAO: {entry:?}");
+                let label = format!("SSAO: {entry:?} (counting {counting})");
+                let constants = [("COUNT_LOADS", if counting { 1.0 } else { 0.0 })];
+                let options = wgpu::PipelineCompilationOptions {
+                    constants: &constants,
+                    zero_initialize_workgroup_memory: false,
+                };
                 let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                     label: Some(&label),
                     source: wgpu::ShaderSource::Wgsl(entry.source().into()),
@@ -173,7 +190,7 @@ impl SsaoPipelines {
                     vertex: wgpu::VertexState {
                         module: &module,
                         entry_point: Some("vs_fullscreen"),
-                        compilation_options: Default::default(),
+                        compilation_options: options.clone(),
                         buffers: &[],
                     },
                     primitive: wgpu::PrimitiveState::default(),
@@ -182,7 +199,7 @@ impl SsaoPipelines {
                     fragment: Some(wgpu::FragmentState {
                         module: &module,
                         entry_point: Some(entry.fragment()),
-                        compilation_options: Default::default(),
+                        compilation_options: options,
                         targets: &targets,
                     }),
                     multiview: None,
@@ -196,6 +213,7 @@ impl SsaoPipelines {
 /// One full-screen pass: its pipeline, its inputs and axis, its targets.
 struct SsaoPass {
     label: &'static str,
+    entry: Entry,
     pipeline: Arc<wgpu::RenderPipeline>,
     inputs: wgpu::BindGroup,
     targets: Vec<wgpu::TextureView>,
@@ -214,6 +232,8 @@ pub(crate) struct SsaoPasses {
     uniforms: wgpu::Buffer,
     base: SsaoUniforms,
     history: Option<History>,
+    /// Texture loads per target row (`COUNT_LOADS`), summed by the counting run.
+    load_rows: wgpu::Buffer,
 }
 
 /// A `w`×`h` history texture (render target, read by the next frame, copied).
@@ -273,10 +293,20 @@ impl SsaoPasses {
             contents: bytemuck::bytes_of(&uniforms),
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
+        let load_rows = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("SSAO load counters (one per target row)"),
+            size: 4 * u64::from(h),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let mut shared_entries = view_entries(&gbuffer[..2], 0);
         shared_entries.push(wgpu::BindGroupEntry {
             binding: 2,
             resource: uniform_buffer.as_entire_binding(),
+        });
+        shared_entries.push(wgpu::BindGroupEntry {
+            binding: 3,
+            resource: load_rows.as_entire_binding(),
         });
         let shared = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("SSAO bind group (G-buffer, uniforms)"),
@@ -319,7 +349,8 @@ impl SsaoPasses {
             entries.extend(view_entries([unread], 2));
             SsaoPass {
                 label,
-                pipeline: pipelines.get(device, entry),
+                entry,
+                pipeline: pipelines.get(device, entry, false),
                 inputs: device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some(label),
                     layout: &pipelines.pass_layout,
@@ -365,6 +396,7 @@ impl SsaoPasses {
             uniforms: uniform_buffer,
             base: uniforms,
             history,
+            load_rows,
         })
     }
 
@@ -395,8 +427,32 @@ impl SsaoPasses {
 
     /// Records the passes, timed together as frame pass `queries.1`.
     pub(crate) fn encode(&self, encoder: &mut wgpu::CommandEncoder, queries: Option<(&Timestamps, u32)>) {
+        self.draw(encoder, queries, |p| p.pipeline.clone());
+    }
+
+    /// Records the passes once more with their counting pipelines into cleared load counters,
+    /// and returns the counters (one u32 per target row) to read back.
+    pub(crate) fn encode_load_count(
+        &self,
+        device: &wgpu::Device,
+        pipelines: &SsaoPipelines,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> &wgpu::Buffer {
+        encoder.clear_buffer(&self.load_rows, 0, None);
+        self.draw(encoder, None, |p| pipelines.get(device, p.entry, true));
+        &self.load_rows
+    }
+
+    /// The passes with the pipelines `pipeline` picks, then the history copy.
+    fn draw(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        queries: Option<(&Timestamps, u32)>,
+        pipeline: impl Fn(&SsaoPass) -> Arc<wgpu::RenderPipeline>,
+    ) {
         let last = self.passes.len() - 1;
         for (i, p) in self.passes.iter().enumerate() {
+            let pipeline = pipeline(p);
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(p.label),
                 color_attachments: &cleared_attachments(&p.targets),
@@ -404,7 +460,7 @@ impl SsaoPasses {
                 timestamp_writes: queries.and_then(|(q, k)| q.span_writes(k, i == 0, i == last)),
                 occlusion_query_set: None,
             });
-            pass.set_pipeline(&p.pipeline);
+            pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, &self.shared, &[]);
             pass.set_bind_group(1, &p.inputs, &[]);
             pass.draw(0..3, 0..1);
