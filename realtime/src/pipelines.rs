@@ -330,6 +330,55 @@ fn layout_entry(
     }
 }
 
+/// The pipeline of a full-screen pass: entry points `vs` and `fs` of `module`, no vertex
+/// buffers, no depth, one sample, one target per format written whole without blending, and
+/// the pipeline-overridable `constants` (the anti-aliasing and SSAO passes).
+pub(crate) fn fullscreen_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    (vs, fs): (&str, &str),
+    formats: &[wgpu::TextureFormat],
+    constants: &[(&str, f64)],
+) -> wgpu::RenderPipeline {
+    let options = wgpu::PipelineCompilationOptions {
+        constants,
+        zero_initialize_workgroup_memory: false,
+    };
+    let targets: Vec<_> = formats
+        .iter()
+        .map(|&format| {
+            Some(wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })
+        })
+        .collect();
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(vs),
+            compilation_options: options.clone(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(fs),
+            compilation_options: options,
+            targets: &targets,
+        }),
+        multiview: None,
+        cache: None,
+    })
+}
+
 /// A 2D texture of unfilterable floats (the Rgba32Float targets: read with textureLoad).
 pub(crate) fn unfilterable_texture(
     binding: u32,

@@ -153,26 +153,38 @@ impl Renderer {
             .ssao
             .filter(|a| a.temporal > 0)
             .zip(ssao_passes.as_ref());
-        let timing = match (&aa, aa_passes.post(), temporal_ssao) {
-            (AntiAliasing::Taa { frames, jitter, .. }, Some(post), _) => {
-                let near = camera_near(scene);
-                let view = |i: u32| {
+        let near = camera_near(scene);
+        let queue = &self.gpu.queue;
+        let (frame_ref, scene_gpu_ref) = (&frame, &scene_gpu);
+        // A sequence of frames that differ (TAA; SSAO's temporal accumulation): how many, and
+        // what each sets before it runs (its view, and its pass's per-frame parameters).
+        type SetFrame<'a> = Box<dyn Fn(u32) + 'a>;
+        let sequence: Option<(u32, SetFrame<'_>)> = match (&aa, aa_passes.post(), temporal_ssao) {
+            (AntiAliasing::Taa { frames, jitter, .. }, Some(post), _) => Some((
+                *frames,
+                Box::new(move |i: u32| {
                     let camera = taa::camera(&aa, &scene.camera, i);
-                    frame.set_view(
-                        &self.gpu.queue,
-                        scene,
-                        &camera,
-                        taa::jitter(i, *jitter),
-                        &scene_gpu,
-                        settings,
-                        k,
-                    );
+                    let jitter = taa::jitter(i, *jitter);
+                    frame_ref.set_view(queue, scene, &camera, jitter, scene_gpu_ref, settings, k);
                     let previous = taa::camera(&aa, &scene.camera, i.saturating_sub(1));
                     let film = (settings.width, settings.height);
-                    post.set_taa_frame(&self.gpu.queue, i == 0, &camera, &previous, film, near);
-                };
+                    post.set_taa_frame(queue, i == 0, &camera, &previous, film, near);
+                }),
+            )),
+            (_, _, Some((ao, passes))) => Some((
+                ao.temporal,
+                Box::new(move |i: u32| {
+                    let camera = ao.camera(&scene.camera, i);
+                    frame_ref.set_view(queue, scene, &camera, Vec2::ZERO, scene_gpu_ref, settings, k);
+                    let previous = ao.camera(&scene.camera, i.saturating_sub(1));
+                    passes.set_frame(queue, i, &camera, &previous, near);
+                }),
+            )),
+            _ => None,
+        };
+        let timing = match &sequence {
+            Some((frames, set_frame)) => {
                 // Warm-up frames are the sequence's first frame, each starting the history anew.
-                let frames = (settings.warmup_frames, *frames);
                 let timing = self.timed_frames(
                     &frame,
                     &targets,
@@ -180,73 +192,23 @@ impl Renderer {
                     &scene_gpu,
                     &groups,
                     Some(&aa_passes),
-                    frames,
-                    &|i| view(i.saturating_sub(settings.warmup_frames)),
+                    (settings.warmup_frames, *frames),
+                    &|i| set_frame(i.saturating_sub(settings.warmup_frames)),
                 )?;
                 // The AOV frames below see the scene's own view, unjittered.
-                frame.set_view(
-                    &self.gpu.queue,
-                    scene,
-                    &scene.camera,
-                    Vec2::ZERO,
-                    &scene_gpu,
-                    settings,
-                    k,
-                );
+                frame.set_view(queue, scene, &scene.camera, Vec2::ZERO, &scene_gpu, settings, k);
                 timing
             }
-            (_, _, Some((ao, passes))) => {
-                let near = camera_near(scene);
-                // The accumulation's frames, each with its rotation and (under motion) its
-                // camera; warm-up frames are its first frame, each starting the history anew.
-                let view = |i: u32| {
-                    let camera = ao.camera(&scene.camera, i);
-                    frame.set_view(
-                        &self.gpu.queue,
-                        scene,
-                        &camera,
-                        Vec2::ZERO,
-                        &scene_gpu,
-                        settings,
-                        k,
-                    );
-                    let previous = ao.camera(&scene.camera, i.saturating_sub(1));
-                    passes.set_frame(&self.gpu.queue, i, &camera, &previous, near);
-                };
-                let timing = self.timed_frames(
-                    &frame,
-                    &targets,
-                    &stages,
-                    &scene_gpu,
-                    &groups,
-                    Some(&aa_passes),
-                    (settings.warmup_frames, ao.temporal),
-                    &|i| view(i.saturating_sub(settings.warmup_frames)),
-                )?;
-                frame.set_view(
-                    &self.gpu.queue,
-                    scene,
-                    &scene.camera,
-                    Vec2::ZERO,
-                    &scene_gpu,
-                    settings,
-                    k,
-                );
-                timing
-            }
-            _ => {
-                let frames = (settings.warmup_frames, settings.timed_frames);
-                self.timed_frames(
-                    &frame,
-                    &targets,
-                    &stages,
-                    &scene_gpu,
-                    &groups,
-                    Some(&aa_passes),
-                    frames,
-                    &|_| {},
-                )?
-            }
+            None => self.timed_frames(
+                &frame,
+                &targets,
+                &stages,
+                &scene_gpu,
+                &groups,
+                Some(&aa_passes),
+                (settings.warmup_frames, settings.timed_frames),
+                &|_| {},
+            )?,
         };
         let main = self.read_back(&targets)?;
         let counters = if settings.counters {

@@ -17,21 +17,11 @@ pub(crate) const OBSCURANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R
 
 /// A `w`×`h` single-channel target of the SSAO passes, readable by the next pass.
 pub(crate) fn obscurance_texture(device: &wgpu::Device, label: &str, w: u32, h: u32) -> wgpu::TextureView {
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: OBSCURANCE_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats: &[],
-    });
-    labelled_view(&texture, label)
+    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+    labelled_view(
+        &texture_2d(device, label, (w, h), OBSCURANCE_FORMAT, usage),
+        label,
+    )
 }
 
 /// Targets of a `width`×`height` render.
@@ -53,11 +43,12 @@ pub struct Targets {
     pub(crate) msaa: Option<MultisampledOutputs>,
 }
 
-fn color_texture(
+/// A `w`×`h` single-sample 2D texture of `format` with `usage`.
+pub(crate) fn texture_2d(
     device: &wgpu::Device,
     label: &str,
-    w: u32,
-    h: u32,
+    (w, h): (u32, u32),
+    format: wgpu::TextureFormat,
     usage: wgpu::TextureUsages,
 ) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
@@ -70,10 +61,20 @@ fn color_texture(
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: COLOR_FORMAT,
+        format,
         usage,
         view_formats: &[],
     })
+}
+
+fn color_texture(
+    device: &wgpu::Device,
+    label: &str,
+    w: u32,
+    h: u32,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    texture_2d(device, label, (w, h), COLOR_FORMAT, usage)
 }
 
 /// The multisampled targets and depth buffer the geometry pass draws into under `aa_msaa`:
@@ -208,20 +209,13 @@ impl Targets {
         ]
         .map(|label| color_texture(device, label, width, height, out_usage));
         let output_views = [0, 1, 2].map(|i| outputs[i].create_view(&wgpu::TextureViewDescriptor::default()));
-        let depth = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("depth buffer (reversed-Z)"),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: DEPTH_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            view_formats: &[],
-        });
+        let depth = texture_2d(
+            device,
+            "depth buffer (reversed-Z)",
+            (width, height),
+            DEPTH_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
         let depth_view = labelled_view(&depth, "depth view");
         let (gbuffer_views, gbuffer_bind_group, obscurance_view) = if kind == PipelineKind::Deferred {
             let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;

@@ -139,6 +139,21 @@ fn falloff_weight(d: f32) -> f32 {
     }
 }
 
+// The point methods' test of sample `s` for the point `p`: the surface seen at the sample's
+// pixel, when it lies in front of the sample by more than the bias, occludes with the falloff
+// weight of its distance from `p`; a sample off the target or over the background does not.
+fn point_occlusion(s: vec3<f32>, p: vec3<f32>) -> f32 {
+    let pix = vec2<i32>(floor(project(s)));
+    if !in_target(pix) {
+        return 0.0;
+    }
+    let o = gposition(pix);
+    if o.w < 0.5 || view_depth(o.xyz) >= view_depth(s) - ssao.params.y {
+        return 0.0;
+    }
+    return falloff_weight(length(o.xyz - p));
+}
+
 // A frame with `n` as its z axis (Duff et al. 2017, "Building an Orthonormal Basis, Revisited",
 // JCGT 6(1)).
 fn basis(n: vec3<f32>) -> mat3x3<f32> {

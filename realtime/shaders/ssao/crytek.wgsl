@@ -26,18 +26,7 @@ fn ambient_occlusion(px: vec2<i32>, g: GSample) -> f32 {
         let dir = (cos(phi) * ssao.cam_right.xyz + sin(phi) * ssao.cam_up.xyz) * sin_t
             + cos_t * ssao.cam_forward.xyz;
         let rho = r * pow(fract(f32(i) * 0.618034 + shift) + 0.5 / f32(n), 1.0 / 3.0);
-        let s = g.p + min(rho, r) * dir;
-        let pix = vec2<i32>(floor(project(s)));
-        if !in_target(pix) {
-            continue;
-        }
-        let o = gposition(pix);
-        if o.w < 0.5 {
-            continue;
-        }
-        if view_depth(o.xyz) < view_depth(s) - ssao.params.y {
-            occluded += falloff_weight(length(o.xyz - g.p));
-        }
+        occluded += point_occlusion(g.p + min(rho, r) * dir, g.p);
     }
     return min(1.0, 2.0 * (1.0 - occluded / f32(n)));
 }

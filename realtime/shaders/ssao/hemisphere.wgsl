@@ -24,18 +24,7 @@ fn ambient_occlusion(px: vec2<i32>, g: GSample) -> f32 {
         let phi = f32(i) * GOLDEN_ANGLE + rot;
         let local = vec3<f32>(rad * cos(phi), rad * sin(phi), sqrt(max(0.0, 1.0 - u)));
         let t = fract(f32(i) * 0.618034 + shift) + 0.5 / f32(n);
-        let s = g.p + frame * local * (min(t, 1.0) * r);
-        let pix = vec2<i32>(floor(project(s)));
-        if !in_target(pix) {
-            continue;
-        }
-        let o = gposition(pix);
-        if o.w < 0.5 {
-            continue;
-        }
-        if view_depth(o.xyz) < view_depth(s) - ssao.params.y {
-            occluded += falloff_weight(length(o.xyz - g.p));
-        }
+        occluded += point_occlusion(g.p + frame * local * (min(t, 1.0) * r), g.p);
     }
     return 1.0 - occluded / f32(n);
 }

@@ -25,7 +25,7 @@ use super::{AntiAliasing, TaaClamp};
 use crate::camera::view_proj;
 use crate::gpu::COLOR_FORMAT;
 use crate::gpu_types::vec4;
-use crate::pipelines::unfilterable_texture;
+use crate::pipelines::{fullscreen_pipeline, unfilterable_texture};
 
 const FRAGMENT: wgpu::ShaderStages = wgpu::ShaderStages::FRAGMENT;
 use crate::targets::{cleared_attachments, view_entries, Targets};
@@ -170,45 +170,23 @@ impl PostPipelines {
             .or_insert_with(|| {
                 let label = format!("anti-aliasing: {} (counting {counting})", entry.fragment());
                 let constants = [("COUNT_TAPS", if counting { 1.0 } else { 0.0 })];
-                let options = wgpu::PipelineCompilationOptions {
-                    constants: &constants,
-                    zero_initialize_workgroup_memory: false,
-                };
                 let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                     label: Some(&label),
                     source: wgpu::ShaderSource::Wgsl(entry.source().into()),
                 });
-                let target = Some(wgpu::ColorTargetState {
-                    format: COLOR_FORMAT,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                });
-                let targets = vec![target; entry.targets()];
                 let layout = match entry {
                     Entry::MsaaResolve => &self.resolve_pipeline_layout,
                     _ => &self.post_pipeline_layout,
                 };
-                Arc::new(device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some(&label),
-                    layout: Some(layout),
-                    vertex: wgpu::VertexState {
-                        module: &module,
-                        entry_point: Some("vs_post"),
-                        compilation_options: options.clone(),
-                        buffers: &[],
-                    },
-                    primitive: wgpu::PrimitiveState::default(),
-                    depth_stencil: None,
-                    multisample: wgpu::MultisampleState::default(),
-                    fragment: Some(wgpu::FragmentState {
-                        module: &module,
-                        entry_point: Some(entry.fragment()),
-                        compilation_options: options,
-                        targets: &targets,
-                    }),
-                    multiview: None,
-                    cache: None,
-                }))
+                Arc::new(fullscreen_pipeline(
+                    device,
+                    &label,
+                    layout,
+                    &module,
+                    ("vs_post", entry.fragment()),
+                    &vec![COLOR_FORMAT; entry.targets()],
+                    &constants,
+                ))
             })
             .clone()
     }

@@ -26,8 +26,10 @@ use wgpu::util::DeviceExt;
 use super::{AmbientOcclusion, SsaoTechnique};
 use crate::camera::{camera_near, view_proj};
 use crate::gpu_types::vec4;
-use crate::pipelines::unfilterable_texture;
-use crate::targets::{cleared_attachments, obscurance_texture, view_entries, Targets, OBSCURANCE_FORMAT};
+use crate::pipelines::{fullscreen_pipeline, unfilterable_texture};
+use crate::targets::{
+    cleared_attachments, obscurance_texture, texture_2d, view_entries, Targets, OBSCURANCE_FORMAT,
+};
 use crate::timestamps::Timestamps;
 
 const COMMON: &str = include_str!("../../../shaders/ssao/common.wgsl");
@@ -165,46 +167,23 @@ impl SsaoPipelines {
             .or_insert_with(|| {
                 let label = format!("SSAO: {entry:?} (counting {counting})");
                 let constants = [("COUNT_LOADS", if counting { 1.0 } else { 0.0 })];
-                let options = wgpu::PipelineCompilationOptions {
-                    constants: &constants,
-                    zero_initialize_workgroup_memory: false,
-                };
                 let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                     label: Some(&label),
                     source: wgpu::ShaderSource::Wgsl(entry.source().into()),
                 });
-                let target = |format| {
-                    Some(wgpu::ColorTargetState {
-                        format,
-                        blend: None,
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })
+                let formats: &[wgpu::TextureFormat] = match entry {
+                    Entry::Temporal => &[OBSCURANCE_FORMAT, HISTORY_FORMAT],
+                    _ => &[OBSCURANCE_FORMAT],
                 };
-                let targets = match entry {
-                    Entry::Temporal => vec![target(OBSCURANCE_FORMAT), target(HISTORY_FORMAT)],
-                    _ => vec![target(OBSCURANCE_FORMAT)],
-                };
-                Arc::new(device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some(&label),
-                    layout: Some(&self.pipeline_layout),
-                    vertex: wgpu::VertexState {
-                        module: &module,
-                        entry_point: Some("vs_fullscreen"),
-                        compilation_options: options.clone(),
-                        buffers: &[],
-                    },
-                    primitive: wgpu::PrimitiveState::default(),
-                    depth_stencil: None,
-                    multisample: wgpu::MultisampleState::default(),
-                    fragment: Some(wgpu::FragmentState {
-                        module: &module,
-                        entry_point: Some(entry.fragment()),
-                        compilation_options: options,
-                        targets: &targets,
-                    }),
-                    multiview: None,
-                    cache: None,
-                }))
+                Arc::new(fullscreen_pipeline(
+                    device,
+                    &label,
+                    &self.pipeline_layout,
+                    &module,
+                    ("vs_fullscreen", entry.fragment()),
+                    formats,
+                    &constants,
+                ))
             })
             .clone()
     }
@@ -238,23 +217,11 @@ pub(crate) struct SsaoPasses {
 
 /// A `w`×`h` history texture (render target, read by the next frame, copied).
 fn history_texture(device: &wgpu::Device, label: &str, w: u32, h: u32) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: HISTORY_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC
-            | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    })
+    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+        | wgpu::TextureUsages::TEXTURE_BINDING
+        | wgpu::TextureUsages::COPY_SRC
+        | wgpu::TextureUsages::COPY_DST;
+    texture_2d(device, label, (w, h), HISTORY_FORMAT, usage)
 }
 
 impl SsaoPasses {
