@@ -557,17 +557,7 @@ impl Renderer {
             label: Some("SSAO load count encoder"),
         });
         let rows = passes.encode_load_count(device, &self.ssao, &mut encoder);
-        let bytes = self.submit_and_read(
-            encoder,
-            rows,
-            "SSAO load counters read-back",
-            "counting the SSAO loads",
-        )?;
-        let sum: u64 = bytes
-            .chunks_exact(4)
-            .map(|c| u64::from(u32::from_le_bytes([c[0], c[1], c[2], c[3]])))
-            .sum();
-        Ok(sum as f64 / (f64::from(settings.width) * f64::from(settings.height)))
+        self.per_pixel_count(encoder, rows, "counting the SSAO loads", settings)
     }
 
     /// Texel loads per final pixel of the anti-aliasing passes after shading, counted by
@@ -586,19 +576,25 @@ impl Renderer {
         let Some(taps) = aa.encode_tap_count(device, &self.post, &mut encoder, targets) else {
             return Ok(None);
         };
-        let bytes = self.submit_and_read(
-            encoder,
-            taps,
-            "post-process taps read-back",
-            "counting the post-process taps",
-        )?;
+        self.per_pixel_count(encoder, taps, "counting the post-process taps", settings)
+            .map(Some)
+    }
+
+    /// Submits `encoder`, reads back `rows` (u32 counters, one per target row) and returns
+    /// their sum per final pixel; `what` names the work in errors.
+    fn per_pixel_count(
+        &self,
+        encoder: wgpu::CommandEncoder,
+        rows: &wgpu::Buffer,
+        what: &str,
+        settings: &RasterSettings,
+    ) -> Result<f64, RasterError> {
+        let bytes = self.submit_and_read(encoder, rows, "row counters read-back", what)?;
         let sum: u64 = bytes
             .chunks_exact(4)
             .map(|c| u64::from(u32::from_le_bytes([c[0], c[1], c[2], c[3]])))
             .sum();
-        Ok(Some(
-            sum as f64 / (f64::from(settings.width) * f64::from(settings.height)),
-        ))
+        Ok(sum as f64 / (f64::from(settings.width) * f64::from(settings.height)))
     }
 
     /// The visibility AOV frame (visibility.rs): a G-buffer pass, then the visibility pass per
