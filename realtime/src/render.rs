@@ -182,34 +182,25 @@ impl Renderer {
             )),
             _ => None,
         };
-        let timing = match &sequence {
-            Some((frames, set_frame)) => {
-                // Warm-up frames are the sequence's first frame, each starting the history anew.
-                let timing = self.timed_frames(
-                    &frame,
-                    &targets,
-                    &stages,
-                    &scene_gpu,
-                    &groups,
-                    Some(&aa_passes),
-                    (settings.warmup_frames, *frames),
-                    &|i| set_frame(i.saturating_sub(settings.warmup_frames)),
-                )?;
-                // The AOV frames below see the scene's own view, unjittered.
-                frame.set_view(queue, scene, &scene.camera, Vec2::ZERO, &scene_gpu, settings, k);
-                timing
-            }
-            None => self.timed_frames(
-                &frame,
-                &targets,
-                &stages,
-                &scene_gpu,
-                &groups,
-                Some(&aa_passes),
-                (settings.warmup_frames, settings.timed_frames),
-                &|_| {},
-            )?,
-        };
+        // Without a sequence every frame is the same one; with one, warm-up frames are its
+        // first frame, each starting the history anew.
+        let moves = sequence.is_some();
+        let (frames, set_frame): (u32, SetFrame<'_>) =
+            sequence.unwrap_or((settings.timed_frames, Box::new(|_| {})));
+        let timing = self.timed_frames(
+            &frame,
+            &targets,
+            &stages,
+            &scene_gpu,
+            &groups,
+            Some(&aa_passes),
+            (settings.warmup_frames, frames),
+            &|i| set_frame(i.saturating_sub(settings.warmup_frames)),
+        )?;
+        if moves {
+            // The AOV frames below see the scene's own view, unjittered.
+            frame.set_view(queue, scene, &scene.camera, Vec2::ZERO, &scene_gpu, settings, k);
+        }
         let main = self.read_back(&targets)?;
         let counters = if settings.counters {
             let taps = self.post_taps(&aa_passes, &targets, settings)?;
