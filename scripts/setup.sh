@@ -49,6 +49,15 @@ install_venv() {
 if [ ! -x .venv/bin/python ] || ! cmp -s "$REQ" "$STAMP"; then
   install_venv || say "WARNING: could not install $REQ into .venv; the Mitsuba cross-check tests will fail" >&2
 fi
+# The large-mesh bench scene's glTF (scenes/bench/rock.glb, 31 MB, generated, not committed):
+# written once, and again when its generator changes. Its cross-check test fails (never
+# skips) without it.
+ROCK=scenes/bench/rock.glb
+if [ ! -f "$ROCK" ] || [ scenes/bench/make_rock.py -nt "$ROCK" ]; then
+  say "writing $ROCK (scenes/bench/make_rock.py)"
+  .venv/bin/python scenes/bench/make_rock.py \
+    || say "WARNING: could not write $ROCK; its cross-check test will fail" >&2
+fi
 # The three.js client's npm packages (examples/threejs/package-lock.json, pinned). The stamp
 # (inside node_modules, which npm ci recreates) records the lockfile last installed. Unlike
 # the venv, a failure stops setup: the three.js test cannot run without these, and it fails

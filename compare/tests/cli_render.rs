@@ -1085,3 +1085,48 @@ fn slurm_array_script_renders_the_parts_of_one_render() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--no-light-visibility` drops the `visibility.<light>.Y` layers and their shadow rays and
+/// leaves every other layer bit for bit as it was (the visibility estimate draws from its own
+/// sampler stream).
+#[test]
+fn cli_render_without_light_visibility_keeps_every_other_layer() {
+    let dir = test_dir("no-light-visibility");
+    let render = |extra: &[&str]| {
+        let mut args = vec!["render", "--resolution", "24x20", "--spp", "8", "-q"];
+        let scene = cornell_box();
+        args.push(&scene);
+        args.extend_from_slice(extra);
+        let out = verity_in(&dir, &args);
+        assert_success(&out, &format!("{args:?}"));
+    };
+    render(&["--out", "with.exr"]);
+    render(&["--out", "without.exr", "--no-light-visibility"]);
+    let with = LayeredImage::read_exr(dir.join("with.exr")).unwrap();
+    let without = LayeredImage::read_exr(dir.join("without.exr")).unwrap();
+    assert!(with.channel("visibility.light.Y").is_some());
+    let mut kept = 0;
+    for (name, a) in &with.channels {
+        match without.channel(name) {
+            Some(b) => {
+                let same = a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+                assert!(same, "channel {name} differs without the visibility layers");
+                kept += 1;
+            }
+            None => assert!(name.starts_with("visibility."), "{name} is missing"),
+        }
+    }
+    assert_eq!(kept + 1, with.channels.len());
+    assert_eq!(without.channels.len(), kept);
+    let rays = |img: &LayeredImage| -> u64 {
+        let v = img.attributes.iter().find(|(k, _)| k == "rays").unwrap();
+        v.1.parse().unwrap()
+    };
+    // One shadow ray per camera sample that hits a surface fewer.
+    assert!(
+        rays(&without) < rays(&with),
+        "{} !< {}",
+        rays(&without),
+        rays(&with)
+    );
+}

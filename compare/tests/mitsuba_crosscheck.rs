@@ -37,6 +37,8 @@ const CROSSCHECKED: &[&str] = &[
     "studies/scenes/ssao-yard",
     "studies/scenes/ssao-edge",
     "studies/scenes/mesh-lamp",
+    "bench/rock-under-sky",
+    "bench/many-lights",
 ];
 
 /// Built-in scenes Mitsuba cannot express, with a phrase of the refusal (README.md lists them).
@@ -142,12 +144,14 @@ fn soft_shadow_agrees_with_scalar_variant() {
 
 #[test]
 fn every_builtin_scene_is_crosschecked_or_listed() {
-    // The built-in scenes and the studies' own scenes (scenes/studies/scenes/).
+    // The built-in scenes, the studies' own scenes (scenes/studies/scenes/) and the bench
+    // scenes (scenes/bench/).
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
     let mut names: Vec<String> = Vec::new();
     for (dir, prefix) in [
         (root.clone(), ""),
         (root.join("studies/scenes"), "studies/scenes/"),
+        (root.join("bench"), "bench/"),
     ] {
         let found = std::fs::read_dir(&dir)
             .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
@@ -286,4 +290,18 @@ fn distance_impostor_study_scenes_agree() {
         64,
         256,
     );
+}
+
+/// The `verity bench` scene of a large mesh: a generated 1.3 M-triangle rock from a glTF file
+/// (scenes/bench/make_rock.py, written by scripts/setup.sh) on a ground plane under an HDR sky.
+#[test]
+fn bench_rock_under_sky_agrees() {
+    agrees("bench/rock-under-sky", Variant::LlvmAdRgb, 48, 256);
+}
+
+/// The `verity bench` scene of many lights: 64 small rectangle lights, each its own emitter,
+/// over a furnished room (scenes/bench/make_many_lights.py).
+#[test]
+fn bench_many_lights_agrees() {
+    agrees("bench/many-lights", Variant::LlvmAdRgb, 48, 256);
 }

@@ -141,6 +141,7 @@ fn main() {
         let (shadow_n, _) = throughput(&shadow, true, occluded);
 
         let job = RenderJob {
+            light_visibility: true,
             scene: &sc,
             settings: RenderSettings {
                 integrator: IntegratorKind::Direct,

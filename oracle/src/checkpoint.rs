@@ -59,8 +59,9 @@ pub fn fingerprint(job: &RenderJob) -> u64 {
     let s = job.scene;
     let _ = write!(
         h,
-        "{}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}",
+        "{}|{}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}|{:?}",
         env!("CARGO_PKG_VERSION"),
+        job.light_visibility,
         s.camera,
         s.film,
         scenes::RenderSettings {

@@ -41,6 +41,10 @@ pub struct RenderJob<'a> {
     pub stop: StopRule,
     /// Optional checkpointing.
     pub checkpoint: Option<CheckpointConfig>,
+    /// Estimate the visible fraction of every named light at the first hit
+    /// (`visibility.<light>.Y`): one more light sample and shadow ray per named light and
+    /// camera sample. Without it the image has no visibility layers (what Mitsuba renders).
+    pub light_visibility: bool,
 }
 
 /// Progress report, sent before the first pass and after every pass.

@@ -116,7 +116,11 @@ fn accumulate(
         lights: &lights,
         settings: job.settings,
     };
-    let names = scene.light_names();
+    let names = if job.light_visibility {
+        scene.light_names()
+    } else {
+        Vec::new()
+    };
     let fingerprint = crate::checkpoint::fingerprint(job);
 
     let mut film = Film::new(width, height, names.len());
@@ -313,7 +317,7 @@ fn run_pass(ctx: &Context, film: &mut Film, share: RowShare, first: u32, end: u3
                     let cs = integrator::trace(ctx, Ray { origin, dir }, &mut sampler);
                     let mut rays = u64::from(cs.rays);
                     vis.iter_mut().for_each(|v| *v = 0.0);
-                    if let Some(fh) = &cs.first_hit {
+                    if let Some(fh) = cs.first_hit.as_ref().filter(|_| nl > 0) {
                         // A sampler stream of its own, so visibility never shifts the
                         // integrator's dimensions.
                         let mut vs = stream(seed ^ 0x5649_5349_4249_4c45);

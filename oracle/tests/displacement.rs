@@ -82,6 +82,7 @@ fn explicit(scale: f32, split: u32) -> scenes::Shape {
 
 fn render(scene: &Scene, integrator: IntegratorKind, spp: u32) -> LayeredImage {
     let job = RenderJob {
+        light_visibility: true,
         scene,
         settings: RenderSettings {
             integrator,

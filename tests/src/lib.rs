@@ -97,6 +97,7 @@ pub fn settings(integrator: IntegratorKind, max_depth: i32, seed: u64) -> Render
 /// Renders `scene` at exactly `spp` samples per pixel.
 pub fn render(scene: &Scene, settings: RenderSettings, spp: u32) -> RenderResult {
     let job = RenderJob {
+        light_visibility: true,
         scene,
         settings,
         stop: StopRule {

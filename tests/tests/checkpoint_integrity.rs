@@ -35,6 +35,7 @@ fn tiny_scene() -> Scene {
 
 fn job<'a>(scene: &'a Scene, path: &Path) -> RenderJob<'a> {
     RenderJob {
+        light_visibility: true,
         scene,
         settings: settings(IntegratorKind::Path, 4, 3),
         stop: StopRule {

@@ -86,6 +86,7 @@ fn interrupted_render_resumes_to_identical_bits() {
     let path = std::env::temp_dir().join(format!("verity-resume-{}.ckpt", std::process::id()));
     let _ = std::fs::remove_file(&path);
     let job = RenderJob {
+        light_visibility: true,
         scene: &scene,
         settings: s,
         stop: StopRule {
@@ -121,6 +122,7 @@ fn checkpoint_of_another_scene_is_refused() {
     let scene = small_scene();
     let path = std::env::temp_dir().join(format!("verity-foreign-{}.ckpt", std::process::id()));
     let mk = |scene| RenderJob {
+        light_visibility: true,
         scene,
         settings: settings(IntegratorKind::Path, 6, 4),
         stop: StopRule {
@@ -148,6 +150,7 @@ fn time_budget_and_target_error_stop_early() {
     let scene = small_scene();
     let s = settings(IntegratorKind::Path, 6, 1);
     let job = RenderJob {
+        light_visibility: true,
         scene: &scene,
         settings: s,
         stop: StopRule {
@@ -161,6 +164,7 @@ fn time_budget_and_target_error_stop_early() {
     assert!(r.spp >= 1 && r.spp < 1 << 20, "spp {}", r.spp);
     assert!(r.seconds < 5.0, "time budget overrun: {} s", r.seconds);
     let job = RenderJob {
+        light_visibility: true,
         stop: StopRule {
             spp: 1 << 20,
             time: None,

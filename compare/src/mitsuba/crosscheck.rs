@@ -149,7 +149,8 @@ pub fn crosscheck(
 }
 
 /// Renders `scene` with the oracle at W×H and `spp` with the `sampler` given and the scene's
-/// other settings; returns the image and the render time.
+/// other settings, and what Mitsuba renders: no per-light visibility layers
+/// ([`RenderJob::light_visibility`] off); returns the image and the render time.
 pub fn render_oracle(
     scene: &Scene,
     w: u32,
@@ -162,6 +163,7 @@ pub fn render_oracle(
     scene.film.height = h;
     scene.render.sampler = sampler;
     let job = RenderJob {
+        light_visibility: false,
         scene: &scene,
         settings: scene.render,
         stop: StopRule {

@@ -230,6 +230,7 @@ pub fn cached_ground_truth(
 /// of it renders too, so that its parts merge into this job's image).
 pub fn oracle_job(scene: &Scene, settings: RenderSettings) -> RenderJob<'_> {
     RenderJob {
+        light_visibility: true,
         scene,
         settings,
         stop: StopRule {

@@ -108,7 +108,7 @@ pub(crate) fn emission_at(ctx: &Context, ray: &Ray, hit: &SurfaceHit, origin: Or
     }
     let light_pdf = match origin {
         Origin::Unsampleable => 0.0,
-        Origin::Bsdf { p, .. } => ctx.lights.selection_pmf(e) * emitter.pdf_li(p, ray.dir, hit.p, hit.ng),
+        Origin::Bsdf { p, .. } => ctx.lights.selection_pmf(e, p) * emitter.pdf_li(p, ray.dir, hit.p, hit.ng),
     };
     le * origin.weight(light_pdf)
 }
@@ -125,7 +125,9 @@ pub(crate) fn escaped(ctx: &Context, ray: &Ray, origin: Origin) -> Rgb {
         }
         let light_pdf = match origin {
             Origin::Unsampleable => 0.0,
-            Origin::Bsdf { p, .. } => ctx.lights.selection_pmf(i) * emitter.pdf_li(p, ray.dir, p, Vec3::ZERO),
+            Origin::Bsdf { p, .. } => {
+                ctx.lights.selection_pmf(i, p) * emitter.pdf_li(p, ray.dir, p, Vec3::ZERO)
+            }
         };
         total += l * origin.weight(light_pdf);
     }
@@ -142,7 +144,7 @@ pub(crate) enum Visibility {
     Ignored,
 }
 
-/// Next-event estimation: one light sample (selection ∝ power) with a shadow ray,
+/// Next-event estimation: one light sample (selection: [`crate::light::selection`]) with a shadow ray,
 /// MIS-weighted against BSDF sampling (or, with [`Visibility::Ignored`], neither). Always
 /// consumes 3 sampler dimensions. Returns the contribution and the number of rays traced.
 pub(crate) fn sample_light(

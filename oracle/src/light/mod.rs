@@ -1,5 +1,5 @@
 //! Lights (docs/ARCHITECTURE.md "Lights", "Environment map"): one closed set of emitters, one file per
-//! kind, and the power-proportional light selection of a scene.
+//! kind, and which of a scene's emitters next-event estimation picks (`selection`).
 //!
 //! | kind | file | delta | sampled by |
 //! |---|---|---|---|
@@ -29,6 +29,7 @@ pub mod mesh;
 pub mod point;
 pub mod radiance;
 pub mod rectangle;
+pub mod selection;
 mod set;
 pub mod sphere;
 pub mod spot;

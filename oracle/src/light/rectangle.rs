@@ -57,6 +57,8 @@ pub struct RectangleLight {
     area: f32,
     /// Edges perpendicular: solid-angle sampling applies.
     is_rectangle: bool,
+    /// The frame of the edges, for solid-angle sampling.
+    edges: Edges,
 }
 
 /// How [`RectangleLight::sample_li`] samples from a given point.
@@ -71,6 +73,20 @@ enum Strategy {
 
 /// Ureña et al. 2013, Algorithm 1 (SphQuadInit): the rectangle in the local frame (x, y, z) of
 /// its edges with the reference point o at the origin and the rectangle at z = z0 < 0.
+///
+/// The algorithm's four `acos` are replaced by algebra on the same quantities (identical
+/// parametrization, so identical expected values; the pdf and the sampling differ only by
+/// rounding):
+/// - The interior angle γi at a corner vᵢ = (a, b, z0) between the planes through o and its two
+///   edges has cos γi = −n·n′ = ±a·b/(|(a,z0)|·|(b,z0)|) and sin γi = |n × n′| =
+///   |z0|·|vᵢ|/(|(a,z0)|·|(b,z0)|), so γi = arg(wᵢ) with wᵢ = ±a·b + i·|z0|·|vᵢ|.
+/// - Sampling needs k = 2π − γ2 − γ3 only through cos and sin of u·S + k, so e^{ik} =
+///   conj(w2·w3)/|w2·w3| and one `sincos` of u·S are enough.
+/// - S itself is the sum of the solid angles of the triangles (v00, v10, v11) and
+///   (v00, v11, v01), each 2·arg(dᵢ + i·nᵢ) by Van Oosterom & Strackee 1983 ("The Solid Angle
+///   of a Plane Triangle", IEEE Trans. Biomed. Eng. 30(2), eq. 8), nᵢ ≥ 0; the two halves sum
+///   to S/2 ∈ [0, π], so S = 2·arg((d1 + i·n1)(d2 + i·n2)): one `atan2`, accurate for the
+///   tiny solid angles where a difference of angles near π/2 would cancel.
 struct SphericalRectangle {
     x: DVec3,
     y: DVec3,
@@ -83,19 +99,46 @@ struct SphericalRectangle {
     /// n0.z and n2.z of the edge-plane normals.
     b0: f64,
     b1: f64,
-    /// k = 2π − γ2 − γ3.
-    k: f64,
+    /// (cos k, sin k), k = 2π − γ2 − γ3.
+    k: (f64, f64),
     /// Solid angle S.
     solid_angle: f64,
 }
 
-impl SphericalRectangle {
-    /// Spherical rectangle of the rectangle with corner `s` and edges `ex`, `ey` seen from `o`.
-    fn new(o: DVec3, s: DVec3, ex: DVec3, ey: DVec3) -> Self {
+/// The rectangle's corner v00 = center − half_u − half_v, its unit edge directions x, y, their
+/// cross product z and the edge lengths, in f64: what [`SphericalRectangle::new`] needs that
+/// does not depend on the reference point.
+#[derive(Clone, Debug)]
+struct Edges {
+    corner: DVec3,
+    x: DVec3,
+    y: DVec3,
+    z: DVec3,
+    exl: f64,
+    eyl: f64,
+}
+
+impl Edges {
+    fn new(center: Vec3, half_u: Vec3, half_v: Vec3) -> Self {
+        let (ex, ey) = (2.0 * half_u.as_dvec3(), 2.0 * half_v.as_dvec3());
         let (exl, eyl) = (ex.length(), ey.length());
         let (x, y) = (ex / exl, ey / eyl);
-        let mut z = x.cross(y);
-        let d = s - o;
+        Edges {
+            corner: (center - half_u - half_v).as_dvec3(),
+            x,
+            y,
+            z: x.cross(y),
+            exl,
+            eyl,
+        }
+    }
+}
+
+impl SphericalRectangle {
+    /// Spherical rectangle of the rectangle `e` seen from `o`.
+    fn new(o: DVec3, e: &Edges) -> Self {
+        let (x, y, mut z, exl, eyl) = (e.x, e.y, e.z, e.exl, e.eyl);
+        let d = e.corner - o;
         let mut z0 = d.dot(z);
         // Flip z so the rectangle lies at z0 < 0.
         if z0 > 0.0 {
@@ -104,17 +147,32 @@ impl SphericalRectangle {
         }
         let (x0, y0) = (d.dot(x), d.dot(y));
         let (x1, y1) = (x0 + exl, y0 + eyl);
-        // Normals of the planes through o and each edge (v00→v10→v11→v01).
-        let n0 = DVec3::new(0.0, z0, -y0).normalize();
-        let n1 = DVec3::new(-z0, 0.0, x1).normalize();
-        let n2 = DVec3::new(0.0, -z0, y1).normalize();
-        let n3 = DVec3::new(z0, 0.0, -x0).normalize();
-        // Interior angles γi between adjacent edge planes.
-        let g0 = (-n0.dot(n1)).clamp(-1.0, 1.0).acos();
-        let g1 = (-n1.dot(n2)).clamp(-1.0, 1.0).acos();
-        let g2 = (-n2.dot(n3)).clamp(-1.0, 1.0).acos();
-        let g3 = (-n3.dot(n0)).clamp(-1.0, 1.0).acos();
-        let k = TAU64 - g2 - g3;
+        let zz = z0 * z0;
+        // Distances to the corners v00, v10, v11, v01.
+        let r00 = (x0 * x0 + y0 * y0 + zz).sqrt();
+        let r10 = (x1 * x1 + y0 * y0 + zz).sqrt();
+        let r11 = (x1 * x1 + y1 * y1 + zz).sqrt();
+        let r01 = (x0 * x0 + y1 * y1 + zz).sqrt();
+        // e^{ik} from w2 (at v01: x0·y1) and w3 (at v00: −x0·y0).
+        let az = -z0;
+        let (c2, s2) = (x0 * y1, az * r01);
+        let (c3, s3) = (-x0 * y0, az * r00);
+        let (re, im) = (c2 * c3 - s2 * s3, c2 * s3 + s2 * c3);
+        // |w2·w3| ≤ (2·10¹⁵ m)⁴ for coordinates within scenes::MAX_COORD: no overflow.
+        let m = (re * re + im * im).sqrt();
+        // Solid angle: both triangles' numerators are |z0|·(twice their projected area) and
+        // their denominators Van Oosterom & Strackee's r_a·r_b·r_c + (a·b)r_c + (a·c)r_b + (b·c)r_a.
+        let dot = |ax: f64, ay: f64, bx: f64, by: f64| ax * bx + ay * by + zz;
+        let n1 = az * exl * eyl;
+        let d1 = r00 * r10 * r11
+            + dot(x0, y0, x1, y0) * r11
+            + dot(x0, y0, x1, y1) * r10
+            + dot(x1, y0, x1, y1) * r00;
+        let d2 = r00 * r11 * r01
+            + dot(x0, y0, x1, y1) * r01
+            + dot(x0, y0, x0, y1) * r11
+            + dot(x1, y1, x0, y1) * r00;
+        let half = (d1 * n1 + n1 * d2).atan2(d1 * d2 - n1 * n1);
         SphericalRectangle {
             x,
             y,
@@ -124,19 +182,22 @@ impl SphericalRectangle {
             y0,
             x1,
             y1,
-            b0: n0.z,
-            b1: n2.z,
-            k,
-            solid_angle: g0 + g1 - k,
+            b0: -y0 / (zz + y0 * y0).sqrt(),
+            b1: y1 / (zz + y1 * y1).sqrt(),
+            k: if m > 0.0 { (re / m, -im / m) } else { (1.0, 0.0) },
+            solid_angle: 2.0 * half,
         }
     }
 
     /// Ureña et al. 2013, Algorithm 1 (SphQuadSample): the point (xu, yv) in the rectangle's
     /// edge coordinates relative to o for sample `u`, and the offset from o to it.
     fn sample(&self, u: Vec2) -> (f64, f64, DVec3) {
-        // Pick the azimuth: the sub-rectangle [x0, xu] covers the fraction u.x of S.
-        let au = u.x as f64 * self.solid_angle + self.k;
-        let fu = (au.cos() * self.b0 - self.b1) / au.sin();
+        // Pick the azimuth: the sub-rectangle [x0, xu] covers the fraction u.x of S;
+        // au = u.x·S + k, its cosine and sine by the angle sum with (cos k, sin k).
+        let (su, cu_s) = (u.x as f64 * self.solid_angle).sin_cos();
+        let (ck, sk) = self.k;
+        let (cos_au, sin_au) = (cu_s * ck - su * sk, su * ck + cu_s * sk);
+        let fu = (cos_au * self.b0 - self.b1) / sin_au;
         let sign = if fu > 0.0 { 1.0 } else { -1.0 };
         let cu = (sign / (fu * fu + self.b0 * self.b0).sqrt()).clamp(-1.0, 1.0);
         let xu = (-(cu * self.z0) / (1.0 - cu * cu).max(0.0).sqrt()).clamp(self.x0, self.x1);
@@ -185,6 +246,7 @@ impl RectangleLight {
             normal: cross.normalize(),
             area,
             is_rectangle: skew <= MAX_SKEW,
+            edges: Edges::new(center, half_u, half_v),
         })
     }
 
@@ -208,9 +270,7 @@ impl RectangleLight {
         if !self.is_rectangle {
             return Strategy::Area;
         }
-        let corner = (self.center - self.half_u - self.half_v).as_dvec3();
-        let (ex, ey) = (2.0 * self.half_u.as_dvec3(), 2.0 * self.half_v.as_dvec3());
-        let q = SphericalRectangle::new(p.as_dvec3(), corner, ex, ey);
+        let q = SphericalRectangle::new(p.as_dvec3(), &self.edges);
         if q.solid_angle >= MIN_SOLID_ANGLE && q.solid_angle <= TAU64 {
             Strategy::SolidAngle(q)
         } else {
@@ -224,10 +284,7 @@ impl RectangleLight {
             Strategy::None => return None,
             Strategy::SolidAngle(q) => {
                 let (xu, yv, offset) = q.sample(u);
-                let (exl, eyl) = (
-                    2.0 * self.half_u.length() as f64,
-                    2.0 * self.half_v.length() as f64,
-                );
+                let (exl, eyl) = (self.edges.exl, self.edges.eyl);
                 let uv = Vec2::new(((xu - q.x0) / exl) as f32, ((yv - q.y0) / eyl) as f32);
                 let dist = offset.length();
                 if !(dist > 0.0 && dist.is_finite()) {
@@ -375,6 +432,25 @@ mod tests {
                 (q.solid_angle - want).abs() < 1e-9 * want.max(1e-3),
                 "{p}: S = {}, Van Oosterom–Strackee {want}",
                 q.solid_angle
+            );
+            // Ureña et al. §3: the interior angles between the planes through p and adjacent
+            // edges sum to 2π + S; γ2 + γ3 fixes the sampler's k.
+            let normals = [a.cross(b), b.cross(c), c.cross(d), d.cross(a)].map(|n| n.normalize());
+            let gamma = |i: usize| (-normals[i].dot(normals[(i + 1) % 4])).clamp(-1.0, 1.0).acos();
+            let sum = (0..4).map(gamma).sum::<f64>();
+            if want > 1e-4 {
+                assert!(
+                    (q.solid_angle - (sum - TAU64)).abs() < 1e-9,
+                    "{p}: S = {}, interior angles give {}",
+                    q.solid_angle,
+                    sum - TAU64
+                );
+            }
+            let k = TAU64 - gamma(2) - gamma(3);
+            assert!(
+                (q.k.0 - k.cos()).abs() < 1e-9 && (q.k.1 - k.sin()).abs() < 1e-9,
+                "{p}: (cos k, sin k) = {:?}, interior angles give k = {k}",
+                q.k
             );
         }
     }
