@@ -29,6 +29,11 @@ pub struct Distribution1D {
     func: Vec<f32>,
     /// CDF at the cell boundaries, `func.len() + 1` entries, cdf[0] = 0, cdf[n] = 1.
     cdf: Vec<f32>,
+    /// Guide table (Chen & Asau 1974, "On Generating Random Variates from an Empirical
+    /// Distribution", AIIE Transactions 6(2)): `guide[k]` is the cell of u = k/n, so the cell
+    /// of any u lies between `guide[⌊u·n⌋]` and `guide[⌊u·n⌋ + 1]`, and the binary search
+    /// runs over those few entries instead of all n. Same cell as the full search, bit for bit.
+    guide: Vec<u32>,
     /// ∫₀¹ f(x) dx = Σ f_i / n.
     integral: f32,
 }
@@ -58,9 +63,16 @@ impl Distribution1D {
             cdf.push((running / sum) as f32);
         }
         cdf[n] = 1.0;
+        let guide = (0..=n)
+            .map(|k| {
+                let t = k as f32 / n as f32;
+                ((cdf.partition_point(|&c| c <= t) - 1).min(n - 1)) as u32
+            })
+            .collect();
         Distribution1D {
             func,
             cdf,
+            guide,
             integral: (sum / n as f64) as f32,
         }
     }
@@ -85,7 +97,17 @@ impl Distribution1D {
         let u = u.clamp(0.0, ONE_MINUS_EPSILON);
         // Largest o with cdf[o] ≤ u; zero-width cells are skipped because the last of equal
         // CDF entries is taken, and cdf[n] = 1 > u bounds o by n − 1.
-        let o = (self.cdf.partition_point(|&c| c <= u) - 1).min(self.func.len() - 1);
+        let n = self.func.len();
+        let b = ((u * n as f32) as usize).min(n - 1);
+        let (lo, hi) = (self.guide[b] as usize, self.guide[b + 1] as usize + 1);
+        // The window cdf[lo..hi] holds the answer when cdf[lo] ≤ u < cdf[hi]; rounding of
+        // u·n can put u one bucket off, and then the whole CDF is searched.
+        let last = if self.cdf[lo] <= u && u < self.cdf[hi] {
+            lo + self.cdf[lo..hi].partition_point(|&c| c <= u) - 1
+        } else {
+            self.cdf.partition_point(|&c| c <= u) - 1
+        };
+        let o = last.min(n - 1);
         let width = self.cdf[o + 1] - self.cdf[o];
         let du = if width > 0.0 {
             ((u - self.cdf[o]) / width).clamp(0.0, ONE_MINUS_EPSILON)
@@ -267,6 +289,48 @@ mod tests {
         let expected: Vec<f64> = (0..func.len()).map(|i| d.pmf(i) as f64 * n as f64).collect();
         assert!(counts[0] == 0 && counts[3] == 0, "zero cells sampled: {counts:?}");
         assert_chi_square(&counts, &expected, "1D histogram");
+    }
+
+    /// The guide table only narrows the search: every u, the CDF's own values and their
+    /// neighbours included, lands in the cell the full binary search finds.
+    #[test]
+    fn light_distribution_1d_guided_search_finds_the_full_searchs_cell() {
+        let mut rng = Pcg32::new(5, 3);
+        let mut funcs: Vec<Vec<f32>> = vec![
+            vec![1.0],
+            vec![0.0, 2.0, 0.0],
+            vec![1e-30, 1.0, 1e-30, 0.0, 0.0, 1e6, 0.0],
+            vec![0.0; 9],
+        ];
+        funcs.push(
+            (0..1000)
+                .map(|i| if i % 7 == 0 { 0.0 } else { rng.next_f32().powi(8) })
+                .collect(),
+        );
+        funcs.push(
+            (0..513)
+                .map(|i| ((i as f32) * 0.1).sin().max(0.0) * 50.0)
+                .collect(),
+        );
+        for func in &funcs {
+            let d = Distribution1D::new(func);
+            let full = |u: f32| {
+                let u = u.clamp(0.0, ONE_MINUS_EPSILON);
+                (d.cdf.partition_point(|&c| c <= u) - 1).min(d.len() - 1)
+            };
+            let mut us: Vec<f32> = (0..20_000).map(|_| rng.next_f32()).collect();
+            for &c in &d.cdf {
+                us.extend([
+                    c,
+                    f32::from_bits(c.to_bits().saturating_sub(1)),
+                    f32::from_bits(c.to_bits() + 1),
+                ]);
+            }
+            us.extend([0.0, ONE_MINUS_EPSILON, 1.0, -1.0, 2.0]);
+            for u in us {
+                assert_eq!(d.find(u).0, full(u), "n = {}, u = {u:e}", d.len());
+            }
+        }
     }
 
     #[test]
