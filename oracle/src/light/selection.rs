@@ -85,8 +85,12 @@ impl Selection {
                 0.0
             }
         };
-        let local: Vec<usize> = (0..powers.len()).filter(|&i| bounds[i].is_some()).collect();
-        let local_power: f32 = local.iter().map(|&i| phi(i)).sum();
+        let local: Vec<(usize, EmitterBounds)> = bounds
+            .iter()
+            .enumerate()
+            .filter_map(|(i, b)| Some((i, (*b)?)))
+            .collect();
+        let local_power: f32 = local.iter().map(|&(i, _)| phi(i)).sum();
         let total: f32 = (0..powers.len()).map(phi).sum();
         let box_ok = lo.is_finite() && hi.is_finite() && hi.cmpge(lo).all();
         if local.len() < GRID_MIN_LIGHTS || !(local_power > 0.0 && total.is_finite()) || !box_ok {
@@ -104,9 +108,7 @@ impl Selection {
                     let cell_lo = lo + cell * Vec3::new(x as f32, y as f32, z as f32);
                     let importance: Vec<f32> = local
                         .iter()
-                        .map(|&i| {
-                            importance(phi(i), bounds[i].as_ref().unwrap(), cell_lo, cell, half_diagonal)
-                        })
+                        .map(|(i, b)| importance(phi(*i), b, cell_lo, cell, half_diagonal))
                         .collect();
                     let sum: f32 = importance.iter().sum();
                     for (i, w) in weights.iter_mut().enumerate() {
@@ -114,7 +116,7 @@ impl Selection {
                     }
                     if sum > 0.0 && sum.is_finite() {
                         let share = local_power / total;
-                        for (&i, &imp) in local.iter().zip(&importance) {
+                        for (&(i, _), &imp) in local.iter().zip(&importance) {
                             weights[i] =
                                 share * ((1.0 - DEFENSIVE) * imp / sum + DEFENSIVE * phi(i) / local_power);
                         }
