@@ -8,11 +8,17 @@
 //! for Spherical Rectangles" (EGSR, Computer Graphics Forum 32(4)), Algorithm 1. The spherical
 //! rectangle Q seen from p has solid angle S = γ0 + γ1 + γ2 + γ3 − 2π (the sum of its interior
 //! angles minus 2π, §3); the map from the unit square onto Q is area-preserving, so pdf = 1/S.
-//! It runs in f64: S is a small difference of angles near π/2.
+//! It runs in f64 (its chain of square roots and divisions loses f32 digits near the edges).
 //!
 //! Fallback (pdf = r²/(A·|cosθl|), uniform by area, A = 4|half_u × half_v|): when S < 1e-6 sr,
-//! and always for a parallelogram whose edges are not perpendicular (the parametrization needs
-//! a rectangle). From a point on the light's plane, or behind a one-sided light, nothing is
+//! always for a parallelogram whose edges are not perpendicular (the parametrization needs
+//! a rectangle), and for a light far from p: half-diagonal ρ below [`FAR_RATIO`] of the
+//! distance to its centre. There every point of the light lies within ρ of that distance, so
+//! the area pdf varies across the light by a bounded factor and area sampling's variance is
+//! close to solid-angle sampling's (in the Cornell box: relMSE at 256 spp 2.852e-4 instead of
+//! 2.843e-4), at a fraction of the cost (the spherical rectangle was 18 % of that render). The
+//! same trade as pbrt-v4's shapes, which sample by area below a solid angle
+//! (Triangle::Sample, `MinSphericalSampleArea`, pbrt-v4 §6.5.4); either way unbiased. From a point on the light's plane, or behind a one-sided light, nothing is
 //! sampled (`None`, pdf 0). Power Φ = π·A·mean(L), doubled when two-sided (pbrt-v4 §12.4
 //! DiffuseAreaLight::Phi).
 //!
@@ -38,6 +44,9 @@ const MIN_SOLID_ANGLE: f64 = 1e-6;
 /// |û·v̂| above this makes the shape a parallelogram rather than a rectangle.
 const MAX_SKEW: f32 = 1e-4;
 
+/// Lights whose half-diagonal is below this fraction of their distance are sampled by area.
+pub const FAR_RATIO: f32 = 0.2;
+
 /// Rectangular (parallelogram) area light.
 #[derive(Clone, Debug)]
 pub struct RectangleLight {
@@ -57,6 +66,8 @@ pub struct RectangleLight {
     area: f32,
     /// Edges perpendicular: solid-angle sampling applies.
     is_rectangle: bool,
+    /// Squared half-diagonal |half_u|² + |half_v|² (for a rectangle).
+    half_diagonal2: f32,
     /// The frame of the edges, for solid-angle sampling.
     edges: Edges,
 }
@@ -246,6 +257,7 @@ impl RectangleLight {
             normal: cross.normalize(),
             area,
             is_rectangle: skew <= MAX_SKEW,
+            half_diagonal2: half_u.length_squared() + half_v.length_squared(),
             edges: Edges::new(center, half_u, half_v),
         })
     }
@@ -267,7 +279,8 @@ impl RectangleLight {
         if side == 0.0 || (!self.two_sided && side < 0.0) || !side.is_finite() {
             return Strategy::None;
         }
-        if !self.is_rectangle {
+        let far = self.half_diagonal2 < FAR_RATIO * FAR_RATIO * (p - self.center).length_squared();
+        if !self.is_rectangle || far {
             return Strategy::Area;
         }
         let q = SphericalRectangle::new(p.as_dvec3(), &self.edges);
@@ -416,10 +429,11 @@ mod tests {
             false,
         );
         for (p, _) in receivers() {
-            let Strategy::SolidAngle(q) = l.strategy(p) else {
-                assert!(p.y < -100.0, "{p}: expected solid-angle sampling");
-                continue;
-            };
+            // The far receivers are sampled by area; the spherical rectangle is checked for
+            // them too (its tiny solid angles are where precision would fail).
+            let far = l.half_diagonal2 < FAR_RATIO * FAR_RATIO * (p - l.center).length_squared();
+            assert_eq!(matches!(l.strategy(p), Strategy::SolidAngle(_)), !far, "{p}");
+            let q = SphericalRectangle::new(p.as_dvec3(), &l.edges);
             // Corners in f64, as the sampler forms them.
             let (c, u, v) = (
                 l.center.as_dvec3() - p.as_dvec3(),
