@@ -94,7 +94,12 @@ impl Distribution1D {
 
     /// The cell `o` with cdf[o] ≤ u < cdf[o+1] and the position of u inside it, in [0, 1).
     fn find(&self, u: f32) -> (usize, f32) {
-        let u = u.clamp(0.0, ONE_MINUS_EPSILON);
+        // A NaN u (never from the samplers) is read as 0 rather than wrapping the search.
+        let u = if u.is_nan() {
+            0.0
+        } else {
+            u.clamp(0.0, ONE_MINUS_EPSILON)
+        };
         // Largest o with cdf[o] ≤ u; zero-width cells are skipped because the last of equal
         // CDF entries is taken, and cdf[n] = 1 > u bounds o by n − 1.
         let n = self.func.len();
@@ -330,6 +335,7 @@ mod tests {
             for u in us {
                 assert_eq!(d.find(u).0, full(u), "n = {}, u = {u:e}", d.len());
             }
+            assert_eq!(d.find(f32::NAN).0, full(0.0), "NaN is read as 0");
         }
     }
 
