@@ -832,9 +832,12 @@ impl Scene {
 
     /// Centre and radius of a sphere enclosing [`Scene::bounds`] (for distant lights).
     pub fn bounding_sphere(&self) -> (Vec3, f32) {
-        let (lo, hi) = self.bounds();
-        let c = (lo + hi) * 0.5;
-        (c, ((hi - lo) * 0.5).length().max(1e-3))
+        Self::sphere_around(self.bounds())
+    }
+
+    /// Centre and radius (at least 1 mm) of the sphere through the corners of the box (lo, hi).
+    pub fn sphere_around((lo, hi): (Vec3, Vec3)) -> (Vec3, f32) {
+        ((lo + hi) * 0.5, ((hi - lo) * 0.5).length().max(1e-3))
     }
 }
 

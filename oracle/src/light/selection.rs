@@ -77,7 +77,6 @@ impl Selection {
     /// The selection for emitters of power `powers`; `bounds[i]` is `Some` for local emitters
     /// and `None` for distant ones; (`lo`, `hi`) is the scene's box.
     pub fn new(powers: &[f32], bounds: &[Option<EmitterBounds>], lo: Vec3, hi: Vec3) -> Selection {
-        let power = Distribution1D::new(powers);
         let phi = |i: usize| {
             if powers[i] > 0.0 && powers[i].is_finite() {
                 powers[i]
@@ -94,14 +93,17 @@ impl Selection {
         let total: f32 = (0..powers.len()).map(phi).sum();
         let box_ok = lo.is_finite() && hi.is_finite() && hi.cmpge(lo).all();
         if local.len() < GRID_MIN_LIGHTS || !(local_power > 0.0 && total.is_finite()) || !box_ok {
-            return Selection::Power(power);
+            return Selection::Power(Distribution1D::new(powers));
         }
         let res = resolution(hi - lo, powers.len());
         let extent = (hi - lo).max(Vec3::splat(1e-6));
         let cell = extent / Vec3::new(res[0] as f32, res[1] as f32, res[2] as f32);
         let half_diagonal = 0.5 * cell.length();
         let mut cells = Vec::with_capacity(res[0] * res[1] * res[2]);
-        let mut weights = vec![0.0f32; powers.len()];
+        // Every emitter's power share: the distant ones' in every cell, the local ones' where
+        // the importance is zero throughout.
+        let power_shares: Vec<f32> = (0..powers.len()).map(|i| phi(i) / total).collect();
+        let mut weights = power_shares.clone();
         for z in 0..res[2] {
             for y in 0..res[1] {
                 for x in 0..res[0] {
@@ -111,9 +113,7 @@ impl Selection {
                         .map(|(i, b)| importance(phi(*i), b, cell_lo, cell, half_diagonal))
                         .collect();
                     let sum: f32 = importance.iter().sum();
-                    for (i, w) in weights.iter_mut().enumerate() {
-                        *w = phi(i) / total;
-                    }
+                    weights.copy_from_slice(&power_shares);
                     if sum > 0.0 && sum.is_finite() {
                         let share = local_power / total;
                         for (&(i, _), &imp) in local.iter().zip(&importance) {

@@ -63,7 +63,8 @@ impl LightSet {
             bounds.push(Some(area_bounds(&shape.geometry, &emitter)));
             emitters.push(emitter);
         }
-        let (_, scene_radius) = scene.bounding_sphere();
+        let scene_bounds = scene.bounds();
+        let (_, scene_radius) = Scene::sphere_around(scene_bounds);
         for (i, light) in scene.lights.iter().enumerate() {
             let emitter = delta_emitter(light, &scene.textures, scene_radius)
                 .map_err(|e| format!("light '{}' (lights[{i}]): {e}", light.name()))?;
@@ -87,7 +88,7 @@ impl LightSet {
             .collect();
         bounds.resize(emitters.len(), None);
         let powers: Vec<f32> = emitters.iter().map(|e| e.power()).collect();
-        let (lo, hi) = scene_box(scene);
+        let (lo, hi) = grid_box(scene, scene_bounds);
         Ok(LightSet {
             selection: Selection::new(&powers, &bounds, lo, hi),
             emitters,
@@ -207,20 +208,11 @@ fn delta_bounds(light: &Light) -> Option<EmitterBounds> {
     }
 }
 
-/// The box around every shape and local light of the scene (the light-selection grid's).
-fn scene_box(scene: &Scene) -> (Vec3, Vec3) {
-    let mut lo = Vec3::INFINITY;
-    let mut hi = Vec3::NEG_INFINITY;
-    let points = scene.shapes.iter().flat_map(|s| {
-        let (a, b) = s.geometry.bounds();
-        [a, b]
-    });
+/// The light-selection grid's box: the shapes' box `shapes` ([`Scene::bounds`]) grown to hold
+/// the point and spot lights.
+fn grid_box(scene: &Scene, shapes: (Vec3, Vec3)) -> (Vec3, Vec3) {
     let lights = scene.lights.iter().filter_map(|l| delta_bounds(l).map(|b| b.lo));
-    for p in points.chain(lights) {
-        lo = lo.min(p);
-        hi = hi.max(p);
-    }
-    (lo, hi)
+    lights.fold(shapes, |(lo, hi), p| (lo.min(p), hi.max(p)))
 }
 
 /// The emitter of a scene light.
