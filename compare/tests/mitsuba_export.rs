@@ -8,7 +8,7 @@ use glam::{Vec2, Vec3, Vec4};
 use scenes::texture::Texture;
 use scenes::{
     Camera, Displacement, Emission, Environment, Film, Geometry, IntegratorKind, Light, Masking, Material,
-    Mesh, NormalMap, PixelFilter, RenderSettings, Scene, Shape, TexRgb, TexScalar, WrapMode,
+    Mesh, NormalMap, PixelFilter, RenderSettings, Scattering, Scene, Shape, TexRgb, TexScalar, WrapMode,
 };
 
 fn scene(materials: Vec<Material>, shapes: Vec<Shape>) -> Scene {
@@ -138,6 +138,7 @@ fn materials_map_to_twosided_bsdfs_except_the_dielectric() {
             f0: Vec3::ONE,
             roughness: TexScalar::Constant(0.5),
             masking: Masking::Separable,
+            scattering: Scattering::Single,
         },
         Material::Dielectric {
             int_ior: 1.5,
@@ -360,6 +361,7 @@ fn refusals_name_the_item_and_the_feature() {
         f0,
         roughness,
         masking,
+        scattering: Scattering::Single,
     };
     let cases: Vec<(Material, &str)> = vec![
         (
@@ -374,6 +376,7 @@ fn refusals_name_the_item_and_the_feature() {
                 base_color: TexRgb::Constant(Vec3::ONE),
                 metallic: TexScalar::Constant(1.0),
                 roughness: TexScalar::Constant(0.5),
+                scattering: Scattering::Single,
             },
             "material #0 (metal_rough, used by `s`): glTF metallic-roughness",
         ),
@@ -400,6 +403,16 @@ fn refusals_name_the_item_and_the_feature() {
         (
             ggx(Vec3::ONE, TexScalar::Constant(0.0), Masking::Separable),
             "roughness 0 is a mirror",
+        ),
+        (
+            Material::Ggx {
+                reflectance: TexRgb::Constant(Vec3::ONE),
+                f0: Vec3::ONE,
+                roughness: TexScalar::Constant(0.5),
+                masking: Masking::HeightCorrelated,
+                scattering: Scattering::Multiple,
+            },
+            "material #0 (ggx, used by `s`): multiple scattering on the microsurface",
         ),
     ];
     for (material, want) in cases {

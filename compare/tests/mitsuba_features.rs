@@ -11,8 +11,8 @@ use glam::{Vec2, Vec3, Vec4};
 use mitsuba_support::check;
 use scenes::texture::Texture;
 use scenes::{
-    Camera, Emission, Environment, Film, Geometry, Light, Masking, Material, Mesh, RenderSettings, Scene,
-    Shape, TexRgb, TexScalar, WrapMode,
+    Camera, Emission, Environment, Film, Geometry, Light, Masking, Material, Mesh, RenderSettings,
+    Scattering, Scene, Shape, TexRgb, TexScalar, WrapMode,
 };
 
 fn base(name: &str) -> Scene {
@@ -231,6 +231,7 @@ fn delta_lights_glass_and_ggx_agree() {
             f0: Vec3::ONE,
             roughness: TexScalar::Constant(0.4),
             masking: Masking::Separable,
+            scattering: Scattering::Single,
         },
         Material::Mirror {
             reflectance: Vec3::new(0.9, 0.8, 0.7),

@@ -95,6 +95,21 @@ impl PixelSampler {
         self.cached[(d % 4) as usize]
     }
 
+    /// A 64-bit seed for a generator of this vertex's own (a stochastic BSDF's random walk):
+    /// uses up one dimension, and is a hash of (pixel seed, sample index, dimension) for
+    /// Sobol streams or the next state of an independent one, so no two dimensions, samples
+    /// or pixels share a seed.
+    pub fn next_seed(&mut self) -> u64 {
+        let d = self.dimension;
+        // Drawn like any dimension, which keeps the cache of four Sobol dimensions in step.
+        let _ = self.next_1d();
+        if let Some(state) = self.random {
+            return splitmix64(state ^ 0x5eed_0f5e_edf0_0d5e);
+        }
+        let key = (u64::from(self.seed) << 32) | u64::from(self.index);
+        splitmix64(splitmix64(key) ^ u64::from(d).wrapping_mul(GAMMA))
+    }
+
     /// Next point in [0, 1)².
     pub fn next_2d(&mut self) -> glam::Vec2 {
         glam::Vec2::new(self.next_1d(), self.next_1d())

@@ -445,6 +445,7 @@ fn material(m: &Material, textures: usize) -> Result<GpuMaterial, String> {
             f0,
             roughness,
             masking,
+            ..
         } => {
             g.kind = MaterialKind::Ggx as u32;
             g.masking = match masking {
@@ -460,6 +461,7 @@ fn material(m: &Material, textures: usize) -> Result<GpuMaterial, String> {
             base_color,
             metallic,
             roughness,
+            ..
         } => {
             g.kind = MaterialKind::MetalRough as u32;
             (g.color_tex, g.color) = tex_rgb(base_color, textures, "base_color")?;

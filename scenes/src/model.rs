@@ -313,6 +313,19 @@ pub enum Masking {
     Separable,
 }
 
+/// How light scatters on a microfacet surface (docs/ARCHITECTURE.md "BSDFs").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Scattering {
+    /// One reflection off the microsurface: the closed-form microfacet BRDF (Walter et al.
+    /// 2007), which loses the energy of light that hits the surface more than once.
+    #[default]
+    Single,
+    /// Every order of reflection, by a random walk on the microsurface (Heitz, Hanika, d'Eon &
+    /// Dachsbacher 2016, "Multiple-Scattering Microfacet BSDFs with the Smith Model"): the
+    /// exact ground truth of the Smith microsurface. Implies height-correlated masking.
+    Multiple,
+}
+
 /// Materials (docs/ARCHITECTURE.md "BSDFs"). All are two-sided except the dielectric, which has an
 /// inside and an outside.
 #[derive(Clone, Debug, PartialEq)]
@@ -343,6 +356,8 @@ pub enum Material {
         roughness: TexScalar,
         /// Smith masking variant.
         masking: Masking,
+        /// Single or multiple scattering on the microsurface.
+        scattering: Scattering,
     },
     /// glTF 2.0 metallic-roughness material (glTF 2.0 spec, Appendix B): Lambert diffuse and
     /// GGX specular mixed by Schlick Fresnel (f0 = 0.04 dielectric, base colour for metals).
@@ -353,6 +368,9 @@ pub enum Material {
         metallic: TexScalar,
         /// Perceptual roughness in [0, 1].
         roughness: TexScalar,
+        /// Single or multiple scattering on the metal's microsurface (the dielectric layer
+        /// stays single-scattering).
+        scattering: Scattering,
     },
     /// Ideal specular reflection, f = reflectance·δ(ωi − mirror(ωo)) / cosθi.
     Mirror {
@@ -678,6 +696,7 @@ impl Scene {
                     base_color,
                     metallic,
                     roughness,
+                    ..
                 } => {
                     fix_rgb(base_color);
                     fix_scalar(metallic);

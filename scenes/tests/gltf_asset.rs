@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 use gltf_support::*;
-use scenes::{Material, TexRgb, TexScalar};
+use scenes::{Material, Scattering, TexRgb, TexScalar};
 
 fn crate_path(rel: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(rel)
@@ -41,6 +41,7 @@ fn suzanne_loads_with_the_expected_triangles() {
             base_color: TexRgb::Constant(Vec3::ONE),
             metallic: TexScalar::Constant(1.0),
             roughness: TexScalar::Constant(1.0),
+            scattering: Scattering::Single,
         }]
     );
     assert!(scene.lights.is_empty() && scene.textures.is_empty());

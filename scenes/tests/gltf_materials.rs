@@ -6,7 +6,7 @@ mod gltf_support;
 
 use glam::{Vec3, Vec4};
 use gltf_support::*;
-use scenes::{Emission, Material, TexRgb, TexScalar, WrapMode};
+use scenes::{Emission, Material, Scattering, TexRgb, TexScalar, WrapMode};
 
 /// Exact sRGB decode, written out independently of the crate (IEC 61966-2-1).
 fn srgb(c: u8) -> f32 {
@@ -41,6 +41,7 @@ fn metal_rough_factors_textures_and_samplers() {
         base_color,
         metallic,
         roughness,
+        ..
     } = &scene.materials[scene.shapes[0].material]
     else {
         panic!("expected MetalRough, got {:?}", scene.materials);
@@ -104,6 +105,7 @@ fn default_material_is_the_gltf_default() {
             base_color: TexRgb::Constant(Vec3::ONE),
             metallic: TexScalar::Constant(1.0),
             roughness: TexScalar::Constant(1.0),
+            scattering: Scattering::Single,
         }]
     );
     assert!(scene.shapes[0].emission.is_none() && scene.shapes[0].normal_map.is_none());

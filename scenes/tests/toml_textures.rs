@@ -440,6 +440,7 @@ emission = { radiance = { texture = "tex/wood.png", factor = 3 } }
         metallic,
         roughness,
         base_color,
+        ..
     } = rough
     else {
         panic!("{rough:?}")

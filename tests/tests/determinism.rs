@@ -29,6 +29,7 @@ fn small_scene() -> Scene {
             f0: Vec3::new(0.9, 0.6, 0.3),
             roughness: TexScalar::Constant(0.4),
             masking: Masking::HeightCorrelated,
+            scattering: Scattering::Single,
         },
     );
     let light = add_shape(

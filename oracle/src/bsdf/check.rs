@@ -253,3 +253,69 @@ pub fn in_plane_sweep(alpha: f64, mut check: impl FnMut(&InPlane)) {
 pub fn close(actual: f32, expected: f64) -> bool {
     (actual as f64 - expected).abs() <= 1e-3 * expected.abs() + 1e-6
 }
+
+/// Checks of a stochastic (multiple-scattering) BSDF, whose sample weight is an estimate of
+/// f cos θi / p for a density p with no closed form, so the sample-consistency and χ² checks
+/// above do not apply. For g ∈ {1, ωi.x, ωi.z}, ∫ g f cos θi dωi is estimated two ways per
+/// channel and must agree within 5σ (+10⁻³): from `bsdf.sample` (the mean of g·weight), and
+/// from `bsdf.eval` at directions drawn half from `single` (the same material with single
+/// scattering, whose own sample and pdf are exact) and half cosine-weighted. Each draw
+/// reseeds the walks. Also at ωo under the surface (two-sided), and `pdf` is `single`'s.
+pub fn check_stochastic(name: &str, bsdf: &Bsdf, single: &Bsdf, seed: u64) {
+    use super::WalkSeed;
+    let mut rng = Pcg32::new(seed, 3);
+    let n = 200_000;
+    for &(theta, phi) in &WO_ANGLES {
+        let wo = direction(theta, phi);
+        let up = wo.z.signum();
+        let mut sampled = [[[0.0f64; 2]; 3]; 3];
+        let mut evaluated = [[[0.0f64; 2]; 3]; 3];
+        let moments = |w: Vec3| [1.0f64, w.x as f64, (w.z * up) as f64];
+        let add = |acc: &mut [[[f64; 2]; 3]; 3], w: Vec3, value: Rgb| {
+            for (g, gv) in moments(w).into_iter().enumerate() {
+                for c in 0..3 {
+                    let v = gv * value[c] as f64;
+                    acc[g][c][0] += v;
+                    acc[g][c][1] += v * v;
+                }
+            }
+        };
+        for _ in 0..n {
+            let walk = WalkSeed((u64::from(rng.next_u32()) << 32) | u64::from(rng.next_u32()));
+            let b = bsdf.with_walk_seed(walk);
+            let (u_lobe, u) = (rng.next_f32(), rng.next_vec2());
+            if let Some(s) = b.sample(wo, u_lobe, u) {
+                assert_eq!(s.pdf, single.pdf(wo, s.wi), "{name}: pdf is not the stand-in");
+                add(&mut sampled, s.wi, s.weight);
+            }
+            // A direction from the mixture of `single`'s sampling and cosine weighting.
+            let (u_lobe, u) = (rng.next_f32(), rng.next_vec2());
+            let wi = if rng.next_f32() < 0.5 {
+                single.sample(wo, u_lobe, u).map(|s| s.wi)
+            } else {
+                let c = crate::sampling::square_to_cosine_hemisphere(u);
+                Some(Vec3::new(c.x, c.y, c.z * up))
+            };
+            if let Some(wi) = wi {
+                let q = 0.5 * single.pdf(wo, wi) as f64 + 0.5 * (wi.z * up).max(0.0) as f64 / PI;
+                if q > 0.0 {
+                    add(&mut evaluated, wi, b.eval(wo, wi) / q as f32);
+                }
+            }
+        }
+        for g in 0..3 {
+            for c in 0..3 {
+                let stats = |[s, s2]: [f64; 2]| {
+                    let mean = s / n as f64;
+                    (mean, ((s2 / n as f64 - mean * mean).max(0.0) / n as f64).sqrt())
+                };
+                let (a, sa) = stats(sampled[g][c]);
+                let (b, sb) = stats(evaluated[g][c]);
+                assert!(
+                    (a - b).abs() < 5.0 * (sa * sa + sb * sb).sqrt() + 1e-3,
+                    "{name}, θo {theta}°, moment {g}, channel {c}: by sampling {a} ± {sa}, by eval {b} ± {sb}"
+                );
+            }
+        }
+    }
+}

@@ -17,12 +17,12 @@ use rayon::prelude::*;
 use super::Bsdf;
 
 /// Number of χ² tests in the `bsdf` module (the Šidák correction is over all of them):
-/// Lambert 4, Phong 12, GGX 12, metal-rough 36.
-pub const CHI2_TEST_COUNT: u32 = 64;
+/// Lambert 4, Phong 12, GGX 12, metal-rough 36, the microsurface's random walk 6.
+pub const CHI2_TEST_COUNT: u32 = 70;
 /// Family-wise significance level of all χ² tests together.
 const SIGNIFICANCE: f64 = 0.01;
 /// The (cos θ, φ) histogram grid of the χ² test; quadrature uses the same cells.
-const GRID: (usize, usize) = (10, 20);
+pub const GRID: (usize, usize) = (10, 20);
 /// Relative precision of an f32 pdf: cosⁿ lobes magnify the rounding of a unit direction
 /// (2⁻²⁴) n-fold, 3·10⁻⁵ for n = 500. Bounds the mismatch of lost-sample counts.
 const PDF_PRECISION: f64 = 5e-5;
@@ -257,14 +257,7 @@ fn chi2_test_with(
 ) -> Result<f64, String> {
     let (nz, nphi) = GRID;
     // Histogram of sampled directions; the last cell counts lost samples.
-    let mut observed = vec![0.0f64; nz * nphi + 1];
-    let mut rng = Pcg32::new(seed, 0x5eed);
-    for _ in 0..samples {
-        match sample(&mut rng) {
-            Some(wi) => observed[cell_of(wi, nz, nphi)] += 1.0,
-            None => observed[nz * nphi] += 1.0,
-        }
-    }
+    let observed = histogram(sample, samples, seed);
     // Expected counts: N ∫cell pdf dω.
     let expected: Vec<f64> = integrate_cells(pdf, nz, nphi)
         .into_iter()
@@ -282,7 +275,32 @@ fn chi2_test_with(
             "{lost} samples lost, expected N(1 − ∫pdf) = {lost_expected:.1} ± {lost_tolerance:.1}"
         ));
     }
-    let (chi2, dof) = pooled_chi2(&observed[..nz * nphi], &expected)?;
+    let variance = vec![0.0; expected.len()];
+    judge(&observed[..nz * nphi], &expected, &variance)?;
+    Ok(pdf_integral)
+}
+
+/// The sampled directions' histogram on the [`GRID`] (row-major, as [`integrate_cells`]),
+/// with the count of lost samples (`None`) appended.
+pub fn histogram(sample: &mut dyn FnMut(&mut Pcg32) -> Option<Vec3>, samples: u32, seed: u64) -> Vec<f64> {
+    let (nz, nphi) = GRID;
+    let mut observed = vec![0.0f64; nz * nphi + 1];
+    let mut rng = Pcg32::new(seed, 0x5eed);
+    for _ in 0..samples {
+        match sample(&mut rng) {
+            Some(wi) => observed[cell_of(wi, nz, nphi)] += 1.0,
+            None => observed[nz * nphi] += 1.0,
+        }
+    }
+    observed
+}
+
+/// Pearson's χ² test of `observed` counts on the [`GRID`] against `expected` counts that are
+/// themselves estimates of variance `variance` (zero for exact ones): the statistic sums
+/// (o − e)²/(e + var e), as the difference of two independent estimates has that variance.
+pub fn judge(observed: &[f64], expected: &[f64], variance: &[f64]) -> Result<(), String> {
+    let (_, nphi) = GRID;
+    let (chi2, dof) = pooled_chi2(observed, expected, variance)?;
     let p_value = if dof == 0 {
         1.0
     } else {
@@ -290,37 +308,39 @@ fn chi2_test_with(
     };
     let level = sidak(SIGNIFICANCE, CHI2_TEST_COUNT);
     if p_value < level {
+        let total = expected.iter().sum::<f64>();
         return Err(format!(
-            "χ² = {chi2:.2} with {dof} dof, p = {p_value:.3e} < {level:.3e}; ∫pdf = {pdf_integral:.6}\n{}",
-            worst_cells(&observed, &expected, nphi)
+            "χ² = {chi2:.2} with {dof} dof, p = {p_value:.3e} < {level:.3e}; expected total {total:.1}\n{}",
+            worst_cells(observed, expected, variance, nphi)
         ));
     }
-    Ok(pdf_integral)
+    Ok(())
 }
 
 /// Pearson's χ² after pooling: cells are taken in increasing order of expected count and
 /// merged into one pooled cell until it reaches [`MIN_EXPECTED`] (Mitsuba's `chi2` rule);
 /// returns (χ², degrees of freedom). A sample in a cell of zero expected count is an error.
-fn pooled_chi2(observed: &[f64], expected: &[f64]) -> Result<(f64, u32), String> {
+fn pooled_chi2(observed: &[f64], expected: &[f64], variance: &[f64]) -> Result<(f64, u32), String> {
     let mut order: Vec<usize> = (0..expected.len()).collect();
     order.sort_by(|&a, &b| expected[a].total_cmp(&expected[b]));
     let (mut chi2, mut cells) = (0.0, 0u32);
-    let (mut pool_obs, mut pool_exp, mut pooling) = (0.0, 0.0, true);
+    let (mut pool_obs, mut pool_exp, mut pool_var, mut pooling) = (0.0, 0.0, 0.0, true);
     for i in order {
-        let (o, e) = (observed[i], expected[i]);
+        let (o, e, v) = (observed[i], expected[i], variance[i]);
         if e <= 0.0 && o > 0.0 {
             return Err(format!("{o} samples in cell {i}, whose expected count is {e}"));
         }
         if pooling {
             pool_obs += o;
             pool_exp += e;
+            pool_var += v;
             if pool_exp >= MIN_EXPECTED {
-                chi2 += (pool_obs - pool_exp) * (pool_obs - pool_exp) / pool_exp;
+                chi2 += (pool_obs - pool_exp) * (pool_obs - pool_exp) / (pool_exp + pool_var);
                 cells += 1;
                 pooling = false;
             }
         } else {
-            chi2 += (o - e) * (o - e) / e;
+            chi2 += (o - e) * (o - e) / (e + v);
             cells += 1;
         }
     }
@@ -328,12 +348,13 @@ fn pooled_chi2(observed: &[f64], expected: &[f64]) -> Result<(f64, u32), String>
 }
 
 /// The cells with the largest χ² contributions, for failure messages.
-fn worst_cells(observed: &[f64], expected: &[f64], nphi: usize) -> String {
+fn worst_cells(observed: &[f64], expected: &[f64], variance: &[f64], nphi: usize) -> String {
     let mut cells: Vec<(usize, f64)> = observed
         .iter()
         .zip(expected)
+        .zip(variance)
         .enumerate()
-        .map(|(i, (&o, &e))| (i, (o - e) * (o - e) / e.max(1e-9)))
+        .map(|(i, ((&o, &e), &v))| (i, (o - e) * (o - e) / (e + v).max(1e-9)))
         .collect();
     cells.sort_by(|a, b| b.1.total_cmp(&a.1));
     cells
@@ -342,8 +363,10 @@ fn worst_cells(observed: &[f64], expected: &[f64], nphi: usize) -> String {
         .map(|&(i, c)| {
             let name = format!("(cos θ row {}, φ column {})", i / nphi, i % nphi);
             format!(
-                "  {name}: observed {}, expected {:.1}, contribution {c:.1}\n",
-                observed[i], expected[i]
+                "  {name}: observed {}, expected {:.1} ± {:.1}, contribution {c:.1}\n",
+                observed[i],
+                expected[i],
+                variance[i].sqrt()
             )
         })
         .collect()

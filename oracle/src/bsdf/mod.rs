@@ -9,6 +9,10 @@
 //!   (mirror, dielectric) have eval = pdf = 0 and are reached only through `sample`.
 //! - Reflectors are two-sided: when ωo.z < 0 both directions are mirrored to the upper
 //!   hemisphere; reflection needs ωo.z·ωi.z > 0, else f = 0.
+//! - Multiple-scattering microfacet lobes ([`microsurface`]) are stochastic: `eval` and
+//!   `sample` are unbiased estimates drawn from the vertex's [`WalkSeed`], and `pdf` is the
+//!   single-scattering density, a deterministic stand-in for multiple importance sampling.
+//!   [`Bsdf::walk_seed`] tells the integrators which BSDFs need a seed.
 //! - The dielectric scales refracted radiance by (ηo/ηi)², ηo and ηi the indices on the
 //!   sides of ωo and ωi: radiance transport, Veach 1997 thesis §5.2 (Mitsuba 3 `dielectric`).
 
@@ -16,7 +20,9 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 use scenes::texture::Texture;
-use scenes::{Material, Rgb};
+use scenes::{Material, Rgb, Scattering};
+
+pub use microsurface::WalkSeed;
 
 pub mod dielectric;
 pub mod fresnel;
@@ -24,6 +30,7 @@ pub mod ggx;
 pub mod lambert;
 pub mod metal_rough;
 pub mod microfacet;
+pub mod microsurface;
 pub mod mirror;
 pub mod phong;
 
@@ -67,7 +74,8 @@ pub enum Bsdf {
 impl Bsdf {
     /// Resolve textures at `uv`. Texture indices must be valid (the scene loaders check
     /// them); parameter values are sanitised (NaN and negative reflectances become 0,
-    /// roughness and metalness are clamped to [0, 1]).
+    /// roughness and metalness are clamped to [0, 1]). A multiple-scattering lobe gets seed 0;
+    /// the integrators give each vertex its own with [`Bsdf::with_walk_seed`].
     pub fn from_material(material: &Material, uv: Vec2, textures: &[Arc<Texture>]) -> Bsdf {
         match material {
             Material::Diffuse { albedo } => Bsdf::Lambert(lambert::Lambert::new(albedo.eval(uv, textures))),
@@ -80,21 +88,35 @@ impl Bsdf {
                 f0,
                 roughness,
                 masking,
-            } => Bsdf::Ggx(ggx::Ggx::new(
-                reflectance.eval(uv, textures),
-                *f0,
-                roughness.eval(uv, textures),
-                *masking,
-            )),
+                scattering,
+            } => {
+                let lobe = ggx::Ggx::new(
+                    reflectance.eval(uv, textures),
+                    *f0,
+                    roughness.eval(uv, textures),
+                    *masking,
+                );
+                Bsdf::Ggx(match scattering {
+                    Scattering::Single => lobe,
+                    Scattering::Multiple => lobe.multiple_scattering(WalkSeed::default()),
+                })
+            }
             Material::MetalRough {
                 base_color,
                 metallic,
                 roughness,
-            } => Bsdf::MetalRough(metal_rough::MetalRough::new(
-                base_color.eval(uv, textures),
-                metallic.eval(uv, textures),
-                roughness.eval(uv, textures),
-            )),
+                scattering,
+            } => {
+                let material = metal_rough::MetalRough::new(
+                    base_color.eval(uv, textures),
+                    metallic.eval(uv, textures),
+                    roughness.eval(uv, textures),
+                );
+                Bsdf::MetalRough(match scattering {
+                    Scattering::Single => material,
+                    Scattering::Multiple => material.multiple_scattering(WalkSeed::default()),
+                })
+            }
             Material::Mirror { reflectance } => Bsdf::Mirror(mirror::Mirror::new(*reflectance)),
             Material::Dielectric { int_ior, ext_ior } => {
                 Bsdf::Dielectric(dielectric::Dielectric::new(*int_ior, *ext_ior))
@@ -137,6 +159,25 @@ impl Bsdf {
             Bsdf::MetalRough(b) => b.sample(wo, u_lobe, u),
             Bsdf::Mirror(b) => b.sample(wo),
             Bsdf::Dielectric(b) => b.sample(wo, u_lobe),
+        }
+    }
+
+    /// The seed of a stochastic (multiple-scattering) BSDF's walks; `None` for the
+    /// deterministic ones.
+    pub fn walk_seed(&self) -> Option<WalkSeed> {
+        match self {
+            Bsdf::Ggx(b) => b.walk_seed(),
+            Bsdf::MetalRough(b) => b.walk_seed(),
+            _ => None,
+        }
+    }
+
+    /// The same BSDF with its walks seeded by `seed` (no change to a deterministic BSDF).
+    pub fn with_walk_seed(self, seed: WalkSeed) -> Bsdf {
+        match self {
+            Bsdf::Ggx(b) if b.walk_seed().is_some() => Bsdf::Ggx(b.multiple_scattering(seed)),
+            Bsdf::MetalRough(b) if b.walk_seed().is_some() => Bsdf::MetalRough(b.multiple_scattering(seed)),
+            other => other,
         }
     }
 

@@ -22,7 +22,7 @@ pub fn trace(ctx: &Context, ray: Ray, sampler: &mut PixelSampler) -> CameraSampl
             rays: 1,
         };
     };
-    let (frame, bsdf) = shade(ctx, &h);
+    let (frame, bsdf) = shade(ctx, &h, sampler);
     let first_hit = Some(FirstHit {
         hit: h,
         albedo: bsdf.albedo(),

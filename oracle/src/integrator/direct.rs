@@ -39,7 +39,7 @@ pub fn trace(
             break;
         };
         radiance += throughput * emission_at(ctx, &ray, &h, Origin::Unsampleable);
-        let (frame, bsdf) = shade(ctx, &h);
+        let (frame, bsdf) = shade(ctx, &h, sampler);
         if depth == 0 {
             first_hit = Some(FirstHit {
                 hit: h,

@@ -12,7 +12,7 @@ pub use path::irradiance as path_irradiance;
 use glam::{Vec2, Vec3};
 use scenes::{IntegratorKind, RenderSettings, Rgb, Scene};
 
-use crate::bsdf::Bsdf;
+use crate::bsdf::{Bsdf, WalkSeed};
 use crate::frame::Frame;
 use crate::geometry::{spawn_ray, spawn_ray_to, Accel, Ray, SurfaceHit};
 use crate::light::LightSet;
@@ -63,11 +63,17 @@ pub fn trace(ctx: &Context, ray: Ray, sampler: &mut PixelSampler) -> CameraSampl
 
 /// The shading frame and BSDF at a hit. The frame's normal is the shading normal turned to
 /// the geometric normal's side, so local z > 0 is the shape's front (a dielectric's outside).
-pub(crate) fn shade(ctx: &Context, hit: &SurfaceHit) -> (Frame, Bsdf) {
+/// A stochastic BSDF (multiple scattering) gets this vertex's own walk seed, one sampler
+/// dimension; deterministic BSDFs draw none, so their scenes' sample layout is unchanged.
+pub(crate) fn shade(ctx: &Context, hit: &SurfaceHit, sampler: &mut PixelSampler) -> (Frame, Bsdf) {
     let ns = if hit.ns.dot(hit.ng) < 0.0 { -hit.ns } else { hit.ns };
     let frame = Frame::from_normal_tangent(ns, hit.dpdu);
     let material = &ctx.scene.materials[ctx.scene.shapes[hit.shape as usize].material];
-    (frame, Bsdf::from_material(material, hit.uv, &ctx.scene.textures))
+    let bsdf = Bsdf::from_material(material, hit.uv, &ctx.scene.textures);
+    match bsdf.walk_seed() {
+        Some(_) => (frame, bsdf.with_walk_seed(WalkSeed(sampler.next_seed()))),
+        None => (frame, bsdf),
+    }
 }
 
 /// How the ray that found an emitter was generated, for its MIS weight.

@@ -120,7 +120,7 @@ fn walk(ctx: &Context, mut w: Walk, sampler: &mut PixelSampler) -> (Rgb, Option<
             break;
         };
         radiance += w.throughput * emission_at(ctx, &w.ray, &h, w.origin);
-        let (frame, bsdf) = shade(ctx, &h);
+        let (frame, bsdf) = shade(ctx, &h, sampler);
         if w.depth == 0 {
             first_hit = Some(FirstHit {
                 hit: h,

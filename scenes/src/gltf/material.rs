@@ -28,7 +28,7 @@ use super::light::MAX_EMITTED;
 use super::source::Asset;
 use crate::budget::bytes_of;
 use crate::error::SceneError;
-use crate::model::{Emission, Material, NormalMap, TexRgb, TexScalar, WrapMode};
+use crate::model::{Emission, Material, NormalMap, Scattering, TexRgb, TexScalar, WrapMode};
 use crate::srgb::srgb_to_linear;
 use crate::texture::{decode_image_bytes, ColorSpace, Texture};
 
@@ -134,6 +134,7 @@ impl<'a> Materials<'a> {
             base_color,
             metallic,
             roughness,
+            scattering: Scattering::Single,
         });
         Ok(Resolved {
             material: self.materials.len() - 1,

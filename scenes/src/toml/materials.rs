@@ -6,7 +6,7 @@ use glam::Vec3;
 
 use super::inputs::{rgb_const, rgb_input, scalar_input, Bound, Textures};
 use super::read::{Field, Table};
-use crate::model::{Masking, Material, TexRgb, TexScalar};
+use crate::model::{Masking, Material, Scattering, TexRgb, TexScalar};
 use crate::SceneError;
 
 const TYPES: &[&str] = &["diffuse", "phong", "ggx", "metal_rough", "mirror", "dielectric"];
@@ -58,11 +58,31 @@ fn read_one(t: &Table, textures: &mut Textures) -> Result<Material, SceneError> 
     let fields: &[&str] = match kind {
         "diffuse" => &["name", "type", "albedo"],
         "phong" => &["name", "type", "reflectance", "exponent"],
-        "ggx" => &["name", "type", "reflectance", "f0", "roughness", "masking"],
-        "metal_rough" => &["name", "type", "base_color", "metallic", "roughness"],
+        "ggx" => &[
+            "name",
+            "type",
+            "reflectance",
+            "f0",
+            "roughness",
+            "masking",
+            "scattering",
+        ],
+        "metal_rough" => &[
+            "name",
+            "type",
+            "base_color",
+            "metallic",
+            "roughness",
+            "scattering",
+        ],
         "mirror" => &["name", "type", "reflectance"],
         _ => &["name", "type", "int_ior", "ext_ior"],
     };
+    if let (Some(f), false) = (t.get("scattering"), fields.contains(&"scattering")) {
+        return Err(f
+            .err(format!("a {kind} material has no microsurface to scatter on"))
+            .hint("scattering = \"multiple\" applies to ggx and metal_rough materials"));
+    }
     t.only(fields, &format!("a {kind} material"))?;
     let mut rgb = |key: &str, default: f32| -> Result<TexRgb, SceneError> {
         match t.get(key) {
@@ -81,17 +101,26 @@ fn read_one(t: &Table, textures: &mut Textures) -> Result<Material, SceneError> 
         },
         "ggx" => {
             let reflectance = rgb("reflectance", 1.0)?;
+            let masking = match t.get("masking") {
+                Some(m) => match m.keyword(&["height_correlated", "separable"])? {
+                    "separable" => Masking::Separable,
+                    _ => Masking::HeightCorrelated,
+                },
+                None => Masking::HeightCorrelated,
+            };
+            let scattering = scattering(t)?;
+            if (masking, scattering) == (Masking::Separable, Scattering::Multiple) {
+                let f = t.req("masking")?;
+                return Err(f
+                    .err("multiple scattering needs height-correlated masking, got \"separable\"")
+                    .hint("the random walk on the microsurface is height-correlated by construction (Heitz et al. 2016); drop masking or set it to \"height_correlated\""));
+            }
             Material::Ggx {
                 reflectance,
                 f0: rgb_const(t.get("f0"), Bound::Unit, Vec3::ONE)?,
                 roughness: scalar_input(&t.req("roughness")?, 1, textures)?,
-                masking: match t.get("masking") {
-                    Some(m) => match m.keyword(&["height_correlated", "separable"])? {
-                        "separable" => Masking::Separable,
-                        _ => Masking::HeightCorrelated,
-                    },
-                    None => Masking::HeightCorrelated,
-                },
+                masking,
+                scattering,
             }
         }
         // glTF 2.0 defaults: baseColorFactor 1, metallicFactor 1, roughnessFactor 1.
@@ -101,6 +130,7 @@ fn read_one(t: &Table, textures: &mut Textures) -> Result<Material, SceneError> 
                 base_color,
                 metallic: scalar(t, "metallic", 2, textures)?,
                 roughness: scalar(t, "roughness", 1, textures)?,
+                scattering: scattering(t)?,
             }
         }
         "mirror" => Material::Mirror {
@@ -110,6 +140,17 @@ fn read_one(t: &Table, textures: &mut Textures) -> Result<Material, SceneError> 
             int_ior: ior(t.get("int_ior"), BK7_IOR)?,
             ext_ior: ior(t.get("ext_ior"), AIR_IOR)?,
         },
+    })
+}
+
+/// The optional `scattering` keyword: "single" (the default) or "multiple".
+fn scattering(t: &Table) -> Result<Scattering, SceneError> {
+    Ok(match t.get("scattering") {
+        Some(f) => match f.keyword(&["single", "multiple"])? {
+            "multiple" => Scattering::Multiple,
+            _ => Scattering::Single,
+        },
+        None => Scattering::Single,
     })
 }
 

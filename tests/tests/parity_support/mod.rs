@@ -154,6 +154,7 @@ pub fn ggx(reflectance: Vec3, f0: Vec3, roughness: f32, masking: Masking) -> Mat
         f0,
         roughness: TexScalar::Constant(roughness),
         masking,
+        scattering: Scattering::Single,
     }
 }
 
@@ -163,6 +164,7 @@ pub fn metal_rough(base: Vec3, metallic: f32, roughness: f32) -> Material {
         base_color: TexRgb::Constant(base),
         metallic: TexScalar::Constant(metallic),
         roughness: TexScalar::Constant(roughness),
+        scattering: Scattering::Single,
     }
 }
 

@@ -14,7 +14,7 @@
 //! A factor is baked into the exported texels (exact: bilinear filtering is linear).
 
 use glam::Vec3;
-use scenes::{Masking, Material, TexRgb, TexScalar, WrapMode};
+use scenes::{Masking, Material, Scattering, TexRgb, TexScalar, WrapMode};
 
 use super::Exporter;
 use crate::mitsuba::xml::Element;
@@ -62,10 +62,21 @@ impl Exporter<'_> {
                 .child(Element::string("material", "none"))
                 .child(Element::rgb("specular_reflectance", *reflectance)),
             Material::Ggx {
+                scattering: Scattering::Multiple,
+                ..
+            } => {
+                self.refuse(format!(
+                    "{what}: multiple scattering on the microsurface (Heitz et al. 2016) has no \
+                     Mitsuba 3 counterpart (`roughconductor` is single-scattering)"
+                ));
+                return None;
+            }
+            Material::Ggx {
                 reflectance,
                 f0,
                 roughness,
                 masking,
+                scattering: Scattering::Single,
             } => self.ggx(reflectance, *f0, roughness, *masking, what)?,
             Material::Dielectric { int_ior, ext_ior } => {
                 // One-sided on purpose: the dielectric has an inside.
