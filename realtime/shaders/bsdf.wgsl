@@ -17,7 +17,8 @@
 // Two-sided: reflection needs ωo, ωi on the same side of the shading normal; both are then
 // taken on the upper side. Mirror and dielectric are Dirac deltas: eval = 0.
 // Failure mode: none beyond the models' own (GGX loses energy at high roughness: no multiple
-// scattering, as in the oracle). f32 throughout; sin²θ terms use |n × ω|², which keeps digits
+// scattering, as the oracle's `scattering = "single"`; the energy/*.wgsl methods add an
+// approximation of the rest). f32 throughout; sin²θ terms use |n × ω|², which keeps digits
 // near the normal where 1 − cos²θ loses them.
 // Inputs: the resolved `Bsdf` (material inputs already looked up at the surface's uv).
 
@@ -184,6 +185,9 @@ fn bsdf_eval_split(b: Bsdf, n: vec3<f32>, wo: vec3<f32>, wi: vec3<f32>) -> BsdfV
                 let h = hv * inverseSqrt(h2);
                 let f = b.f0 + (1.0 - b.f0) * schlick_weight(dot(wi, h));
                 v.specular = b.color * f * ggx_specular_cos(b.alpha, b.masking, nn, wo, wi, h, cos_o);
+                // The light single scattering loses, as the energy-compensation method adds it
+                // back (energy/*.wgsl; microfacet reflectance k·F).
+                v.specular += energy_compensation(b.alpha, b.color, b.f0, v.specular, cos_o, cos_i);
             }
         }
         case MAT_METAL_ROUGH: {
@@ -196,6 +200,9 @@ fn bsdf_eval_split(b: Bsdf, n: vec3<f32>, wo: vec3<f32>, wi: vec3<f32>) -> BsdfV
                 let m = b.metallic;
                 v.diffuse = b.color * ((1.0 - m) * (1.0 - f_d) * INV_PI * cos_i);
                 v.specular = (vec3<f32>((1.0 - m) * f_d) + metal_f * m) * spec_cos;
+                // The metal's lobe alone is compensated (f0 = base colour), as the oracle's
+                // multiple-scattering ground truth leaves the dielectric layer single.
+                v.specular += m * energy_compensation(b.alpha, vec3<f32>(1.0), b.color, metal_f * spec_cos, cos_o, cos_i);
             }
         }
         default: {}

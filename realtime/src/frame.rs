@@ -165,6 +165,7 @@ fn frame_uniforms(
             0,
             0,
         ],
+        energy: [settings.method.energy_code(), sg.energy_table, 0, 0],
     }
 }
 

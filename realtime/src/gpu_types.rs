@@ -113,8 +113,11 @@ pub struct FrameUniforms {
     /// Screen-space AO: what the lighting writes (0 the shaded image, 1 the AO factor: an
     /// SSAO method's `output = ao`), unused ×3.
     pub ambient_occlusion: [u32; 4],
+    /// Energy compensation: the method (WGSL `ENERGY_*`), its table's texture record or NONE,
+    /// unused, unused.
+    pub energy: [u32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 64 + 16 * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 64 + 17 * 16);
 
 /// One shape (WGSL `Shape`).
 #[repr(C)]

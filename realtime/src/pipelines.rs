@@ -60,7 +60,7 @@ pub use crate::gpu::{COLOR_FORMAT, DEPTH_FORMAT};
 
 /// The WGSL sources in dependency order; WGSL has no includes, so they form one module, with
 /// `counters_on.wgsl` or `counters_off.wgsl` appended.
-const SHADER_SOURCES: [(&str, &str); 36] = [
+const SHADER_SOURCES: [(&str, &str); 40] = [
     ("common.wgsl", include_str!("../shaders/common.wgsl")),
     ("texture.wgsl", include_str!("../shaders/texture.wgsl")),
     ("surface.wgsl", include_str!("../shaders/surface.wgsl")),
@@ -159,6 +159,19 @@ const SHADER_SOURCES: [(&str, &str); 36] = [
     (
         "lightmap/lookup.wgsl",
         include_str!("../shaders/lightmap/lookup.wgsl"),
+    ),
+    ("energy/table.wgsl", include_str!("../shaders/energy/table.wgsl")),
+    (
+        "energy/kulla_conty.wgsl",
+        include_str!("../shaders/energy/kulla_conty.wgsl"),
+    ),
+    (
+        "energy/turquin.wgsl",
+        include_str!("../shaders/energy/turquin.wgsl"),
+    ),
+    (
+        "energy/fdez_aguera.wgsl",
+        include_str!("../shaders/energy/fdez_aguera.wgsl"),
     ),
     ("shade.wgsl", include_str!("../shaders/shade.wgsl")),
     ("passes.wgsl", include_str!("../shaders/passes.wgsl")),

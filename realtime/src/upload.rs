@@ -29,6 +29,7 @@ use crate::gpu::Gpu;
 use crate::gpu_types::*;
 use crate::technique::antialias::{toksvig_normal_map, AntiAliasing};
 use crate::technique::detail::{derivative_map, ConeCache, Detail};
+use crate::technique::energy;
 use crate::technique::texture::gpu_array::TextureArray;
 use crate::technique::texture::{pyramid, sat, Needs, TextureFilter};
 use crate::technique::Method;
@@ -58,6 +59,8 @@ pub struct SceneGpu {
     pub(crate) emissive_triangles: u32,
     /// The scene's textures as a GPU texture array (`tex_anisotropic`; else a stand-in).
     pub(crate) texture_array: TextureArray,
+    /// The energy-compensation table's texture record, or NONE (WGSL `frame.energy.y`).
+    pub(crate) energy_table: u32,
 }
 
 /// CPU-side arrays before upload.
@@ -76,6 +79,8 @@ struct Arrays {
     emissive_triangles: Vec<[f32; 4]>,
     /// Their table's texture record, or NONE (set by [`add_emissive_table`]).
     emissive_table: u32,
+    /// The energy-compensation table's texture record, or NONE.
+    energy_table: u32,
 }
 
 impl SceneGpu {
@@ -117,6 +122,15 @@ impl SceneGpu {
             add_lightmap(&mut a, scene, map).map_err(|e| format!("{src}: light map: {e}"))?;
         }
         a.emissive_table = add_emissive_table(&mut a).map_err(|e| format!("{src}: emissive meshes: {e}"))?;
+        a.energy_table = match method.energy {
+            Some(e) if e.needs_table() => {
+                let record = a.texture_infos.len() as u32;
+                add_texture(&mut a, &energy::tables::table(e.lut))
+                    .map_err(|e| format!("{src}: energy table: {e}"))?;
+                record
+            }
+            _ => NONE,
+        };
         let env = environment(scene).map_err(|e| format!("{src}: environment: {e}"))?;
         let bytes = (a.texels.len() * 16) as u64;
         if bytes > max_binding {
@@ -192,6 +206,7 @@ fn upload(
         env,
         emissive_meshes: a.emissive_meshes,
         emissive_triangles: a.emissive_table,
+        energy_table: a.energy_table,
         texture_array,
     }
 }

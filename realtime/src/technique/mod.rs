@@ -14,6 +14,7 @@
 //! | anti-aliasing | [`antialias`] | `aa_none`, `aa_ssaa`, `aa_msaa`, `aa_fxaa`, `aa_mlaa`, `aa_taa` | the pixel's box filter |
 //! | light maps | [`lightmap`] | `lightmap_bilinear`, `lightmap_bicubic` | `path` with the bake's `max_depth` |
 //! | ambient occlusion | [`ssao`] | `ssao_crytek`, `ssao_hemisphere`, `ssao_hbao`, `ssao_gtao` | `ao` with the same radius |
+//! | energy compensation | [`energy`] | `energy_none`, `energy_kulla_conty`, `energy_turquin`, `energy_fdez_aguera` | the same scene with `scattering = "multiple"` |
 //!
 //! Every method takes [`COMMON`]'s `n` (N×N quadrature of each area light and sun disk; not
 //! `area_representative_point`), `env_n` (`env_n`×`env_n` cosine-weighted midpoint
@@ -27,6 +28,7 @@ pub mod antialias;
 pub mod area;
 pub mod detail;
 pub mod distance_impostor;
+pub mod energy;
 pub mod envmap;
 pub mod lightmap;
 pub mod param;
@@ -40,6 +42,7 @@ use std::fmt;
 use antialias::AntiAliasing;
 use area::AreaMethod;
 use detail::Detail;
+use energy::EnergyCompensation;
 use envmap::localization::Localization;
 use envmap::EnvMapping;
 use lightmap::LightMapMethod;
@@ -82,6 +85,8 @@ pub struct Method {
     pub lightmap: Option<LightMapMethod>,
     /// The screen-space AO of an `ssao_*` method, or None: the environment unoccluded.
     pub ssao: Option<AmbientOcclusion>,
+    /// The energy compensation of an `energy_*` method, or None: single scattering.
+    pub energy: Option<EnergyCompensation>,
 }
 
 impl Default for Method {
@@ -100,6 +105,7 @@ impl Default for Method {
             shading: None,
             lightmap: None,
             ssao: None,
+            energy: None,
         }
     }
 }
@@ -202,11 +208,13 @@ pub enum Family {
     LightMap,
     /// [`ssao`].
     AmbientOcclusion,
+    /// [`energy`].
+    Energy,
 }
 
 impl Family {
     /// Every family, in the order the docs list them.
-    pub const ALL: [Family; 10] = [
+    pub const ALL: [Family; 11] = [
         Family::Area,
         Family::Shadow,
         Family::Detail,
@@ -217,6 +225,7 @@ impl Family {
         Family::AntiAliasing,
         Family::LightMap,
         Family::AmbientOcclusion,
+        Family::Energy,
     ];
 
     /// Its heading in the docs.
@@ -232,6 +241,7 @@ impl Family {
             Family::AntiAliasing => "Anti-aliasing",
             Family::LightMap => "Light maps",
             Family::AmbientOcclusion => "Screen-space ambient occlusion",
+            Family::Energy => "Energy compensation",
         }
     }
 
@@ -258,6 +268,7 @@ impl Family {
             Family::AntiAliasing => infos(antialias::METHODS),
             Family::LightMap => infos(lightmap::METHODS),
             Family::AmbientOcclusion => infos(ssao::METHODS),
+            Family::Energy => infos(energy::METHODS),
         }
     }
 
@@ -265,7 +276,9 @@ impl Family {
     /// family's first method).
     fn shared_rows(self) -> Vec<Row> {
         match self {
-            Family::Area | Family::Texture | Family::Shading | Family::AntiAliasing => Vec::new(),
+            Family::Area | Family::Texture | Family::Shading | Family::AntiAliasing | Family::Energy => {
+                Vec::new()
+            }
             Family::Shadow => shadow::COMMON.iter().map(Row::Shadow).collect(),
             Family::LightMap => lightmap::COMMON.iter().map(Row::LightMap).collect(),
             Family::AmbientOcclusion => ssao::COMMON.iter().map(Row::Ssao).collect(),
@@ -311,6 +324,8 @@ pub enum Row {
     LightMap(&'static Param<LightMapMethod>),
     /// A row of its screen-space AO.
     Ssao(&'static Param<AmbientOcclusion>),
+    /// A row of its energy compensation.
+    Energy(&'static Param<EnergyCompensation>),
 }
 
 /// The same field of whichever table a row is from.
@@ -326,6 +341,7 @@ macro_rules! row_field {
             Row::Shading(p) => p.$field,
             Row::LightMap(p) => p.$field,
             Row::Ssao(p) => p.$field,
+            Row::Energy(p) => p.$field,
         }
     };
 }
@@ -373,6 +389,7 @@ impl Row {
             Row::Shading(p) => m.shading.as_ref().and_then(|s| (p.get)(s)),
             Row::LightMap(p) => m.lightmap.as_ref().and_then(|l| (p.get)(l)),
             Row::Ssao(p) => m.ssao.as_ref().and_then(|a| (p.get)(a)),
+            Row::Energy(p) => m.energy.as_ref().and_then(|e| (p.get)(e)),
         }
     }
 
@@ -388,6 +405,7 @@ impl Row {
             Row::Shading(p) => (p.set)(m.shading.as_mut()?, value),
             Row::LightMap(p) => (p.set)(m.lightmap.as_mut()?, value),
             Row::Ssao(p) => (p.set)(m.ssao.as_mut()?, value),
+            Row::Energy(p) => (p.set)(m.energy.as_mut()?, value),
         }
     }
 }
@@ -450,6 +468,12 @@ impl Method {
                 ..Method::quadrature_8()
             });
         }
+        if let Some(s) = spec_named(energy::METHODS, name) {
+            return Some(Method {
+                energy: Some((s.default)()),
+                ..Method::quadrature_8()
+            });
+        }
         spec_named(envmap::METHODS, name)
             .or_else(|| spec_named(distance_impostor::METHODS, name))
             .map(|s| Method::environment_mapped((s.default)()))
@@ -487,6 +511,7 @@ impl Method {
             shading: None,
             lightmap: None,
             ssao: None,
+            energy: None,
         }
     }
 
@@ -577,6 +602,9 @@ impl Method {
         if let Some(a) = &self.ssao {
             rows.extend(a.rows().map(Row::Ssao));
         }
+        if let Some(e) = &self.energy {
+            rows.extend(e.rows().map(Row::Energy));
+        }
         rows
     }
 
@@ -643,6 +671,9 @@ impl Method {
 
     /// The method's name.
     pub fn name(&self) -> &'static str {
+        if let Some(e) = &self.energy {
+            return e.spec().name;
+        }
         if let Some(a) = &self.ssao {
             return a.spec().name;
         }
@@ -668,6 +699,11 @@ impl Method {
             (Some(s), _) => s.technique.name(),
             (None, area) => area::METHODS[area.shader_code() as usize].name,
         }
+    }
+
+    /// `frame.energy.x`: WGSL `ENERGY_NONE` … `ENERGY_FDEZ_AGUERA` (none: single scattering).
+    pub fn energy_code(&self) -> u32 {
+        self.energy.map_or(0, |e| e.shader_code())
     }
 
     /// WGSL `SHADING_FREQUENCY` (0: per pixel) in the low byte, `VERTEX_ALBEDO` above it.
@@ -909,6 +945,7 @@ pub fn wgsl_codes() -> String {
     family(&mut s, "TEX_", None, texture::METHODS);
     family(&mut s, "SHADING_", None, shading::METHODS);
     family(&mut s, "LIGHTMAP_", Some("NONE"), lightmap::METHODS);
+    family(&mut s, "ENERGY_", None, energy::METHODS);
     s += &shading::wgsl_codes();
     s
 }
@@ -979,7 +1016,7 @@ mod tests {
             codes,
             [
                 0, 0, 1, 2, 3, 4, 5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-                0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0
+                0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0
             ]
         );
     }
