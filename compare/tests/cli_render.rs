@@ -1130,3 +1130,78 @@ fn cli_render_without_light_visibility_keeps_every_other_layer() {
         rays(&with)
     );
 }
+
+/// `--scattering multiple` renders every microfacet material with the random walk: a white
+/// rough metal in a white furnace goes from single scattering's loss to 1, the header says so,
+/// and a GGX material with separable masking (which the walk cannot have) is refused with one
+/// line naming it (exit 2).
+#[test]
+fn cli_render_scattering_flag() {
+    let dir = test_dir("scattering");
+    let scene = "[camera]\neye = [0, 0, 4]\ntarget = [0, 0, 0]\nfov = 20\n\n[film]\nwidth = 16\nheight = 16\n\n\
+                 [render]\nintegrator = \"direct\"\n\n[environment]\nradiance = 1\n\n\
+                 [[material]]\nname = \"metal\"\ntype = \"metal_rough\"\nroughness = 1\n\n\
+                 [[shape]]\nname = \"ball\"\ntype = \"sphere\"\nmaterial = \"metal\"\ncenter = [0, 0, 0]\nradius = 1\n";
+    std::fs::write(dir.join("furnace.toml"), scene).unwrap();
+    let mean_of = |flag: &str| -> (f64, String) {
+        let out_name = format!("{flag}.exr");
+        let args = [
+            "render",
+            "furnace.toml",
+            "--spp",
+            "64",
+            "-q",
+            "--scattering",
+            flag,
+            "--out",
+            &out_name,
+        ];
+        let out = verity_in(&dir, &args);
+        assert_success(&out, &format!("{args:?}"));
+        let img = LayeredImage::read_exr(dir.join(&out_name)).unwrap();
+        let r = img.channel("R").unwrap();
+        // The 4×4 centre pixels: the ball seen head-on.
+        let centre: Vec<f64> = (6..10)
+            .flat_map(|y| (6..10).map(move |x| y * 16 + x))
+            .map(|i| f64::from(r[i]))
+            .collect();
+        let header = img
+            .attributes
+            .iter()
+            .find(|(k, _)| k == "scattering")
+            .unwrap()
+            .1
+            .clone();
+        (centre.iter().sum::<f64>() / centre.len() as f64, header)
+    };
+    let (single, h1) = mean_of("single");
+    let (multiple, h2) = mean_of("multiple");
+    // Single scattering at α = 1 keeps 1 − ln 2 ≈ 0.31 at normal incidence, more off-centre.
+    assert!(single < 0.45, "single scattering {single}");
+    assert!((multiple - 1.0).abs() < 0.03, "multiple scattering {multiple}");
+    assert_eq!((h1.as_str(), h2.as_str()), ("single", "multiple"));
+    let separable = scene.replace(
+        "type = \"metal_rough\"\nroughness = 1",
+        "type = \"ggx\"\nroughness = 1\nmasking = \"separable\"",
+    );
+    std::fs::write(dir.join("separable.toml"), separable).unwrap();
+    let out = verity_in(
+        &dir,
+        &[
+            "render",
+            "separable.toml",
+            "--spp",
+            "1",
+            "-q",
+            "--scattering",
+            "multiple",
+        ],
+    );
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--scattering multiple: material #0 (ggx) has separable masking")
+            && stderr.trim().lines().count() == 1,
+        "{stderr}"
+    );
+}

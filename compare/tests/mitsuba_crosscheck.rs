@@ -64,6 +64,7 @@ const NOT_EXPRESSIBLE: &[(&str, &str)] = &[
     ("studies/scenes/relief-sphere", "shape `sphere/0`: displacement"),
     ("studies/scenes/shading-textured-sphere", "metal_rough, used by"),
     ("studies/scenes/specular-bumps", "normal map"),
+    ("studies/scenes/energy-spheres", "cannot ignore visibility"),
 ];
 
 fn agrees(name: &str, variant: Variant, size: u32, spp: u32) {

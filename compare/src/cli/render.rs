@@ -16,7 +16,9 @@ use clap::{Args, ValueEnum};
 use oracle::part::RowShare;
 use oracle::{CheckpointConfig, Progress, RenderJob, RenderResult, StopRule};
 use scenes::budget::Ledger;
-use scenes::{Film, IntegratorKind, PixelFilter, RenderSettings, SamplerKind, Scene};
+use scenes::{
+    Film, IntegratorKind, Masking, Material, PixelFilter, RenderSettings, SamplerKind, Scattering, Scene,
+};
 
 use super::args::{
     exr_output, film_from_flag, load_scene_in, output_file, over_budget, parse_exposure, parse_max_depth,
@@ -117,6 +119,13 @@ pub struct RenderArgs {
     #[arg(long)]
     pub no_light_visibility: bool,
 
+    /// Light on every GGX and metal-rough material scatters once on its microsurface (the
+    /// closed-form BRDF) or any number of times (Heitz et al. 2016's random walk, the exact
+    /// ground truth of energy compensation) [default: each material's `scattering`, single
+    /// for glTF assets].
+    #[arg(long, value_enum)]
+    pub scattering: Option<ScatteringArg>,
+
     /// Render only share K of N (1 ≤ K ≤ N), the image rows y with y mod N = K − 1, and write
     /// its exact accumulators to a part file (--out FILE.vpart) for `verity merge`, which
     /// assembles the N parts into the EXR one render writes. Needs a fixed sample count: not
@@ -166,6 +175,15 @@ impl From<SamplerArg> for SamplerKind {
             SamplerArg::Independent => SamplerKind::Independent,
         }
     }
+}
+
+/// `--scattering` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ScatteringArg {
+    /// One reflection off the microsurface.
+    Single,
+    /// Every order of reflection (random walk).
+    Multiple,
 }
 
 /// `--pixel-filter` values.
@@ -392,12 +410,41 @@ fn checkpoint_config(args: &RenderArgs, out: &Path) -> Result<Option<CheckpointC
     }))
 }
 
+/// `--scattering`: every microfacet material scatters `arg`. A GGX material with separable
+/// masking cannot scatter multiply (the walk is height-correlated): bad input, exit 2.
+fn set_scattering(scene: &mut Scene, arg: ScatteringArg) -> Result<(), CliError> {
+    let to = match arg {
+        ScatteringArg::Single => Scattering::Single,
+        ScatteringArg::Multiple => Scattering::Multiple,
+    };
+    for (i, m) in scene.materials.iter_mut().enumerate() {
+        match m {
+            Material::Ggx {
+                masking: Masking::Separable,
+                ..
+            } if to == Scattering::Multiple => {
+                return Err(CliError::input(format!(
+                    "--scattering multiple: material #{i} (ggx) has separable masking, and the random walk on \
+                     the microsurface is height-correlated by construction; set its masking to \
+                     \"height_correlated\" in the scene"
+                )));
+            }
+            Material::Ggx { scattering, .. } | Material::MetalRough { scattering, .. } => *scattering = to,
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
 /// Applies the flags to the scene's film and render settings; returns the stopping rule and
 /// whether its spp is only the [`SPP_CAP`] safety bound. Refuses `--ssaa` under the box
 /// filter and a sample count the centre filter's K×K sub-pixels cannot share evenly (bad
 /// input, exit 2).
 fn apply_overrides(args: &RenderArgs, scene: &mut Scene) -> Result<(StopRule, bool), CliError> {
     scene.film = film_from_flag(scene, args.resolution);
+    if let Some(arg) = args.scattering {
+        set_scattering(scene, arg)?;
+    }
     let s = &mut scene.render;
     if let Some(i) = args.integrator {
         s.integrator = i.into();
@@ -498,6 +545,15 @@ fn add_header(
         ("seed", settings.seed.to_string()),
         ("max_depth", settings.max_depth.to_string()),
         ("rr_depth", settings.rr_depth.to_string()),
+        (
+            "scattering",
+            args.scattering
+                .map_or("the scene's", |s| match s {
+                    ScatteringArg::Single => "single",
+                    ScatteringArg::Multiple => "multiple",
+                })
+                .to_string(),
+        ),
         ("ao_radius", settings.ao_radius.to_string()),
         ("paths", result.paths.to_string()),
         ("rays", result.rays.to_string()),
