@@ -139,6 +139,7 @@ fn materials_map_to_twosided_bsdfs_except_the_dielectric() {
             roughness: TexScalar::Constant(0.5),
             masking: Masking::Separable,
             scattering: Scattering::Single,
+            conductor: None,
         },
         Material::Dielectric {
             int_ior: 1.5,
@@ -362,6 +363,7 @@ fn refusals_name_the_item_and_the_feature() {
         roughness,
         masking,
         scattering: Scattering::Single,
+        conductor: None,
     };
     let cases: Vec<(Material, &str)> = vec![
         (
@@ -411,6 +413,7 @@ fn refusals_name_the_item_and_the_feature() {
                 roughness: TexScalar::Constant(0.5),
                 masking: Masking::HeightCorrelated,
                 scattering: Scattering::Multiple,
+                conductor: None,
             },
             "material #0 (ggx, used by `s`): multiple scattering on the microsurface",
         ),

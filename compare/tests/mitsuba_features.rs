@@ -1,6 +1,7 @@
 //! Cross-checks of exporter features the built-in scenes do not use, on one synthetic scene
 //! per group: textures (all three wrap modes, uvs outside [0, 1] on a PLY mesh), flat and
-//! smooth meshes, disks, a dielectric, GGX, and every delta light with a constant sky.
+//! smooth meshes, disks, a dielectric, GGX (F = 1, and a gold conductor's exact Fresnel), and
+//! every delta light with a constant sky.
 
 mod mitsuba_support;
 
@@ -11,8 +12,8 @@ use glam::{Vec2, Vec3, Vec4};
 use mitsuba_support::check;
 use scenes::texture::Texture;
 use scenes::{
-    Camera, Emission, Environment, Film, Geometry, Light, Masking, Material, Mesh, RenderSettings,
-    Scattering, Scene, Shape, TexRgb, TexScalar, WrapMode,
+    Camera, ComplexIor, Emission, Environment, Film, Geometry, Light, Masking, Material, Mesh,
+    RenderSettings, Scattering, Scene, Shape, TexRgb, TexScalar, WrapMode,
 };
 
 fn base(name: &str) -> Scene {
@@ -232,9 +233,23 @@ fn delta_lights_glass_and_ggx_agree() {
             roughness: TexScalar::Constant(0.4),
             masking: Masking::Separable,
             scattering: Scattering::Single,
+            conductor: None,
         },
         Material::Mirror {
             reflectance: Vec3::new(0.9, 0.8, 0.7),
+        },
+        // Gold's exact conductor Fresnel (η + ik at 650 / 550 / 450 nm, Johnson & Christy 1972)
+        // against `roughconductor`'s with the same `eta` and `k`.
+        Material::Ggx {
+            reflectance: TexRgb::Constant(Vec3::ONE),
+            f0: Vec3::ONE,
+            roughness: TexScalar::Constant(0.35),
+            masking: Masking::Separable,
+            scattering: Scattering::Single,
+            conductor: Some(ComplexIor {
+                eta: Vec3::new(0.166, 0.433, 1.51),
+                k: Vec3::new(3.15, 2.32, 1.88),
+            }),
         },
     ];
     s.shapes = vec![
@@ -268,6 +283,14 @@ fn delta_lights_glass_and_ggx_agree() {
                 half_v: Vec3::new(0.0, 0.6, 0.0),
             },
             3,
+        ),
+        shape(
+            "gold",
+            Geometry::Sphere {
+                center: Vec3::new(0.05, 0.22, 1.0),
+                radius: 0.22,
+            },
+            4,
         ),
     ];
     s.lights = vec![

@@ -7,7 +7,7 @@
 //   direction of ωo (Lafortune & Willems 1994, "Using the modified Phong reflectance model for
 //   physically based rendering", KU Leuven CW197).
 // - GGX: k·F(ωi·h)·D(h)·G2/(4|cos θo|), Schlick F = f0 + (1 − f0)(1 − cos θd)⁵ (Schlick 1994,
-//   CGF 13(3)); D and Λ of Walter, Marschner, Li & Torrance 2007, "Microfacet Models for
+//   CGF 13(3)) or a conductor's exact F (`conductor_fresnel`); D and Λ of Walter, Marschner, Li & Torrance 2007, "Microfacet Models for
 //   Refraction through Rough Surfaces" (EGSR), eqs. 33–34; G2 height-correlated
 //   1/(1 + Λo + Λi) or separable G1·G1 (Heitz 2014, "Understanding the Masking-Shadowing
 //   Function in Microfacet-Based BRDFs", JCGT 3(2), eq. 99 and §6); α = roughness² ≥ 10⁻³.
@@ -30,9 +30,14 @@ const GLTF_DIELECTRIC_F0: f32 = 0.04;
 struct Bsdf {
     kind: u32,
     masking: u32,
+    // GGX Fresnel: 0 Schlick's with f0, 1 a conductor's exact one of index f0 + i·k.
+    fresnel: u32,
     // Albedo (Lambert), ks (Phong), reflectance (GGX, mirror), base colour (metal-rough).
     color: vec3<f32>,
+    // Schlick's f0, or a conductor's η.
     f0: vec3<f32>,
+    // A conductor's extinction coefficient.
+    k: vec3<f32>,
     // GGX / metal-rough α.
     alpha: f32,
     metallic: f32,
@@ -70,7 +75,7 @@ var<private> base_color_override: f32 = -1.0;
 
 // The BSDF of material `m` at texture coordinate `uv`, inputs sanitised as Bsdf::from_material.
 fn resolve_bsdf(m: Material, uv: vec2<f32>) -> Bsdf {
-    var b = Bsdf(m.kind, m.masking, vec3<f32>(0.0), vec3<f32>(0.0), MIN_ALPHA, 0.0, 0.0, 1.0);
+    var b = Bsdf(m.kind, m.masking, 0u, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), MIN_ALPHA, 0.0, 0.0, 1.0);
     switch m.kind {
         case MAT_DIFFUSE, MAT_PHONG: {
             b.color = sanitize_rgb(eval_tex_rgb(m.color_tex, m.color.xyz, uv));
@@ -78,7 +83,10 @@ fn resolve_bsdf(m: Material, uv: vec2<f32>) -> Bsdf {
         }
         case MAT_GGX: {
             b.color = sanitize_rgb(eval_tex_rgb(m.color_tex, m.color.xyz, uv));
-            b.f0 = sanitize_rgb(m.f0.xyz);
+            b.fresnel = m.fresnel;
+            // η and k were checked when the scene loaded (η in (0, 100], k in [0, 100]).
+            b.f0 = select(sanitize_rgb(m.f0.xyz), m.f0.xyz, m.fresnel == 1u);
+            b.k = m.k.xyz;
             let r = eval_tex_scalar(m.roughness_tex, m.roughness_channel, m.scalars.x, uv);
             b.alpha = ggx_alpha(sanitize_unit(r));
         }
@@ -114,6 +122,35 @@ fn schlick_weight(cos_theta: f32) -> f32 {
     let m = max(1.0 - clamp(cos_theta, 0.0, 1.0), 0.0);
     let m2 = m * m;
     return m2 * m2 * m;
+}
+
+// The exact unpolarised Fresnel reflectance of a conductor of complex index η + ik at cos θ
+// (Born & Wolf, "Principles of Optics", §14.2; oracle fresnel.rs `conductor`, the same real
+// arithmetic): with a² + b² = √((η² − k² − sin²θ)² + 4η²k²), a = √((a² + b² + η² − k² − sin²θ)/2),
+// R_s = (a² + b² + cos²θ − 2a cos θ)/(a² + b² + cos²θ + 2a cos θ) and
+// R_p = R_s (cos²θ(a² + b²) + sin⁴θ − 2a cos θ sin²θ)/(cos²θ(a² + b²) + sin⁴θ + 2a cos θ sin²θ).
+fn conductor_fresnel(cos_theta: f32, eta: vec3<f32>, k: vec3<f32>) -> vec3<f32> {
+    let c = clamp(cos_theta, 0.0, 1.0);
+    let c2 = c * c;
+    let s2 = 1.0 - c2;
+    let t0 = eta * eta - k * k - s2;
+    let a2b2 = sqrt(t0 * t0 + 4.0 * eta * eta * k * k);
+    let a = sqrt(max(0.5 * (a2b2 + t0), vec3<f32>(0.0)));
+    let t1 = a2b2 + c2;
+    let t2 = 2.0 * a * c;
+    let rs = (t1 - t2) / (t1 + t2);
+    let t3 = c2 * a2b2 + s2 * s2;
+    let t4 = t2 * s2;
+    let rp = rs * (t3 - t4) / (t3 + t4);
+    return clamp(0.5 * (rs + rp), vec3<f32>(0.0), vec3<f32>(1.0));
+}
+
+// The GGX material's Fresnel at cos θd: Schlick's with f0, or the conductor's.
+fn ggx_fresnel(b: Bsdf, cos_d: f32) -> vec3<f32> {
+    if b.fresnel == 1u {
+        return conductor_fresnel(cos_d, b.f0, b.k);
+    }
+    return b.f0 + (1.0 - b.f0) * schlick_weight(cos_d);
 }
 
 // D(m) = α²/(π(α²cos²θm + sin²θm)²) for cos θm > 0 (Walter et al. 2007, eq. 33).
@@ -183,11 +220,12 @@ fn bsdf_eval_split(b: Bsdf, n: vec3<f32>, wo: vec3<f32>, wi: vec3<f32>) -> BsdfV
         case MAT_GGX: {
             if h2 > 0.0 {
                 let h = hv * inverseSqrt(h2);
-                let f = b.f0 + (1.0 - b.f0) * schlick_weight(dot(wi, h));
+                let f = ggx_fresnel(b, dot(wi, h));
                 v.specular = b.color * f * ggx_specular_cos(b.alpha, b.masking, nn, wo, wi, h, cos_o);
                 // The light single scattering loses, as the energy-compensation method adds it
-                // back (energy/*.wgsl; microfacet reflectance k·F).
-                v.specular += energy_compensation(b.alpha, b.color, b.f0, v.specular, cos_o, cos_i);
+                // back (energy/*.wgsl; microfacet reflectance k·F, a conductor's F taken as
+                // Schlick's with its normal-incidence value, as engines take it).
+                v.specular += energy_compensation(b.alpha, b.color, ggx_fresnel(b, 1.0), v.specular, cos_o, cos_i);
             }
         }
         case MAT_METAL_ROUGH: {
@@ -244,7 +282,7 @@ fn specular_alpha(b: Bsdf) -> f32 {
 // normal incidence), base colour (metal-rough), reflectance (mirror), 1 (dielectric).
 fn bsdf_albedo(b: Bsdf) -> vec3<f32> {
     if b.kind == MAT_GGX {
-        return b.color * b.f0;
+        return b.color * ggx_fresnel(b, 1.0);
     }
     return b.color;
 }

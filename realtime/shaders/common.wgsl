@@ -128,14 +128,17 @@ struct Material {
     // Metallic texture or NONE, and its channel.
     metallic_tex: u32,
     metallic_channel: u32,
-    pad: u32,
+    // GGX Fresnel: 0 Schlick's with f0, 1 a conductor's exact one of index f0 + i·k.
+    fresnel: u32,
     // Colour (constant) or its factor (textured).
     color: vec4<f32>,
-    // GGX f0 (rgb).
+    // GGX f0 (rgb), or a conductor's η.
     f0: vec4<f32>,
     // x: roughness (constant or factor) or Phong exponent; y: metallic (constant or factor);
     // z: interior IOR; w: exterior IOR.
     scalars: vec4<f32>,
+    // A GGX conductor's extinction coefficient k (rgb).
+    k: vec4<f32>,
 }
 
 struct Light {

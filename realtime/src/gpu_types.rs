@@ -176,16 +176,18 @@ pub struct GpuMaterial {
     pub metallic_tex: u32,
     /// Metallic texture channel.
     pub metallic_channel: u32,
-    /// Padding.
-    pub pad: u32,
+    /// GGX Fresnel: 0 Schlick's with `f0`, 1 a conductor's exact one of index `f0` + i`k`.
+    pub fresnel: u32,
     /// Colour (constant) or its factor.
     pub color: [f32; 4],
-    /// GGX f0.
+    /// GGX f0, or a conductor's η.
     pub f0: [f32; 4],
     /// Roughness or Phong exponent, metallic, interior IOR, exterior IOR.
     pub scalars: [f32; 4],
+    /// A GGX conductor's extinction coefficient k.
+    pub k: [f32; 4],
 }
-const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 32 + 3 * 16);
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 32 + 4 * 16);
 
 /// One punctual or distant light (WGSL `Light`).
 #[repr(C)]

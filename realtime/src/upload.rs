@@ -437,10 +437,11 @@ fn material(m: &Material, textures: usize) -> Result<GpuMaterial, String> {
         roughness_channel: 0,
         metallic_tex: NONE,
         metallic_channel: 0,
-        pad: 0,
+        fresnel: 0,
         color: [0.0; 4],
         f0: [0.0; 4],
         scalars: [0.0, 0.0, 1.0, 1.0],
+        k: [0.0; 4],
     };
     match m {
         Material::Diffuse { albedo } => {
@@ -460,6 +461,7 @@ fn material(m: &Material, textures: usize) -> Result<GpuMaterial, String> {
             f0,
             roughness,
             masking,
+            conductor,
             ..
         } => {
             g.kind = MaterialKind::Ggx as u32;
@@ -469,6 +471,9 @@ fn material(m: &Material, textures: usize) -> Result<GpuMaterial, String> {
             };
             (g.color_tex, g.color) = tex_rgb(reflectance, textures, "reflectance")?;
             g.f0 = vec4(*f0, 0.0);
+            if let Some(ior) = conductor {
+                (g.fresnel, g.f0, g.k) = (1, vec4(ior.eta, 0.0), vec4(ior.k, 0.0));
+            }
             (g.roughness_tex, g.roughness_channel, g.scalars[0]) =
                 tex_scalar(roughness, textures, "roughness")?;
         }

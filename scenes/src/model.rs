@@ -313,6 +313,17 @@ pub enum Masking {
     Separable,
 }
 
+/// A conductor's complex index of refraction η + ik per colour channel, relative to the
+/// medium outside (air): the exact Fresnel reflectance of a metal (Born & Wolf, "Principles of
+/// Optics", §14.2), as Mitsuba 3's `roughconductor` takes it (`eta`, `k`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ComplexIor {
+    /// Real part η (> 0).
+    pub eta: Rgb,
+    /// Imaginary part k, the extinction coefficient (≥ 0).
+    pub k: Rgb,
+}
+
 /// How light scatters on a microfacet surface (docs/ARCHITECTURE.md "BSDFs").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Scattering {
@@ -346,12 +357,14 @@ pub enum Material {
     },
     /// GGX / Trowbridge-Reitz microfacet reflection (Walter et al. 2007) with Schlick Fresnel
     /// F = f0 + (1 − f0)(1 − cosθd)⁵ (f0 = 1 gives F ≡ 1, Mitsuba's `roughconductor` with
-    /// `material="none"`), times `reflectance`. alpha = roughness².
+    /// `material="none"`), or a conductor's exact Fresnel, times `reflectance`. alpha = roughness².
     Ggx {
         /// Multiplier on the lobe (Mitsuba's `specular_reflectance`).
         reflectance: TexRgb,
-        /// Schlick's normal-incidence reflectance.
+        /// Schlick's normal-incidence reflectance (unused with `conductor`).
         f0: Rgb,
+        /// The exact Fresnel reflectance of a conductor of this index instead of Schlick's.
+        conductor: Option<ComplexIor>,
         /// Perceptual roughness in [0, 1]; alpha = roughness².
         roughness: TexScalar,
         /// Smith masking variant.

@@ -4,7 +4,7 @@ mod toml_support;
 
 use glam::Vec3;
 use scenes::{
-    Environment, Geometry, IntegratorKind, Light, Masking, Material, PixelFilter, RenderSettings,
+    ComplexIor, Environment, Geometry, IntegratorKind, Light, Masking, Material, PixelFilter, RenderSettings,
     SamplerKind, Scattering, TexRgb,
 };
 use toml_support::{append, load_text, replace_line, scratch, BASE};
@@ -234,6 +234,7 @@ exponent = 100
             roughness: scenes::TexScalar::Constant(0.2),
             masking: Masking::Separable,
             scattering: Scattering::Single,
+            conductor: None,
         }
     );
     assert_eq!(
@@ -339,6 +340,37 @@ scattering = "single"
     toml_support::expect_error(
         load_text(&dir, &unknown),
         &["bad.toml:21:", "scattering", "single", "multiple"],
+    );
+}
+
+/// A GGX conductor's exact Fresnel: `eta` and `k` together, not with Schlick's `f0`, in range.
+#[test]
+fn conductor_is_read_and_checked() {
+    let dir = scratch("conductor");
+    let gold = "[[material]]\nname = \"gold\"\ntype = \"ggx\"\nroughness = 0.3\neta = [0.166, 0.433, 1.51]\nk = [3.15, 2.32, 1.88]\n";
+    let s = load_text(&dir, &append(gold)).unwrap();
+    assert!(matches!(
+        s.materials[1],
+        Material::Ggx {
+            conductor: Some(ComplexIor { eta, k }),
+            ..
+        } if eta == Vec3::new(0.166, 0.433, 1.51) && k == Vec3::new(3.15, 2.32, 1.88)
+    ));
+    toml_support::expect_error(
+        load_text(&dir, &append(&gold.replace("k = [3.15, 2.32, 1.88]\n", ""))),
+        &["bad.toml:21:", "eta", "a conductor needs both eta and k"],
+    );
+    toml_support::expect_error(
+        load_text(&dir, &append(&format!("{gold}f0 = 0.9\n"))),
+        &["bad.toml:23:", "f0", "exact conductor Fresnel"],
+    );
+    toml_support::expect_error(
+        load_text(&dir, &append(&gold.replace("eta = [0.166", "eta = [0.0"))),
+        &["bad.toml:21:", "eta", "must lie in (0, 100]"],
+    );
+    toml_support::expect_error(
+        load_text(&dir, &append(&gold.replace("k = [3.15", "k = [-1"))),
+        &["bad.toml:22:", "k", "must lie in [0, 100]"],
     );
 }
 

@@ -62,6 +62,7 @@ fn white_furnace_ggx_is_at_most_one() {
             roughness: TexScalar::Constant(roughness),
             masking: Masking::HeightCorrelated,
             scattering: Scattering::Single,
+            conductor: None,
         };
         for (c, (mean, se)) in furnace(ggx, 64).into_iter().enumerate() {
             println!("roughness {roughness}, channel {c}: mean {mean} ± {se}");
@@ -87,6 +88,7 @@ fn white_furnace_multiple_scattering_is_one() {
             roughness: TexScalar::Constant(roughness),
             masking: Masking::HeightCorrelated,
             scattering: Scattering::Multiple,
+            conductor: None,
         };
         let metal = Material::MetalRough {
             base_color: TexRgb::Constant(Vec3::ONE),

@@ -30,6 +30,7 @@ fn small_scene() -> Scene {
             roughness: TexScalar::Constant(0.4),
             masking: Masking::HeightCorrelated,
             scattering: Scattering::Single,
+            conductor: None,
         },
     );
     let light = add_shape(

@@ -6,6 +6,7 @@
 //! | [`schlick`] | F = f0 + (1 − f0)(1 − cos θ)⁵ | Schlick 1994, "An Inexpensive BRDF Model for Physically-based Rendering" (Comput. Graph. Forum 13(3)) |
 //! | [`dielectric`] | F = ½(r_s² + r_p²) | Born & Wolf, "Principles of Optics", §1.5.2 (Fresnel formulae) |
 //! | [`refract`] | η_i sin θ_i = η_t sin θ_t | Snell's law; vector form as pbrt-v4 §9.3 (`Refract`) |
+//! | [`conductor`] | F = ½(R_s + R_p), complex index η + ik | Born & Wolf, "Principles of Optics", §14.2 (metals); the real-arithmetic form of pbrt-v3 §8.2.1 |
 
 use glam::Vec3;
 use scenes::Rgb;
@@ -71,6 +72,34 @@ pub fn dielectric(cos_i: f32, eta: f32) -> DielectricFresnel {
     }
 }
 
+/// Exact unpolarised Fresnel reflectance of a conductor of complex index η + ik (relative to
+/// the outside medium) at incidence cos θ, per channel (Born & Wolf §14.2). With
+/// a² + b² = √((η² − k² − sin²θ)² + 4η²k²) and a = √((a² + b² + η² − k² − sin²θ)/2):
+/// R_s = (a² + b² + cos²θ − 2a cos θ)/(a² + b² + cos²θ + 2a cos θ),
+/// R_p = R_s (cos²θ(a² + b²) + sin⁴θ − 2a cos θ sin²θ)/(cos²θ(a² + b²) + sin⁴θ + 2a cos θ sin²θ).
+/// At normal incidence F = ((η − 1)² + k²)/((η + 1)² + k²); with k = 0 it is [`dielectric`]'s;
+/// at grazing incidence it is 1. `cos_theta` is clamped to [0, 1].
+pub fn conductor(cos_theta: f32, eta: Rgb, k: Rgb) -> Rgb {
+    let c = cos_theta.clamp(0.0, 1.0);
+    let (c2, s2) = (c * c, 1.0 - c * c);
+    let one = |eta: f32, k: f32| -> f32 {
+        let t0 = eta * eta - k * k - s2;
+        let a2b2 = (t0 * t0 + 4.0 * eta * eta * k * k).sqrt();
+        let a = (0.5 * (a2b2 + t0)).max(0.0).sqrt();
+        let (t1, t2) = (a2b2 + c2, 2.0 * a * c);
+        let rs = (t1 - t2) / (t1 + t2);
+        let (t3, t4) = (c2 * a2b2 + s2 * s2, t2 * s2);
+        let rp = rs * (t3 - t4) / (t3 + t4);
+        let f = 0.5 * (rs + rp);
+        if f.is_finite() {
+            f.clamp(0.0, 1.0)
+        } else {
+            1.0
+        }
+    };
+    Rgb::new(one(eta.x, k.x), one(eta.y, k.y), one(eta.z, k.z))
+}
+
 /// Mirror direction of `w` about the unit normal `n`: 2(w·n)n − w (law of reflection).
 #[inline]
 pub fn reflect(w: Vec3, n: Vec3) -> Vec3 {
@@ -117,6 +146,36 @@ mod tests {
         assert_eq!(schlick_scalar(0.04, 1.0), 0.04);
         assert_eq!(schlick_scalar(0.04, 0.0), 1.0);
         assert!((schlick_scalar(0.04, 0.5) - (0.04 + 0.96 / 32.0)).abs() < 1e-7);
+    }
+
+    /// The conductor's exact Fresnel: the normal-incidence closed form, the dielectric's
+    /// value when k = 0, 1 at grazing incidence, and gold (η, k at 650 / 550 / 450 nm from
+    /// Johnson & Christy 1972: 0.166 + 3.15i, 0.433 + 2.32i, 1.51 + 1.88i) reflecting red
+    /// best at normal incidence.
+    #[test]
+    fn bsdf_fresnel_conductor() {
+        let eta = Rgb::new(0.166, 0.433, 1.51);
+        let k = Rgb::new(3.15, 2.32, 1.88);
+        let f = conductor(1.0, eta, k);
+        for c in 0..3 {
+            let (n, kc) = (eta[c] as f64, k[c] as f64);
+            let exact = ((n - 1.0).powi(2) + kc * kc) / ((n + 1.0).powi(2) + kc * kc);
+            assert!(
+                (f[c] as f64 - exact).abs() < 1e-5,
+                "channel {c}: {} vs {exact}",
+                f[c]
+            );
+        }
+        assert!(f.x > f.y && f.y > f.z, "gold reflects red best: {f}");
+        for cos in [1.0f32, 0.8, 0.5, 0.2, 0.05] {
+            let d = dielectric(cos, 1.5).reflectance;
+            let c = conductor(cos, Rgb::splat(1.5), Rgb::ZERO).x;
+            assert!(
+                (c - d).abs() < 1e-5,
+                "cos {cos}: conductor with k = 0 {c}, dielectric {d}"
+            );
+        }
+        assert!((conductor(0.0, eta, k) - Rgb::ONE).abs().max_element() < 1e-6);
     }
 
     #[test]

@@ -89,6 +89,7 @@ impl Bsdf {
                 roughness,
                 masking,
                 scattering,
+                conductor,
             } => {
                 let lobe = ggx::Ggx::new(
                     reflectance.eval(uv, textures),
@@ -96,6 +97,10 @@ impl Bsdf {
                     roughness.eval(uv, textures),
                     *masking,
                 );
+                let lobe = match conductor {
+                    Some(ior) => lobe.with_conductor(*ior),
+                    None => lobe,
+                };
                 Bsdf::Ggx(match scattering {
                     Scattering::Single => lobe,
                     Scattering::Multiple => lobe.multiple_scattering(WalkSeed::default()),

@@ -195,7 +195,9 @@ fn envmap_shading(b: Bsdf, p: vec3<f32>, n: vec3<f32>, wo: vec3<f32>) -> vec3<f3
         case MAT_GGX: {
             let ab = envmap_split_sum(cos_o, b.alpha, b.masking);
             let l = envmap_radiance(glossy_direction(nn, r, b.alpha), envmap_level(b.alpha));
-            return b.color * (b.f0 * ab.x + ab.y) * l;
+            // A conductor's exact Fresnel enters the split sum as Schlick's with its value at
+            // normal incidence (Karis 2013's f0·A + B; exact only at normal incidence).
+            return b.color * (ggx_fresnel(b, 1.0) * ab.x + ab.y) * l;
         }
         default: {
             // glTF metal-rough: Schlick with f0 = (1 − m)·0.04 + m·c for the specular lobe;

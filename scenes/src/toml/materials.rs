@@ -6,7 +6,7 @@ use glam::Vec3;
 
 use super::inputs::{rgb_const, rgb_input, scalar_input, Bound, Textures};
 use super::read::{Field, Table};
-use crate::model::{Masking, Material, Scattering, TexRgb, TexScalar};
+use crate::model::{ComplexIor, Masking, Material, Scattering, TexRgb, TexScalar};
 use crate::SceneError;
 
 const TYPES: &[&str] = &["diffuse", "phong", "ggx", "metal_rough", "mirror", "dielectric"];
@@ -63,6 +63,8 @@ fn read_one(t: &Table, textures: &mut Textures) -> Result<Material, SceneError> 
             "type",
             "reflectance",
             "f0",
+            "eta",
+            "k",
             "roughness",
             "masking",
             "scattering",
@@ -118,6 +120,7 @@ fn read_one(t: &Table, textures: &mut Textures) -> Result<Material, SceneError> 
             Material::Ggx {
                 reflectance,
                 f0: rgb_const(t.get("f0"), Bound::Unit, Vec3::ONE)?,
+                conductor: conductor(t)?,
                 roughness: scalar_input(&t.req("roughness")?, 1, textures)?,
                 masking,
                 scattering,
@@ -141,6 +144,48 @@ fn read_one(t: &Table, textures: &mut Textures) -> Result<Material, SceneError> 
             ext_ior: ior(t.get("ext_ior"), AIR_IOR)?,
         },
     })
+}
+
+/// Largest η and k accepted: metals in the visible have η < 5 and k < 12 (gold, silver,
+/// aluminium, tungsten); 100 is far beyond any and keeps η² + k² finite in f32.
+const MAX_IOR: f32 = 100.0;
+
+/// The optional complex index `eta`, `k` of a GGX conductor: both or neither, not with `f0`.
+fn conductor(t: &Table) -> Result<Option<ComplexIor>, SceneError> {
+    let (eta, k) = match (t.get("eta"), t.get("k")) {
+        (None, None) => return Ok(None),
+        (Some(eta), Some(k)) => (eta, k),
+        (Some(f), None) | (None, Some(f)) => {
+            return Err(f.err("a conductor needs both eta and k").hint(
+                "give the complex index of refraction η + ik per channel, e.g. gold eta = [0.143, 0.374, 1.442], \
+                 k = [3.983, 2.385, 1.603]",
+            ))
+        }
+    };
+    if let Some(f0) = t.get("f0") {
+        return Err(f0
+            .err(
+                "f0 is Schlick's approximation, and this material gives the exact conductor Fresnel (eta, k)",
+            )
+            .hint("drop f0, or drop eta and k"));
+    }
+    let channels = |f: &Field, zero_allowed: bool| -> Result<Vec3, SceneError> {
+        let v = f.rgb()?;
+        let ok = |x: f32| x <= MAX_IOR && (x > 0.0 || (zero_allowed && x == 0.0));
+        if v.to_array().into_iter().all(ok) {
+            Ok(v)
+        } else {
+            let range = if zero_allowed { "[0, 100]" } else { "(0, 100]" };
+            Err(f.err(format!(
+                "must lie in {range} in every channel, got {:?}",
+                v.to_array()
+            )))
+        }
+    };
+    Ok(Some(ComplexIor {
+        eta: channels(&eta, false)?,
+        k: channels(&k, true)?,
+    }))
 }
 
 /// The optional `scattering` keyword: "single" (the default) or "multiple".

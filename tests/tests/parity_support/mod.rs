@@ -155,6 +155,7 @@ pub fn ggx(reflectance: Vec3, f0: Vec3, roughness: f32, masking: Masking) -> Mat
         roughness: TexScalar::Constant(roughness),
         masking,
         scattering: Scattering::Single,
+        conductor: None,
     }
 }
 

@@ -11,7 +11,7 @@
 //! | film W×H, box pixel filter | `hdrfilm` rgb float32, `rfilter` `box` (the `centre` pixel filter is refused: the cross-check compares box-filtered pixels) |
 //! | `path` (max_depth, rr_depth) | `path` (same semantics), `independent` sampler |
 //! | `direct` without mirror/dielectric surfaces | `path` with max_depth 2 (or 1/0 when lower) |
-//! | diffuse, mirror, GGX (f0 = 1, separable masking) | `twosided` `diffuse`, `conductor`, `roughconductor` (`material="none"`) |
+//! | diffuse, mirror, GGX (f0 = 1 or a conductor's η, k; separable masking) | `twosided` `diffuse`, `conductor`, `roughconductor` (`material="none"`, or `eta` and `k`) |
 //! | dielectric | `dielectric` (one-sided: it has an inside) |
 //! | RGB texture × factor | `bitmap` of the baked texels (float EXR, same wrap, bilinear) |
 //! | sphere, rectangle, disk, mesh | `sphere`, `rectangle`/`disk` under the affine map (half_u, half_v, n, center), `ply` |
