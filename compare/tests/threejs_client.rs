@@ -83,11 +83,9 @@ fn threejs_is_measured_against_the_pixel_centre_ground_truth() {
 
     // The ground truth: pixel centres, direct light only, no shadows (three.js draws none).
     // A point light seen through pixel centres leaves nothing random: one sample is exact.
-    let truth = tmp("ground_truth.exr");
     let resolution = format!("{}x{}", SIZE.0, SIZE.1);
-    run(
-        env!("CARGO_BIN_EXE_verity"),
-        &[
+    let oracle = |out: &Path, spp: &str, extra: &[&str]| {
+        let mut args = vec![
             "render",
             glb.to_str().unwrap(),
             "--integrator",
@@ -97,13 +95,15 @@ fn threejs_is_measured_against_the_pixel_centre_ground_truth() {
             "--resolution",
             &resolution,
             "--spp",
-            "1",
+            spp,
             "--out",
-            truth.to_str().unwrap(),
-        ],
-        &workspace(),
-        "the oracle",
-    );
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        run(env!("CARGO_BIN_EXE_verity"), &args, &workspace(), "the oracle");
+    };
+    let truth = tmp("ground_truth.exr");
+    oracle(&truth, "1", &[]);
 
     let render = |name: &str, specular_aa: &str, energy_compensation: &str| {
         let out = tmp(&format!("{name}.exr"));
@@ -193,27 +193,7 @@ fn threejs_is_measured_against_the_pixel_centre_ground_truth() {
     // closer model of the metal sphere, measured 0.9992 against 0.9732 for single scattering
     // (1024 spp); the other objects do not change (the walk acts on the metal only).
     let multiple = tmp("ground_truth_multiple.exr");
-    run(
-        env!("CARGO_BIN_EXE_verity"),
-        &[
-            "render",
-            glb.to_str().unwrap(),
-            "--integrator",
-            "direct-unshadowed",
-            "--pixel-filter",
-            "centre",
-            "--resolution",
-            &resolution,
-            "--spp",
-            "256",
-            "--scattering",
-            "multiple",
-            "--out",
-            multiple.to_str().unwrap(),
-        ],
-        &workspace(),
-        "the oracle",
-    );
+    oracle(&multiple, "256", &["--scattering", "multiple"]);
     let ratio_against = |truth: &Path, name: &str| metal_ratio(&diff(truth, &tmp(&format!("{name}.exr"))).1);
     let (with_ec, without_ec) = (
         ratio_against(&multiple, "energy-compensation"),

@@ -74,6 +74,16 @@ fn realtime_means(scene: &Scene, method: &str, params: &[(&str, &str)], mask: &[
     )
 }
 
+/// The interior pixels of `scene` ([`interior_mask`]) between a realtime image of it and the
+/// oracle's `reference`.
+fn interior(scene: &Scene, reference: &LayeredImage) -> Vec<bool> {
+    let probe = raster(
+        scene,
+        RasterSettings::new(SIZE, SIZE).method(Method::parse("energy_none", &[]).unwrap()),
+    );
+    interior_mask(&probe.image, reference)
+}
+
 /// Relative errors (a − t)/t per channel.
 fn rel(a: [f64; 3], t: [f64; 3]) -> [f64; 3] {
     [0, 1, 2].map(|c| (a[c] - t[c]) / t[c])
@@ -140,12 +150,7 @@ fn energy_compensation_against_multiple_scattering() {
         let single = render(&scene, settings(IntegratorKind::Direct, -1, 3), 256).image;
         let multiple_scene = furnace(metal(base, roughness, Scattering::Multiple));
         let multiple = render(&multiple_scene, settings(IntegratorKind::Direct, -1, 4), 256).image;
-        let probe = raster(
-            &scene,
-            RasterSettings::new(SIZE, SIZE).method(Method::parse("energy_none", &[]).unwrap()),
-        )
-        .image;
-        let mask = interior_mask(&probe, &single);
+        let mask = interior(&scene, &single);
         assert!(count(&mask) > 500, "{} interior pixels", count(&mask));
         let (truth_ss, truth_ms) = (means(&single, &mask), means(&multiple, &mask));
         let case_name = format!("base {base}, roughness {roughness}");
@@ -196,12 +201,7 @@ fn energy_compensation_table_resolution() {
         256,
     )
     .image;
-    let probe = raster(
-        &scene,
-        RasterSettings::new(SIZE, SIZE).method(Method::parse("energy_none", &[]).unwrap()),
-    )
-    .image;
-    let mask = interior_mask(&probe, &multiple);
+    let mask = interior(&scene, &multiple);
     let truth = means(&multiple, &mask);
     for method in ["energy_kulla_conty", "energy_turquin", "energy_fdez_aguera"] {
         let errors: Vec<f64> = ["2", "4", "8", "32"]
@@ -235,12 +235,7 @@ fn conductor_fresnel_matches_the_oracle() {
     };
     let scene = furnace(gold);
     let truth = render(&scene, settings(IntegratorKind::Direct, -1, 5), 256).image;
-    let probe = raster(
-        &scene,
-        RasterSettings::new(SIZE, SIZE).method(Method::parse("energy_none", &[]).unwrap()),
-    )
-    .image;
-    let mask = interior_mask(&probe, &truth);
+    let mask = interior(&scene, &truth);
     let (t, r) = (
         means(&truth, &mask),
         realtime_means(&scene, "energy_none", &[], &mask),

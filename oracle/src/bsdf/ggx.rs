@@ -124,17 +124,7 @@ impl Ggx {
             let fresnel = |c: f32| self.fresnel(c);
             let (wi, weight) =
                 Microsurface::new(self.dist).sample(wo_up, &fresnel, &mut seed.sample_stream())?;
-            let pdf = self.dist.reflection_pdf(wo_up, wi);
-            if !(pdf > 0.0 && pdf.is_finite()) {
-                return None;
-            }
-            return Some(BsdfSample {
-                wi: if flip { flip_z(wi) } else { wi },
-                weight,
-                pdf,
-                delta: false,
-                eta: 1.0,
-            });
+            return BsdfSample::reflection(wi, flip, weight, self.dist.reflection_pdf(wo_up, wi));
         }
         // Sample ωm from the visible normals, reflect ωo about it.
         let m = self.dist.sample_visible(wo_up, u);

@@ -110,17 +110,7 @@ impl MetalRough {
         let p_spec = self.specular_probability(wo_up);
         if let Some(seed) = self.multiple_scattering {
             let (wi, weight) = self.sample_by_lobe(wo_up, p_spec, u_lobe, u, seed)?;
-            let pdf = self.mixture_pdf(wo_up, wi, p_spec);
-            if !(pdf > 0.0 && pdf.is_finite()) {
-                return None;
-            }
-            return Some(BsdfSample {
-                wi: if flip { flip_z(wi) } else { wi },
-                weight,
-                pdf,
-                delta: false,
-                eta: 1.0,
-            });
+            return BsdfSample::reflection(wi, flip, weight, self.mixture_pdf(wo_up, wi, p_spec));
         }
         let wi = if u_lobe < p_spec {
             // Specular: reflect ωo about a visible normal.

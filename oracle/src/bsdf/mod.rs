@@ -54,6 +54,24 @@ pub struct BsdfSample {
     pub eta: f32,
 }
 
+impl BsdfSample {
+    /// A non-delta reflection (η = 1) to `wi_up`, drawn for ωo turned to the upper side and
+    /// mirrored back below when ωo was (`flip`, the two-sided reflectors); `None` unless the
+    /// pdf is positive and finite.
+    pub(crate) fn reflection(wi_up: Vec3, flip: bool, weight: Rgb, pdf: f32) -> Option<BsdfSample> {
+        if !(pdf > 0.0 && pdf.is_finite()) {
+            return None;
+        }
+        Some(BsdfSample {
+            wi: if flip { flip_z(wi_up) } else { wi_up },
+            weight,
+            pdf,
+            delta: false,
+            eta: 1.0,
+        })
+    }
+}
+
 /// A BSDF with its textures resolved at one surface point. `eval` includes the cosine.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Bsdf {
