@@ -54,7 +54,6 @@ fn studies() -> Vec<PathBuf> {
 fn every_study_holds_its_declared_bounds_in_quick_mode() {
     let paths = studies();
     assert!(!paths.is_empty(), "no study under scenes/studies");
-    let mut failures = Vec::new();
     for path in &paths {
         let s = study::load(path).unwrap_or_else(|e| panic!("{e}"));
         assert!(
@@ -67,14 +66,54 @@ fn every_study_holds_its_declared_bounds_in_quick_mode() {
             "{}: needs at least one lower bound where a method is known to fail",
             path.display()
         );
-        failures.extend(run_quick_in_child(path));
     }
+    // Several children at once: one study keeps about one core busy (lavapipe's queue
+    // thread waits on its raster threads and the readbacks), so two at a time fill a 2-core
+    // machine (with a cold ground-truth cache, as in CI: 36 min one at a time, 21 min two). At
+    // most MAX_CHILDREN: each peaks near 2 GB. Studies that share a ground truth may both
+    // render it; the cache's entries are written atomically (study::cache), so the second
+    // write replaces the first with an equal image.
+    let jobs = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, MAX_CHILDREN);
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let mut results: Vec<(usize, Result<Vec<String>, String>)> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..jobs)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut done = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        let Some(path) = paths.get(i) else { break done };
+                        done.push((i, run_quick_in_child(path)));
+                    }
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|w| w.join().expect("a study worker thread"))
+            .collect()
+    });
+    results.sort_by_key(|(i, _)| *i);
+    let mut failures = Vec::new();
+    let mut crashed = Vec::new();
+    for (_, r) in results {
+        match r {
+            Ok(f) => failures.extend(f),
+            Err(e) => crashed.push(e),
+        }
+    }
+    assert!(crashed.is_empty(), "{}", crashed.join("\n"));
     assert!(
         failures.is_empty(),
         "declared bounds fail:\n{}",
         failures.join("\n")
     );
 }
+
+/// The most study processes run at once.
+const MAX_CHILDREN: usize = 4;
 
 /// The environment variable naming the study [`one_study_in_quick_mode`] runs.
 const CHILD_STUDY: &str = "VERITY_TEST_STUDY";
@@ -83,8 +122,9 @@ const CHILD_STUDY: &str = "VERITY_TEST_STUDY";
 /// ([`one_study_in_quick_mode`]) and returns the messages of its failed bounds. One process
 /// per study: what the realtime renderer leaves behind per render (lavapipe's compiled
 /// pipelines among it; issue 26 measures it) goes with the process, where one process for
-/// all ~40 studies grew past 24 GB.
-fn run_quick_in_child(path: &Path) -> Vec<String> {
+/// all ~40 studies grew past 24 GB. Its output is printed in one piece when it ends; a
+/// child that fails (a panic, an error) comes back as `Err` with its output.
+fn run_quick_in_child(path: &Path) -> Result<Vec<String>, String> {
     let out = std::process::Command::new(std::env::current_exe().expect("the test binary"))
         .args([
             "one_study_in_quick_mode",
@@ -99,16 +139,17 @@ fn run_quick_in_child(path: &Path) -> Vec<String> {
         .expect("the test binary runs");
     let stdout = String::from_utf8_lossy(&out.stdout);
     print!("{stdout}");
-    assert!(
-        out.status.success(),
-        "{}: the quick run failed:\n{stdout}\n{}",
-        path.display(),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    stdout
+    if !out.status.success() {
+        return Err(format!(
+            "{}: the quick run failed:\n{stdout}\n{}",
+            path.display(),
+            String::from_utf8_lossy(&out.stderr)
+        ));
+    }
+    Ok(stdout
         .lines()
         .filter_map(|l| l.strip_prefix("FAILS ").map(str::to_string))
-        .collect()
+        .collect())
 }
 
 /// The child of [`every_study_holds_its_declared_bounds_in_quick_mode`]: runs the study
