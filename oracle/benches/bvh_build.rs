@@ -4,22 +4,17 @@
 //! The mesh is a UV sphere of 1024 × 512 quads (1 046 528 triangles) with radial noise.
 //! Rays: random origins in [−1.5, 1.5]³ (inside and outside the sphere) with uniform random
 //! directions for closest hits; shadow rays join two random points of that box (about half
-//! are blocked). Each is timed on one thread and on rayon's global pool, best of `REPEATS`.
+//! are blocked). Each is timed on one thread and on rayon's global pool, best of three.
 
 #[path = "../tests/geometry_util/mod.rs"]
 mod geometry_util;
 
-use std::time::Instant;
-
-use geometry_util::{mesh_shape, scene, uv_sphere, Rng};
+use geometry_util::{mesh_shape, scene, throughput, uv_sphere, Rng};
 use glam::Vec3;
 use oracle::geometry::{Accel, BuildQuality, Ray};
-use rayon::prelude::*;
 
 /// Rays per measurement.
 const RAYS: usize = 1 << 20;
-/// Each throughput is the best of this many runs (the machine may be shared).
-const REPEATS: usize = 3;
 
 fn bumpy_sphere_scene(rng: &mut Rng) -> scenes::Scene {
     let mut mesh = uv_sphere(Vec3::ZERO, 1.0, 1024, 512);
@@ -28,23 +23,6 @@ fn bumpy_sphere_scene(rng: &mut Rng) -> scenes::Scene {
         *p *= 1.0 + bumps + 0.002 * rng.range(-1.0, 1.0);
     }
     scene(vec![mesh_shape("bumpy sphere", mesh)])
-}
-
-/// Millions of rays per second of `f` over `rays` (best of `REPEATS`), on one thread or
-/// rayon's pool, and how many returned true.
-fn throughput(rays: &[(Ray, f32)], parallel: bool, f: impl Fn(&Ray, f32) -> bool + Sync) -> (f64, usize) {
-    let mut best = (0.0f64, 0);
-    for _ in 0..REPEATS {
-        let start = Instant::now();
-        let hits = if parallel {
-            rays.par_iter().filter(|(r, t)| f(r, *t)).count()
-        } else {
-            rays.iter().filter(|(r, t)| f(r, *t)).count()
-        };
-        let mrays = rays.len() as f64 / start.elapsed().as_secs_f64() / 1e6;
-        best = (best.0.max(mrays), hits);
-    }
-    best
 }
 
 fn main() {
@@ -75,8 +53,8 @@ fn main() {
             .install(|| Accel::build_with(&scene, quality))
             .expect("valid scene");
         let accel = Accel::build_with(&scene, quality).expect("valid scene");
-        let hit = |r: &Ray, t: f32| accel.intersect(r, t).is_some();
-        let occluded = |r: &Ray, t: f32| accel.occluded(r, t);
+        let hit = |(r, t): &(Ray, f32)| accel.intersect(r, *t).is_some();
+        let occluded = |(r, t): &(Ray, f32)| accel.occluded(r, *t);
         let (hit_1, hits) = throughput(&closest, false, hit);
         let (hit_n, _) = throughput(&closest, true, hit);
         let (shadow_1, blocked) = throughput(&shadow, false, occluded);

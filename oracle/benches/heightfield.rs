@@ -6,7 +6,7 @@
 //! (64 rows, scale 2 cm), sampled at the given resolution. Rays: 2²⁰ closest-hit rays from
 //! random points 1–3 m above the patch towards random points of its bounds, and 2²⁰ shadow
 //! rays from the surface points they found towards a sun 20° above the horizon; each timed
-//! on one thread and on rayon's pool, best of `REPEATS`. The render is 256 × 256 at 4 spp with
+//! on one thread and on rayon's pool, best of three. The render is 256 × 256 at 4 spp with
 //! the `direct` integrator and the sun, on rayon's pool. Memory: the grid and the min/max
 //! hierarchy as the accelerator reports them, the height texture (RGBA f32, as scenes stores
 //! every texture), and the process's peak resident set (`VmHWM`, Linux), which after the
@@ -18,7 +18,7 @@ mod geometry_util;
 use std::sync::Arc;
 use std::time::Instant;
 
-use geometry_util::{scene, shape, Rng};
+use geometry_util::{scene, shape, throughput, Rng};
 use glam::Vec3;
 use oracle::geometry::{Accel, Ray};
 use oracle::{RenderJob, StopRule};
@@ -28,8 +28,6 @@ use scenes::{Camera, Displacement, Film, Geometry, IntegratorKind, Light, Render
 
 /// Rays per measurement.
 const RAYS: usize = 1 << 20;
-/// Each throughput is the best of this many runs (the machine may be shared).
-const REPEATS: usize = 3;
 /// Direction the sun's light travels (20° above the horizon).
 const SUN_ELEVATION_DEG: f32 = 20.0;
 
@@ -44,23 +42,6 @@ fn peak_rss_mib() -> Option<f64> {
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib / 1024.0)
-}
-
-/// Millions of rays per second of `f` over `rays` (best of `REPEATS`), on one thread or
-/// rayon's pool, and how many returned true.
-fn throughput(rays: &[Ray], parallel: bool, f: impl Fn(&Ray) -> bool + Sync) -> (f64, usize) {
-    let mut best = (0.0f64, 0);
-    for _ in 0..REPEATS {
-        let start = Instant::now();
-        let hits = if parallel {
-            rays.par_iter().filter(|r| f(r)).count()
-        } else {
-            rays.iter().filter(|r| f(r)).count()
-        };
-        let mrays = rays.len() as f64 / start.elapsed().as_secs_f64() / 1e6;
-        best = (best.0.max(mrays), hits);
-    }
-    best
 }
 
 fn main() {

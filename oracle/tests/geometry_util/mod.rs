@@ -122,3 +122,22 @@ pub fn uv_sphere(center: Vec3, radius: f32, n_phi: u32, n_theta: u32) -> Mesh {
     }
     m
 }
+
+/// Millions of items per second of `f` over `items` (the best of three runs: the machine may
+/// be shared), on one thread or rayon's global pool, and how many returned true. For the
+/// benches' ray throughputs.
+pub fn throughput<T: Sync>(items: &[T], parallel: bool, f: impl Fn(&T) -> bool + Sync) -> (f64, usize) {
+    use rayon::prelude::*;
+    let mut best = (0.0f64, 0);
+    for _ in 0..3 {
+        let start = std::time::Instant::now();
+        let hits = if parallel {
+            items.par_iter().filter(|r| f(r)).count()
+        } else {
+            items.iter().filter(|r| f(r)).count()
+        };
+        let mitems = items.len() as f64 / start.elapsed().as_secs_f64() / 1e6;
+        best = (best.0.max(mitems), hits);
+    }
+    best
+}
