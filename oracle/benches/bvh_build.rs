@@ -9,9 +9,9 @@
 #[path = "../tests/geometry_util/mod.rs"]
 mod geometry_util;
 
-use geometry_util::{mesh_shape, scene, throughput, uv_sphere, Rng};
+use geometry_util::{accel_throughputs, box_rays, mesh_shape, scene, uv_sphere, Rng};
 use glam::Vec3;
-use oracle::geometry::{Accel, BuildQuality, Ray};
+use oracle::geometry::{Accel, BuildQuality};
 
 /// Rays per measurement.
 const RAYS: usize = 1 << 20;
@@ -28,16 +28,7 @@ fn bumpy_sphere_scene(rng: &mut Rng) -> scenes::Scene {
 fn main() {
     let mut rng = Rng::new(1);
     let scene = bumpy_sphere_scene(&mut rng);
-    let box_point = |rng: &mut Rng| rng.in_box(Vec3::splat(-1.5), Vec3::splat(1.5));
-    let closest: Vec<(Ray, f32)> = (0..RAYS)
-        .map(|_| (Ray::new(box_point(&mut rng), rng.dir()), f32::INFINITY))
-        .collect();
-    let shadow: Vec<(Ray, f32)> = (0..RAYS)
-        .map(|_| {
-            let (a, b) = (box_point(&mut rng), box_point(&mut rng));
-            (Ray::new(a, (b - a).normalize()), (b - a).length())
-        })
-        .collect();
+    let (closest, shadow) = box_rays(&mut rng, Vec3::splat(-1.5), Vec3::splat(1.5), RAYS);
     let threads = rayon::current_num_threads();
     let one = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
@@ -53,24 +44,19 @@ fn main() {
             .install(|| Accel::build_with(&scene, quality))
             .expect("valid scene");
         let accel = Accel::build_with(&scene, quality).expect("valid scene");
-        let hit = |(r, t): &(Ray, f32)| accel.intersect(r, *t).is_some();
-        let occluded = |(r, t): &(Ray, f32)| accel.occluded(r, *t);
-        let (hit_1, hits) = throughput(&closest, false, hit);
-        let (hit_n, _) = throughput(&closest, true, hit);
-        let (shadow_1, blocked) = throughput(&shadow, false, occluded);
-        let (shadow_n, _) = throughput(&shadow, true, occluded);
+        let t = accel_throughputs(&accel, &closest, &shadow);
         println!(
             "{:<7} {:>9} {:>12.3} {:>12.3} {:>10.2} {:>10.2} {:>10.2} {:>10.2}   (Mrays/s; {:.0}% hit, {:.0}% blocked)",
             format!("{quality:?}"),
             accel.triangle_count(),
             single.build_seconds(),
             accel.build_seconds(),
-            hit_1,
-            hit_n,
-            shadow_1,
-            shadow_n,
-            100.0 * hits as f64 / RAYS as f64,
-            100.0 * blocked as f64 / RAYS as f64,
+            t.hit_1,
+            t.hit_n,
+            t.shadow_1,
+            t.shadow_n,
+            100.0 * t.hit_fraction,
+            100.0 * t.blocked_fraction,
         );
     }
 }

@@ -14,8 +14,8 @@ mod geometry_util;
 
 use std::path::{Path, PathBuf};
 
-use geometry_util::{throughput, Rng};
-use oracle::geometry::{Accel, Ray};
+use geometry_util::{accel_throughputs, box_rays, Rng};
+use oracle::geometry::Accel;
 
 /// Rays per measurement.
 const RAYS: usize = 1 << 20;
@@ -41,10 +41,6 @@ fn main() {
     } else {
         args
     };
-    let one = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .expect("one-thread pool");
     println!(
         "traversal: {RAYS} rays per measurement, Mrays/s, rayon pool of {} threads",
         rayon::current_num_threads()
@@ -55,26 +51,10 @@ fn main() {
     );
     for path in &paths {
         let scene = scenes::load(path).unwrap_or_else(|e| panic!("{e}"));
-        let accel = one
-            .install(|| Accel::build(&scene))
-            .unwrap_or_else(|e| panic!("{e}"));
+        let accel = Accel::build(&scene).unwrap_or_else(|e| panic!("{e}"));
         let (lo, hi) = scene.bounds();
-        let mut rng = Rng::new(1);
-        let closest: Vec<(Ray, f32)> = (0..RAYS)
-            .map(|_| (Ray::new(rng.in_box(lo, hi), rng.dir()), f32::INFINITY))
-            .collect();
-        let shadow: Vec<(Ray, f32)> = (0..RAYS)
-            .map(|_| {
-                let (a, b) = (rng.in_box(lo, hi), rng.in_box(lo, hi));
-                (Ray::new(a, (b - a).normalize()), (b - a).length())
-            })
-            .collect();
-        let hit = |(r, t): &(Ray, f32)| accel.intersect(r, *t).is_some();
-        let occluded = |(r, t): &(Ray, f32)| accel.occluded(r, *t);
-        let (hit_1, hits) = one.install(|| throughput(&closest, false, hit));
-        let (hit_n, _) = throughput(&closest, true, hit);
-        let (shadow_1, blocked) = one.install(|| throughput(&shadow, false, occluded));
-        let (shadow_n, _) = throughput(&shadow, true, occluded);
+        let (closest, shadow) = box_rays(&mut Rng::new(1), lo, hi, RAYS);
+        let t = accel_throughputs(&accel, &closest, &shadow);
         let name = path
             .strip_prefix(&workspace)
             .unwrap_or(path)
@@ -85,12 +65,12 @@ fn main() {
             name.trim_start_matches("scenes/").trim_end_matches(".toml"),
             scene.shapes.len(),
             accel.triangle_count(),
-            hit_1,
-            hit_n,
-            shadow_1,
-            shadow_n,
-            100.0 * hits as f64 / RAYS as f64,
-            100.0 * blocked as f64 / RAYS as f64,
+            t.hit_1,
+            t.hit_n,
+            t.shadow_1,
+            t.shadow_n,
+            100.0 * t.hit_fraction,
+            100.0 * t.blocked_fraction,
         );
     }
 }

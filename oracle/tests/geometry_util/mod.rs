@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
+use oracle::geometry::{Accel, Ray};
 use scenes::{Camera, Film, Geometry, Material, Mesh, RenderSettings, Scene, Shape, TexRgb};
 
 /// SplitMix64 (Steele, Lea & Flood 2014): a tiny, deterministic generator for tests.
@@ -140,4 +141,53 @@ pub fn throughput<T: Sync>(items: &[T], parallel: bool, f: impl Fn(&T) -> bool +
         best = (best.0.max(mitems), hits);
     }
     best
+}
+
+/// Rays with their tmax.
+pub type Rays = Vec<(Ray, f32)>;
+
+/// The rays of the ray-throughput benches in the box [lo, hi]: `n` closest-hit rays from
+/// uniform points in uniform directions (tmax ∞), then `n` shadow rays between two uniform
+/// points (tmax their distance).
+pub fn box_rays(rng: &mut Rng, lo: Vec3, hi: Vec3, n: usize) -> (Rays, Rays) {
+    let closest = (0..n)
+        .map(|_| (Ray::new(rng.in_box(lo, hi), rng.dir()), f32::INFINITY))
+        .collect();
+    let shadow = (0..n)
+        .map(|_| {
+            let (a, b) = (rng.in_box(lo, hi), rng.in_box(lo, hi));
+            (Ray::new(a, (b - a).normalize()), (b - a).length())
+        })
+        .collect();
+    (closest, shadow)
+}
+
+/// What [`accel_throughputs`] measures: Mrays/s of closest hits and shadow rays on one thread
+/// and on rayon's global pool, and the fractions of rays that hit and that were blocked.
+pub struct Throughputs {
+    pub hit_1: f64,
+    pub hit_n: f64,
+    pub shadow_1: f64,
+    pub shadow_n: f64,
+    pub hit_fraction: f64,
+    pub blocked_fraction: f64,
+}
+
+/// Closest-hit (`Accel::intersect`) and shadow-ray (`Accel::occluded`) throughput of `accel`
+/// over the rays of [`box_rays`].
+pub fn accel_throughputs(accel: &Accel, closest: &[(Ray, f32)], shadow: &[(Ray, f32)]) -> Throughputs {
+    let hit = |(r, t): &(Ray, f32)| accel.intersect(r, *t).is_some();
+    let occluded = |(r, t): &(Ray, f32)| accel.occluded(r, *t);
+    let (hit_1, hits) = throughput(closest, false, hit);
+    let (hit_n, _) = throughput(closest, true, hit);
+    let (shadow_1, blocked) = throughput(shadow, false, occluded);
+    let (shadow_n, _) = throughput(shadow, true, occluded);
+    Throughputs {
+        hit_1,
+        hit_n,
+        shadow_1,
+        shadow_n,
+        hit_fraction: hits as f64 / closest.len() as f64,
+        blocked_fraction: blocked as f64 / shadow.len() as f64,
+    }
 }
