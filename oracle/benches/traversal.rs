@@ -4,7 +4,8 @@
 //! per-sample cost against Mitsuba is traversal (BENCHMARKS.md, "Traversal alone").
 //!
 //! Run: `cargo bench -p oracle --bench traversal [-- SCENE ...]` (a plain `main`,
-//! `harness = false`); without arguments, the five `verity bench` scenes (the rock's glb is
+//! `harness = false`; cargo runs it in `oracle/`, so relative SCENE paths are taken from the
+//! workspace root, as elsewhere); without arguments, the five `verity bench` scenes (the rock's glb is
 //! written by `scripts/setup.sh`). Rays, as in the `bvh_build` bench: closest hits from
 //! uniform points of the scene's bounding box in uniform directions; shadow rays between two
 //! such points. 2²⁰ of each, timed on one thread and on rayon's global pool, best of three.
@@ -34,7 +35,7 @@ fn main() {
     let args: Vec<PathBuf> = std::env::args()
         .skip(1)
         .filter(|a| !a.starts_with("--"))
-        .map(PathBuf::from)
+        .map(|a| workspace.join(a))
         .collect();
     let paths = if args.is_empty() {
         BENCH_SCENES.iter().map(|s| workspace.join(s)).collect()
