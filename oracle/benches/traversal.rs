@@ -62,16 +62,11 @@ fn main() {
             .display()
             .to_string();
         println!(
-            "{:<24} {:>6} {:>9} {:>8.2} {:>8.2} {:>10.2} {:>10.2}   ({:.1}% hit, {:.1}% blocked)",
+            "{:<24} {:>6} {:>9} {}",
             name.trim_start_matches("scenes/").trim_end_matches(".toml"),
             scene.shapes.len(),
             accel.triangle_count(),
-            t.hit_1,
-            t.hit_n,
-            t.shadow_1,
-            t.shadow_n,
-            100.0 * t.hit_fraction,
-            100.0 * t.blocked_fraction,
+            t.columns(),
         );
     }
 }

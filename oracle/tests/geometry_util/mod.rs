@@ -173,6 +173,22 @@ pub struct Throughputs {
     pub blocked_fraction: f64,
 }
 
+impl Throughputs {
+    /// The four throughputs as right-aligned columns (widths 8, 8, 10, 10), then the hit and
+    /// blocked percentages in parentheses.
+    pub fn columns(&self) -> String {
+        format!(
+            "{:>8.2} {:>8.2} {:>10.2} {:>10.2}   ({:.1}% hit, {:.1}% blocked)",
+            self.hit_1,
+            self.hit_n,
+            self.shadow_1,
+            self.shadow_n,
+            100.0 * self.hit_fraction,
+            100.0 * self.blocked_fraction
+        )
+    }
+}
+
 /// Closest-hit (`Accel::intersect`) and shadow-ray (`Accel::occluded`) throughput of `accel`
 /// over the rays of [`box_rays`].
 pub fn accel_throughputs(accel: &Accel, closest: &[(Ray, f32)], shadow: &[(Ray, f32)]) -> Throughputs {
