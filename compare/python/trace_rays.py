@@ -57,7 +57,7 @@ def main():
 
     def best(f):
         f()  # warm-up: JIT compilation (or Dr.Jit's kernel cache)
-        times, value = [], None
+        times = []
         for _ in range(3):
             t = time.perf_counter()
             value = f()

@@ -9,8 +9,9 @@ use std::path::Path;
 use std::process::Command;
 
 use compare::mitsuba::runner::{Mitsuba, LIBLLVM_PATH};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use oracle::geometry::{Accel, Ray};
+use oracle::sampling::square_to_uniform_sphere;
 use scenes::random::SplitMix64;
 
 /// Rays of each kind.
@@ -42,13 +43,15 @@ fn trace_rays_traces_the_oracle_benchs_ray_distributions() {
         String::from_utf8_lossy(&export.stderr)
     );
     let mitsuba = Mitsuba::locate().unwrap_or_else(|e| panic!("{e}"));
-    let run = Command::new(&mitsuba.python)
-        .arg(root.join("compare/python/trace_rays.py"))
+    let mut run = Command::new(&mitsuba.python);
+    run.arg(root.join("compare/python/trace_rays.py"))
         .arg(out.join("scene.xml"))
-        .args(["--rays", &RAYS.to_string(), "--threads", "1"])
-        .env("DRJIT_LIBLLVM_PATH", LIBLLVM_PATH)
-        .output()
-        .expect("the venv's python runs");
+        .args(["--rays", &RAYS.to_string(), "--threads", "1"]);
+    // Debian's libLLVM unless the user names another, as `verity bench` does.
+    if std::env::var_os("DRJIT_LIBLLVM_PATH").is_none() {
+        run.env("DRJIT_LIBLLVM_PATH", LIBLLVM_PATH);
+    }
+    let run = run.output().expect("the venv's python runs");
     let text = String::from_utf8_lossy(&run.stdout);
     assert!(
         run.status.success(),
@@ -69,10 +72,7 @@ fn trace_rays_traces_the_oracle_benchs_ray_distributions() {
     let (mut hits, mut blocked) = (0usize, 0usize);
     let mut dirs = SplitMix64(4);
     for _ in 0..RAYS {
-        let z = 1.0 - 2.0 * dirs.next_f32();
-        let phi = std::f32::consts::TAU * dirs.next_f32();
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        let d = Vec3::new(r * phi.cos(), r * phi.sin(), z);
+        let d = square_to_uniform_sphere(Vec2::new(dirs.next_f32(), dirs.next_f32()));
         hits += usize::from(accel.intersect(&Ray::new(in_box(), d), f32::INFINITY).is_some());
         let (a, b) = (in_box(), in_box());
         blocked += usize::from(accel.occluded(&Ray::new(a, (b - a).normalize()), (b - a).length()));

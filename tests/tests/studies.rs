@@ -69,7 +69,7 @@ fn every_study_holds_its_declared_bounds_in_quick_mode() {
     }
     // Several children at once: one study keeps about one core busy (lavapipe's queue
     // thread waits on its raster threads and the readbacks), so two at a time fill a 2-core
-    // machine (with a cold ground-truth cache, as in CI: 36 min one at a time, 21 min two). At
+    // machine (with a cold ground-truth cache, as in CI: 36 min one at a time, 21–23 two). At
     // most MAX_CHILDREN: each peaks near 2 GB. Studies that share a ground truth may both
     // render it; the cache's entries are written atomically (study::cache), so the second
     // write replaces the first with an equal image.
