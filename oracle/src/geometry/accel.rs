@@ -1,36 +1,21 @@
-//! The acceleration structure: one compressed wide BVH over every primitive of the scene.
+//! The acceleration structure: one four-wide BVH over every primitive of the scene.
 //!
 //! Triangles of all meshes (displaced meshes as their micro-triangles), the analytic shapes
-//! and the heightfield patches (displaced rectangles) are primitives of a single CWBVH
-//! (Ylitie, Karras & Laine 2017, "Efficient Incoherent Ray Traversal on GPUs Through
-//! Compressed Wide BVHs", HPG) built from their bounding boxes by PLOC (Meister & Bittner 2018,
-//! "Parallel Locally-Ordered Clustering for Bounding Volume Hierarchy Construction", TVCG)
-//! with parallel reinsertion (Meister & Bittner 2018, "Parallel Reinsertion for Bounding
-//! Volume Hierarchy Optimization", CGF 37(2)), all from the `obvhs` crate. Primitives
-//! are stored in BVH leaf order, so a leaf's triangles are adjacent in memory.
-//!
-//! Three details of `obvhs` 0.4 traversal are handled here:
-//! - its node test clamps the entry distance to t ≥ 10⁻⁴ (`cwbvh::node::EPSILON`), which would
-//!   drop hits closer than 0.1 mm (rays leaving a crease). Node tests therefore use the ray
-//!   moved back by `NODE_T_SHIFT` > 10⁻⁴, while primitives are tested against the true ray;
-//! - its traversal stack holds 32 entries and silently overwrites beyond: traversal is our
-//!   own loop (`traverse.rs`) with a growable stack;
-//! - a direction component of −0.0 gets a negative reciprocal but the positive octant, and the
-//!   node test then misses every box; node rays carry +0.0 instead.
+//! and the heightfield patches (displaced rectangles) are primitives of a single BVH
+//! (`wide_bvh.rs`: PLOC and reinsertion from the `obvhs` crate, collapsed to four children
+//! per node) built from their bounding boxes and traversed nearest box first
+//! (`traverse.rs`). Primitives are stored in BVH leaf order, so a leaf's triangles are
+//! adjacent in memory. Node tests and primitive tests see the same ray, from t = 0: hits a
+//! hair's breadth from the origin (rays leaving a crease) are found.
 //!
 //! Primitive bounding boxes are padded by a few ULPs (`AABB_PAD`) so the box tests stay
-//! conservative against the rounding of the shifted ray and of flat (axis-aligned) shapes.
+//! conservative against the rounding of flat (axis-aligned) shapes.
 
 use std::sync::Arc;
 use std::time::Instant;
 
 use glam::Vec3;
 use obvhs::aabb::Aabb;
-use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
-use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
-use obvhs::cwbvh::CwBvh;
-use obvhs::ploc::PlocBuilder;
-use obvhs::ray::Ray as BvhRay;
 use obvhs::BvhBuildParams;
 use scenes::displacement::{displace_mesh, HeightGrid};
 use scenes::{Displacement, Geometry, Mesh, Scene, Shape};
@@ -42,19 +27,18 @@ use super::rectangle::Rectangle;
 use super::sphere::Sphere;
 use super::traverse::{traverse, Visit};
 use super::triangle::{Triangle, WatertightRay};
+use super::wide_bvh::WideBvh;
 use super::{Analytic, Ray, SurfaceHit};
 
-/// Node tests see the ray moved back by this distance (> obvhs' 10⁻⁴ entry clamp).
-const NODE_T_SHIFT: f32 = 2e-4;
 /// Relative padding of primitive bounding boxes (2⁻²⁰ ≈ 8 ULPs of the largest coordinate).
 const AABB_PAD: f32 = 1.0 / 1_048_576.0;
 /// Coordinates beyond this magnitude (m) are refused: cross products of edges would overflow
 /// (the loaders refuse them first; scenes built in code are checked here).
 use scenes::MAX_COORD;
 
-/// BVH build preset (obvhs' `BvhBuildParams`); all use PLOC + reinsertion and CWBVH leaves of
-/// up to 3 primitives. Spatial pre-splits of the slow presets apply to triangle-only builds
-/// and are not used here.
+/// BVH build preset (obvhs' `BvhBuildParams`: PLOC search radius, Morton code precision,
+/// reinsertion); the four-wide collapse is the same for all. Spatial pre-splits of the slow
+/// presets apply to triangle-only builds and are not used here.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum BuildQuality {
     /// `BvhBuildParams::fast_build()`: PLOC search radius 6.
@@ -126,7 +110,7 @@ struct Gathered {
 
 /// The scene's ray-tracing acceleration structure.
 pub struct Accel {
-    bvh: CwBvh,
+    bvh: WideBvh,
     prims: Vec<Prim>,
     ids: Vec<PrimId>,
     analytic: Vec<Analytic>,
@@ -177,14 +161,10 @@ impl Accel {
                 g.prims.len()
             ));
         }
-        let bvh = build_bvh(&g.aabbs, quality.params());
+        let bvh = WideBvh::build(&g.aabbs, quality.params());
         // Primitives in leaf order.
-        let prims = bvh
-            .primitive_indices
-            .iter()
-            .map(|&i| g.prims[i as usize])
-            .collect();
-        let ids = bvh.primitive_indices.iter().map(|&i| g.ids[i as usize]).collect();
+        let prims = bvh.order.iter().map(|&i| g.prims[i as usize]).collect();
+        let ids = bvh.order.iter().map(|&i| g.ids[i as usize]).collect();
         Ok(Accel {
             bvh,
             prims,
@@ -200,10 +180,12 @@ impl Accel {
 
     /// Closest hit with t ∈ (0, tmax). Rays with a non-finite origin or direction miss.
     pub fn intersect(&self, ray: &Ray, tmax: f32) -> Option<SurfaceHit> {
-        let node_ray = self.node_ray(ray, tmax)?;
+        if !self.traceable(ray, tmax) {
+            return None;
+        }
         let wr = WatertightRay::new(ray);
         let mut best: Option<(f32, usize, Local)> = None;
-        traverse(&self.bvh, node_ray, |slot| {
+        traverse(&self.bvh, ray, tmax, |slot| {
             let tmax = best.map_or(tmax, |b| b.0);
             let found = match self.prims[slot] {
                 Prim::Triangle(tri) => tri
@@ -219,7 +201,7 @@ impl Accel {
             match found {
                 Some((t, local)) => {
                     best = Some((t, slot, local));
-                    Visit::Shrink(node_t(t))
+                    Visit::Shrink(t)
                 }
                 None => Visit::Continue,
             }
@@ -229,12 +211,12 @@ impl Accel {
 
     /// Whether anything is hit with t ∈ (0, tmax); stops at the first hit found.
     pub fn occluded(&self, ray: &Ray, tmax: f32) -> bool {
-        let Some(node_ray) = self.node_ray(ray, tmax) else {
+        if !self.traceable(ray, tmax) {
             return false;
-        };
+        }
         let wr = WatertightRay::new(ray);
         let mut found = false;
-        traverse(&self.bvh, node_ray, |slot| {
+        traverse(&self.bvh, ray, tmax, |slot| {
             found = match &self.prims[slot] {
                 Prim::Triangle(tri) => tri.intersect(&wr, tmax).is_some(),
                 Prim::Analytic(i) => self.analytic[*i as usize].intersect(ray, tmax).is_some(),
@@ -275,22 +257,11 @@ impl Accel {
         self.build_seconds
     }
 
-    /// The ray the BVH nodes are tested with: moved back by `NODE_T_SHIFT`, its tmax
-    /// extended to match. None when nothing can be hit.
-    fn node_ray(&self, ray: &Ray, tmax: f32) -> Option<BvhRay> {
+    /// Whether `ray` can hit anything before `tmax`: a finite origin, a finite non-zero
+    /// direction, tmax > 0 (NaN is not), and a non-empty BVH.
+    fn traceable(&self, ray: &Ray, tmax: f32) -> bool {
         let valid = ray.origin.is_finite() && ray.dir.is_finite() && ray.dir != Vec3::ZERO;
-        if !(valid && tmax > 0.0) || self.bvh.nodes.is_empty() {
-            return None;
-        }
-        let origin = ray.origin - ray.dir * NODE_T_SHIFT;
-        // −0.0 → +0.0 (see the module header).
-        let dir = Vec3::select(ray.dir.cmpeq(Vec3::ZERO), Vec3::ZERO, ray.dir);
-        Some(BvhRay::new(
-            origin.to_array().into(),
-            dir.to_array().into(),
-            0.0,
-            node_t(tmax),
-        ))
+        valid && tmax > 0.0 && !self.bvh.nodes.is_empty()
     }
 
     /// The full hit record of primitive `slot` hit at `t`, at `local` on it.
@@ -320,12 +291,6 @@ impl Accel {
             prim,
         }
     }
-}
-
-/// Node-ray parameter of a true-ray distance, rounded up so culling stays conservative.
-#[inline]
-fn node_t(t: f32) -> f32 {
-    (t + NODE_T_SHIFT) * (1.0 + 4.0 * f32::EPSILON)
 }
 
 /// Bounding box padded by `AABB_PAD` of its largest coordinate.
@@ -512,22 +477,4 @@ fn gather_mesh(mesh: &Mesh, shape: u32, g: &mut Gathered) -> Result<(), String> 
         g.triangles += 1;
     }
     Ok(())
-}
-
-/// CWBVH over `aabbs`: PLOC, reinsertion, BVH2 → BVH8 collapse (obvhs' `build_cwbvh` without
-/// its debug-build validation, which is slow for large meshes).
-fn build_bvh(aabbs: &[Aabb], p: BvhBuildParams) -> CwBvh {
-    if aabbs.is_empty() {
-        return CwBvh::default();
-    }
-    let indices = (0..aabbs.len() as u32).collect();
-    let mut bvh2 = PlocBuilder::with_capacity(aabbs.len()).build(
-        p.ploc_search_distance,
-        aabbs,
-        indices,
-        p.sort_precision,
-        p.search_depth_threshold,
-    );
-    ReinsertionOptimizer::default().run(&mut bvh2, p.reinsertion_batch_ratio, None);
-    bvh2_to_cwbvh(&bvh2, p.max_prims_per_leaf.clamp(1, 3), true, false)
 }

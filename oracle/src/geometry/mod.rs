@@ -2,8 +2,8 @@
 //!
 //! Every surface of a [`scenes::Scene`] — each triangle of every mesh (of a displaced mesh:
 //! each micro-triangle), each analytic sphere, rectangle and disk, and each heightfield patch
-//! (a displaced rectangle) — is one primitive of a single compressed wide BVH ([`Accel`],
-//! obvhs' CWBVH built by PLOC). A closest hit comes back as a [`SurfaceHit`]: position,
+//! (a displaced rectangle) — is one primitive of a single four-wide BVH ([`Accel`], PLOC
+//! from obvhs, collapsed to four children per node). A closest hit comes back as a [`SurfaceHit`]: position,
 //! geometric and shading normals, tangent and texture coordinates, computed by the
 //! primitive's own file:
 //!
@@ -29,6 +29,7 @@ mod rectangle;
 mod sphere;
 mod traverse;
 mod triangle;
+mod wide_bvh;
 
 use glam::{Vec2, Vec3};
 
