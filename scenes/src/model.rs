@@ -629,7 +629,12 @@ pub fn equirect_uv(d: Vec3) -> Vec2 {
 /// sit exactly on the poles. Bilinear between those positions. Both renderers and the Mitsuba
 /// exporter rely on this, so the same image means the same sky.
 pub fn environment_lookup(texture: &Texture, d: Vec3) -> glam::Vec4 {
-    let uv = equirect_uv(d);
+    environment_lookup_uv(texture, equirect_uv(d))
+}
+
+/// [`environment_lookup`] at texture coordinates `uv` = [`equirect_uv`]`(d)`, for callers that
+/// need the coordinates for something else too.
+pub fn environment_lookup_uv(texture: &Texture, uv: Vec2) -> glam::Vec4 {
     let (w, h) = (texture.width as i64, texture.height as i64);
     let x = uv.x * w as f32 - 0.5;
     let y = if h > 1 { uv.y * (h - 1) as f32 } else { 0.0 };

@@ -125,17 +125,16 @@ pub(crate) fn escaped(ctx: &Context, ray: &Ray, origin: Origin) -> Rgb {
     let mut total = Rgb::ZERO;
     for &i in ctx.lights.distant() {
         let emitter = &ctx.lights.emitters()[i];
-        let l = emitter.radiance_from_direction(ray.dir);
-        if l == Rgb::ZERO {
-            continue;
-        }
-        let light_pdf = match origin {
-            Origin::Unsampleable => 0.0,
+        total += match origin {
+            Origin::Unsampleable => emitter.radiance_from_direction(ray.dir),
             Origin::Bsdf { p, .. } => {
-                ctx.lights.selection_pmf(i, p) * emitter.pdf_li(p, ray.dir, p, Vec3::ZERO)
+                let (l, pdf) = emitter.radiance_and_pdf_from_direction(ray.dir);
+                if l == Rgb::ZERO {
+                    continue;
+                }
+                l * origin.weight(ctx.lights.selection_pmf(i, p) * pdf)
             }
         };
-        total += l * origin.weight(light_pdf);
     }
     total
 }

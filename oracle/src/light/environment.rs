@@ -8,13 +8,17 @@
 //!
 //! Constant: directions uniform on the sphere, pdf = 1/(4π).
 //!
-//! Map: (u, v) is drawn from a [`Distribution2D`] over the W×H texel cells (pbrt-v4 Appendix
-//! A.5, PiecewiseConstant2D) and mapped to ω = [`equirect_direction`]`(u, v)`. With θ = πv and
-//! φ = 2πu, dω = sinθ dθ dφ = 2π² sinθ du dv, so the solid-angle pdf is p(ω) = p(u, v)/(2π² sinθ)
-//! (pbrt-v3 §14.2.4, "Infinite Area Lights"). The weight of cell (i, j) is
-//! sinθ_j × max luminance over the 3×3 texels the bilinear lookup can reach inside the cell,
-//! which bounds the radiance there (a cell's lookups touch only the texel columns i−1..i+1 and
-//! rows j−1..j+1 under that placement), so p(ω) > 0 wherever L(ω) > 0.
+//! Map: (u, v) is drawn from a [`Distribution2D`] (pbrt-v4 Appendix A.5, PiecewiseConstant2D)
+//! over the bilinear lookup's own patches and mapped to ω = [`equirect_direction`]`(u, v)`.
+//! With θ = πv and φ = 2πu, dω = sinθ dθ dφ = 2π² sinθ du dv, so the solid-angle pdf is
+//! p(ω) = p(u, v)/(2π² sinθ) (pbrt-v3 §14.2.4, "Infinite Area Lights"). Patch (i, j) spans
+//! texel columns i..i+1 (centres at u = (i + ½)/W, wrapping) and rows j..j+1 (at v = j/(H − 1)),
+//! so the distribution's grid is W × (H − 1) cells shifted by half a texel in u. Inside a patch
+//! the radiance is the bilinear blend of its four corner texels; the patch's weight is the mean
+//! of their luminances (the blend's own mean over the patch) × sinθ at the patch's centre row.
+//! That mean is positive exactly where one of the corners is, so p(ω) > 0 wherever
+//! L(ω) > 0, and the distribution follows the radiance patch by patch (a 1-texel sun spreads
+//! over the 2×2 patches its blend reaches, no further).
 //!
 //! Power Φ = π·R²·∫ L dω with R the scene's bounding-sphere radius (pbrt-v4 §12.5
 //! UniformInfiniteLight/ImageInfiniteLight::Phi).
@@ -31,7 +35,7 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 use scenes::texture::Texture;
-use scenes::{environment_lookup, equirect_direction, equirect_uv, Rgb};
+use scenes::{environment_lookup, environment_lookup_uv, equirect_direction, equirect_uv, Rgb};
 
 use super::distribution::Distribution2D;
 use super::radiance::{average, check_rgb, check_texels, is_black, luminance};
@@ -94,15 +98,27 @@ impl EnvironmentLight {
                     wi: square_to_uniform_sphere(u),
                     dist: f32::INFINITY,
                     li: *c,
-                    pdf: 1.0 / (4.0 * PI),
+                    pdf: CONSTANT_PDF,
                     delta: false,
                 });
             }
-            Kind::Map { distribution, .. } => equirect_direction(distribution.sample(u).0),
+            Kind::Map {
+                texture,
+                distribution,
+                ..
+            } => {
+                let patch = distribution.sample(u).0;
+                // Back from the patch grid's half-texel shift (see `patch_coords`).
+                let mut x = patch.x + 0.5 / texture.width as f32;
+                if x >= 1.0 {
+                    x -= 1.0;
+                }
+                equirect_direction(Vec2::new(x, patch.y))
+            }
         };
-        // The pdf is evaluated from wi itself, so it equals pdf_li(wi) bit for bit.
-        let pdf = self.pdf_li(wi);
-        let li = self.radiance_from_direction(wi);
+        // Evaluated from wi itself, so both equal pdf_li(wi) and radiance_from_direction(wi)
+        // bit for bit.
+        let (li, pdf) = self.radiance_and_pdf(wi);
         if pdf <= 0.0 || is_black(li) {
             return None;
         }
@@ -118,14 +134,12 @@ impl EnvironmentLight {
     /// 1/(4π) for a constant; p(u, v)/(2π² sinθ) for a map.
     pub fn pdf_li(&self, wi: Vec3) -> f32 {
         match &self.kind {
-            Kind::Constant(_) => 1.0 / (4.0 * PI),
-            Kind::Map { distribution, .. } => {
-                let sin_theta = (wi.x * wi.x + wi.z * wi.z).sqrt();
-                if !(sin_theta > 0.0 && sin_theta.is_finite()) {
-                    return 0.0;
-                }
-                distribution.pdf(equirect_uv(wi)) / (2.0 * PI * PI * sin_theta)
-            }
+            Kind::Constant(_) => CONSTANT_PDF,
+            Kind::Map {
+                texture,
+                distribution,
+                ..
+            } => map_pdf(distribution, texture.width, wi, equirect_uv(wi)),
         }
     }
 
@@ -134,6 +148,23 @@ impl EnvironmentLight {
         match &self.kind {
             Kind::Constant(c) => *c,
             Kind::Map { texture, scale, .. } => environment_lookup(texture, dir).truncate() * *scale,
+        }
+    }
+
+    /// [`EnvironmentLight::radiance_from_direction`] and [`EnvironmentLight::pdf_li`] of one
+    /// direction, its texture coordinates computed once (the same values bit for bit).
+    pub fn radiance_and_pdf(&self, wi: Vec3) -> (Rgb, f32) {
+        match &self.kind {
+            Kind::Constant(c) => (*c, CONSTANT_PDF),
+            Kind::Map {
+                texture,
+                scale,
+                distribution,
+            } => {
+                let uv = equirect_uv(wi);
+                let li = environment_lookup_uv(texture, uv).truncate() * *scale;
+                (li, map_pdf(distribution, texture.width, wi, uv))
+            }
         }
     }
 
@@ -160,31 +191,47 @@ impl EnvironmentLight {
     }
 }
 
-/// Cell weights sinθ_j × max luminance over the 3×3 texels around (i, j) (with the texture's
-/// own wrap modes, as the bilinear lookup uses them), as a 2D distribution.
+/// Solid-angle pdf of the uniform sphere.
+const CONSTANT_PDF: f32 = 1.0 / (4.0 * PI);
+
+/// p(u, v)/(2π² sinθ) of a map's `distribution` (over the patches of a texture `width` texels
+/// wide) for direction `wi` at texture coordinates `uv` = [`equirect_uv`]`(wi)`.
+fn map_pdf(distribution: &Distribution2D, width: u32, wi: Vec3, uv: Vec2) -> f32 {
+    let sin_theta = (wi.x * wi.x + wi.z * wi.z).sqrt();
+    if !(sin_theta > 0.0 && sin_theta.is_finite()) {
+        return 0.0;
+    }
+    distribution.pdf(patch_coords(uv, width)) / (2.0 * PI * PI * sin_theta)
+}
+
+/// The patch grid's coordinates of texture coordinates `uv`: u shifted back by half a texel
+/// (wrapping into [0, 1)), v as is.
+fn patch_coords(uv: Vec2, width: u32) -> Vec2 {
+    let mut x = uv.x - 0.5 / width as f32;
+    if x < 0.0 {
+        x += 1.0;
+    }
+    Vec2::new(x, uv.y)
+}
+
+/// Patch weights (module header): mean corner luminance × sinθ at the patch's centre row, over
+/// W × max(H − 1, 1) patches (a one-row map is one row of patches), indexed as
+/// `environment_lookup` indexes texels: columns wrap, rows clamp.
 fn sampling_distribution(texture: &Texture) -> Distribution2D {
     let (w, h) = (texture.width as usize, texture.height as usize);
-    // Luminance with a one-texel border, (w + 2) × (h + 2).
-    let lum: Vec<f32> = (-1..=h as i64)
-        .flat_map(|j| (-1..=w as i64).map(move |i| (i, j)))
-        .map(|(i, j)| luminance(texture.texel(i, j).truncate()))
-        .collect();
-    let at = |i: usize, j: usize| lum[j * (w + 2) + i];
-    let mut func = Vec::with_capacity(w * h);
-    for j in 0..h {
-        let sin_theta = (PI * (j as f32 + 0.5) / h as f32).sin();
+    let lum: Vec<f32> = texture.texels.iter().map(|t| luminance(t.truncate())).collect();
+    let rows = (h - 1).max(1);
+    let mut func = Vec::with_capacity(w * rows);
+    for j in 0..rows {
+        let (top, bottom) = (j * w, (j + 1).min(h - 1) * w);
+        let sin_theta = (PI * (j as f32 + 0.5) / rows as f32).sin();
         for i in 0..w {
-            // Cell (i, j) is (i + 1, j + 1) in the bordered grid.
-            let mut m = 0.0f32;
-            for dj in 0..3 {
-                for di in 0..3 {
-                    m = m.max(at(i + di, j + dj));
-                }
-            }
-            func.push(m * sin_theta);
+            let next = (i + 1) % w;
+            let mean = 0.25 * (lum[top + i] + lum[top + next] + lum[bottom + i] + lum[bottom + next]);
+            func.push(mean * sin_theta);
         }
     }
-    Distribution2D::new(&func, w, h)
+    Distribution2D::new(&func, w, rows)
 }
 
 #[cfg(test)]
@@ -264,8 +311,9 @@ mod tests {
     fn light_environment_map_pdf_integrates_to_one_and_matches_samples() {
         let tex = map([WrapMode::Repeat, WrapMode::Clamp]);
         let l = EnvironmentLight::map(tex.clone(), 1.0, 1.0).unwrap();
-        // ∫ pdf dω over the sphere, same midpoint rule as the radiance.
-        let (gu, gv) = (tex.width * 16, tex.height * 16);
+        // ∫ pdf dω over the sphere by the midpoint rule on a grid whose lines include the
+        // patches' edges (u = (i + ½)/W, v = j/(H − 1)), where it is exact.
+        let (gu, gv) = (tex.width * 16, (tex.height - 1) * 16);
         let mut integral = 0.0f64;
         let mut positive_radiance_zero_pdf = 0;
         for j in 0..gv {

@@ -148,6 +148,17 @@ impl Emitter {
         }
     }
 
+    /// [`Emitter::radiance_from_direction`] and the [`Emitter::pdf_li`] of that direction for a
+    /// distant emitter, computed together where they share work (an environment map's texture
+    /// coordinates); the same values bit for bit. (0, 0) for every other emitter.
+    pub fn radiance_and_pdf_from_direction(&self, dir: Vec3) -> (Rgb, f32) {
+        match self {
+            Emitter::Directional(l) => (l.radiance_from_direction(dir), l.pdf_li(dir)),
+            Emitter::Environment(l) => l.radiance_and_pdf(dir),
+            _ => (Rgb::ZERO, 0.0),
+        }
+    }
+
     /// True for lights only a light sample can find (point, spot, zero-diameter directional).
     pub fn is_delta(&self) -> bool {
         match self {
