@@ -150,6 +150,50 @@ fn random_scene(rng: &mut Rng, triangles: usize) -> Vec<Shape> {
     shapes
 }
 
+/// How one ray's closest hit compared with brute force.
+enum Agreement {
+    /// Both miss.
+    Miss,
+    /// The same hit (or a tie at the same distance).
+    Hit,
+    /// They differ where the reference grazes an edge (f32 may decide either way).
+    EdgeCase,
+}
+
+/// The BVH's closest hit of `ray` against the f64 brute force over `shapes`; panics on a
+/// disagreement that is not an edge case.
+fn against_brute_force(accel: &Accel, shapes: &[Shape], ray: &Ray) -> Agreement {
+    let reference = ref_hits(shapes, ray);
+    let got = accel.intersect(ray, f32::INFINITY);
+    // The closest reference hit, unless it grazes an edge (where f32 may differ).
+    match (reference.first(), got) {
+        (None, None) => Agreement::Miss,
+        (Some(&(t, s, p, _)), Some(h)) if (t - h.t as f64).abs() <= 1e-4 * (1.0 + t) => {
+            if (s, p) != (h.shape, h.prim) {
+                // A tie: the oracle's primitive must also be hit at that distance.
+                let tie = reference
+                    .iter()
+                    .any(|r| (r.1, r.2) == (h.shape, h.prim) && (r.0 - t).abs() < 1e-4);
+                assert!(tie, "{ray:?}: expected shape {s} prim {p}, got {h:?}");
+            }
+            let p_expect = ray.at(h.t);
+            assert!(
+                (h.p - p_expect).length() < 1e-4 * (1.0 + h.t),
+                "p: expected {p_expect}, actual {}",
+                h.p
+            );
+            assert!((h.ng.length() - 1.0).abs() < 1e-5 && (h.ns.length() - 1.0).abs() < 1e-5);
+            Agreement::Hit
+        }
+        (first, got) => {
+            let grazes = |r: &RefHit| r.3 < 1e-4;
+            let near_miss = first.is_none_or(grazes);
+            assert!(near_miss, "{ray:?}: expected {first:?}, actual {got:?}");
+            Agreement::EdgeCase
+        }
+    }
+}
+
 #[test]
 fn geometry_bvh_matches_brute_force_on_random_soup() {
     let mut rng = Rng::new(7);
@@ -159,38 +203,43 @@ fn geometry_bvh_matches_brute_force_on_random_soup() {
     let (mut hits, mut edge_cases) = (0, 0);
     for _ in 0..4000 {
         let ray = Ray::new(rng.in_box(Vec3::splat(-7.0), Vec3::splat(7.0)), rng.dir());
-        let reference = ref_hits(&shapes, &ray);
-        let got = accel.intersect(&ray, f32::INFINITY);
-        // The closest reference hit, unless it grazes an edge (where f32 may differ).
-        match (reference.first(), got) {
-            (None, None) => {}
-            (Some(&(t, s, p, _)), Some(h)) if (t - h.t as f64).abs() <= 1e-4 * (1.0 + t) => {
-                hits += 1;
-                if (s, p) != (h.shape, h.prim) {
-                    // A tie: the oracle's primitive must also be hit at that distance.
-                    let tie = reference
-                        .iter()
-                        .any(|r| (r.1, r.2) == (h.shape, h.prim) && (r.0 - t).abs() < 1e-4);
-                    assert!(tie, "{ray:?}: expected shape {s} prim {p}, got {h:?}");
-                }
-                let p_expect = ray.at(h.t);
-                assert!(
-                    (h.p - p_expect).length() < 1e-4 * (1.0 + h.t),
-                    "p: expected {p_expect}, actual {}",
-                    h.p
-                );
-                assert!((h.ng.length() - 1.0).abs() < 1e-5 && (h.ns.length() - 1.0).abs() < 1e-5);
-            }
-            (first, got) => {
-                edge_cases += 1;
-                let grazes = |r: &RefHit| r.3 < 1e-4;
-                let near_miss = first.is_none_or(grazes);
-                assert!(near_miss, "{ray:?}: expected {first:?}, actual {got:?}");
-            }
+        match against_brute_force(&accel, &shapes, &ray) {
+            Agreement::Miss => {}
+            Agreement::Hit => hits += 1,
+            Agreement::EdgeCase => edge_cases += 1,
         }
     }
     assert!(
         hits > 1500 && edge_cases < 5,
+        "hits {hits}, edge cases {edge_cases}"
+    );
+}
+
+/// Directions along an axis whose other components are exactly 0, −0.0, subnormal or tiny:
+/// the node test reads components below `f32::MIN_POSITIVE` as +`f32::MIN_POSITIVE`, and
+/// must still find every hit brute force finds.
+#[test]
+fn geometry_axis_parallel_and_nearly_parallel_rays_match_brute_force() {
+    let mut rng = Rng::new(11);
+    let shapes = random_scene(&mut rng, 3000);
+    let accel = Accel::build(&scene(shapes.clone())).expect("valid scene");
+    let small = [0.0, -0.0, 1e-40, -1e-40, 1e-30, -1e-30, 1e-20, -3e-8];
+    let (mut hits, mut edge_cases) = (0, 0);
+    for k in 0..3000 {
+        let axis = k % 3;
+        let mut dir = Vec3::ZERO;
+        dir[axis] = if k % 2 == 0 { 1.0 } else { -1.0 };
+        dir[(axis + 1) % 3] = small[(k / 6) % small.len()];
+        dir[(axis + 2) % 3] = small[(k / 48) % small.len()];
+        let ray = Ray::new(rng.in_box(Vec3::splat(-7.0), Vec3::splat(7.0)), dir);
+        match against_brute_force(&accel, &shapes, &ray) {
+            Agreement::Miss => {}
+            Agreement::Hit => hits += 1,
+            Agreement::EdgeCase => edge_cases += 1,
+        }
+    }
+    assert!(
+        hits > 800 && edge_cases < 5,
         "hits {hits}, edge cases {edge_cases}"
     );
 }
