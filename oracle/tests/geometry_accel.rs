@@ -160,6 +160,20 @@ enum Agreement {
     EdgeCase,
 }
 
+/// (hits, edge cases) of `rays` against the f64 brute force over `shapes`; panics on a
+/// disagreement that is not an edge case.
+fn tally_against_brute_force(accel: &Accel, shapes: &[Shape], rays: impl Iterator<Item = Ray>) -> (u32, u32) {
+    let (mut hits, mut edge_cases) = (0, 0);
+    for ray in rays {
+        match against_brute_force(accel, shapes, &ray) {
+            Agreement::Miss => {}
+            Agreement::Hit => hits += 1,
+            Agreement::EdgeCase => edge_cases += 1,
+        }
+    }
+    (hits, edge_cases)
+}
+
 /// The BVH's closest hit of `ray` against the f64 brute force over `shapes`; panics on a
 /// disagreement that is not an edge case.
 fn against_brute_force(accel: &Accel, shapes: &[Shape], ray: &Ray) -> Agreement {
@@ -200,15 +214,10 @@ fn geometry_bvh_matches_brute_force_on_random_soup() {
     let shapes = random_scene(&mut rng, 3000);
     let accel = Accel::build(&scene(shapes.clone())).expect("valid scene");
     assert_eq!(accel.triangle_count() + accel.dropped_degenerate(), 3000);
-    let (mut hits, mut edge_cases) = (0, 0);
-    for _ in 0..4000 {
-        let ray = Ray::new(rng.in_box(Vec3::splat(-7.0), Vec3::splat(7.0)), rng.dir());
-        match against_brute_force(&accel, &shapes, &ray) {
-            Agreement::Miss => {}
-            Agreement::Hit => hits += 1,
-            Agreement::EdgeCase => edge_cases += 1,
-        }
-    }
+    let rays: Vec<Ray> = (0..4000)
+        .map(|_| Ray::new(rng.in_box(Vec3::splat(-7.0), Vec3::splat(7.0)), rng.dir()))
+        .collect();
+    let (hits, edge_cases) = tally_against_brute_force(&accel, &shapes, rays.into_iter());
     assert!(
         hits > 1500 && edge_cases < 5,
         "hits {hits}, edge cases {edge_cases}"
@@ -224,20 +233,17 @@ fn geometry_axis_parallel_and_nearly_parallel_rays_match_brute_force() {
     let shapes = random_scene(&mut rng, 3000);
     let accel = Accel::build(&scene(shapes.clone())).expect("valid scene");
     let small = [0.0, -0.0, 1e-40, -1e-40, 1e-30, -1e-30, 1e-20, -3e-8];
-    let (mut hits, mut edge_cases) = (0, 0);
-    for k in 0..3000 {
-        let axis = k % 3;
-        let mut dir = Vec3::ZERO;
-        dir[axis] = if k % 2 == 0 { 1.0 } else { -1.0 };
-        dir[(axis + 1) % 3] = small[(k / 6) % small.len()];
-        dir[(axis + 2) % 3] = small[(k / 48) % small.len()];
-        let ray = Ray::new(rng.in_box(Vec3::splat(-7.0), Vec3::splat(7.0)), dir);
-        match against_brute_force(&accel, &shapes, &ray) {
-            Agreement::Miss => {}
-            Agreement::Hit => hits += 1,
-            Agreement::EdgeCase => edge_cases += 1,
-        }
-    }
+    let rays: Vec<Ray> = (0..3000)
+        .map(|k| {
+            let axis = k % 3;
+            let mut dir = Vec3::ZERO;
+            dir[axis] = if k % 2 == 0 { 1.0 } else { -1.0 };
+            dir[(axis + 1) % 3] = small[(k / 6) % small.len()];
+            dir[(axis + 2) % 3] = small[(k / 48) % small.len()];
+            Ray::new(rng.in_box(Vec3::splat(-7.0), Vec3::splat(7.0)), dir)
+        })
+        .collect();
+    let (hits, edge_cases) = tally_against_brute_force(&accel, &shapes, rays.into_iter());
     assert!(
         hits > 800 && edge_cases < 5,
         "hits {hits}, edge cases {edge_cases}"
