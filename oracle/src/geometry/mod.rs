@@ -2,10 +2,10 @@
 //!
 //! Every surface of a [`scenes::Scene`] — each triangle of every mesh (of a displaced mesh:
 //! each micro-triangle), each analytic sphere, rectangle and disk, and each heightfield patch
-//! (a displaced rectangle) — is one primitive of a single four-wide BVH ([`Accel`], PLOC
-//! from obvhs, collapsed to four children per node). A closest hit comes back as a [`SurfaceHit`]: position,
-//! geometric and shading normals, tangent and texture coordinates, computed by the
-//! primitive's own file:
+//! (a displaced rectangle) — is one primitive of a single four-wide BVH ([`Accel`]: PLOC
+//! from obvhs, collapsed to four children per node, `wide_bvh.rs` and `traverse.rs`). A
+//! closest hit comes back as a [`SurfaceHit`]: position, geometric and shading normals,
+//! tangent and texture coordinates, computed by the primitive's own file:
 //!
 //! | shape | file | intersection |
 //! |---|---|---|

@@ -11,7 +11,7 @@
 //! Direction components of magnitude below `f32::MIN_POSITIVE` (zero, −0.0 and subnormals)
 //! are read as +`f32::MIN_POSITIVE`: the reciprocal stays finite (≤ 2¹²⁶), so no product is
 //! 0·∞ = NaN, and −0.0 picks the same near side as +0.0. Such a ray differs from the true one
-//! by less than 10⁻³⁸ per unit of length.
+//! by less than 1.2·10⁻³⁸ per unit of length.
 //!
 //! Order: the nearest child a node test hits is entered next and the others are pushed
 //! farthest first; a popped entry whose t_near lies beyond the current t_max is skipped. The
