@@ -22,6 +22,7 @@
 
 use glam::Vec4;
 use obvhs::aabb::Aabb;
+use obvhs::bvh2::node::Bvh2Node;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 use obvhs::bvh2::Bvh2;
 use obvhs::ploc::PlocBuilder;
@@ -68,7 +69,7 @@ impl Node {
 }
 
 /// A four-wide BVH; node 0 is the root. Empty when there are no primitives.
-#[derive(Clone, Debug, Default)]
+#[derive(Default)]
 pub(crate) struct WideBvh {
     pub(crate) nodes: Vec<Node>,
     /// Input primitive index of each leaf slot: leaves index ranges of this list.
@@ -97,10 +98,7 @@ impl WideBvh {
     fn collapse(bvh2: &Bvh2) -> WideBvh {
         let leaf = sah_leaves(bvh2);
         let area = |i: usize| bvh2.nodes[i].aabb.half_area();
-        let children = |i: usize| {
-            let first = bvh2.nodes[i].first_index as usize;
-            [first, first + 1]
-        };
+        let children = |i: usize| children(&bvh2.nodes[i]);
         let mut nodes = vec![Node::EMPTY];
         let mut order = Vec::with_capacity(bvh2.primitive_indices.len());
         // (binary node, wide node it becomes).
@@ -146,6 +144,12 @@ impl WideBvh {
     }
 }
 
+/// The two children of an inner binary node (obvhs stores them side by side).
+fn children(node: &Bvh2Node) -> [usize; 2] {
+    let first = node.first_index as usize;
+    [first, first + 1]
+}
+
 /// Whether each binary node becomes a leaf: every binary leaf, and every subtree of at most
 /// [`MAX_LEAF`] primitives the surface area heuristic prices below its split (module header).
 fn sah_leaves(bvh2: &Bvh2) -> Vec<bool> {
@@ -157,8 +161,7 @@ fn sah_leaves(bvh2: &Bvh2) -> Vec<bool> {
         preorder.push(i);
         let node = &bvh2.nodes[i];
         if node.prim_count == 0 {
-            let first = node.first_index as usize;
-            stack.extend([first, first + 1]);
+            stack.extend(children(node));
         }
     }
     let mut count = vec![0u32; n];
@@ -172,7 +175,7 @@ fn sah_leaves(bvh2: &Bvh2) -> Vec<bool> {
             cost[i] = node.prim_count as f32 * area;
             leaf[i] = true;
         } else {
-            let [l, r] = [node.first_index as usize, node.first_index as usize + 1];
+            let [l, r] = children(node);
             count[i] = count[l].saturating_add(count[r]);
             let split = NODE_COST * area + cost[l] + cost[r];
             let as_leaf = count[i] as f32 * area;
@@ -192,8 +195,8 @@ fn gather_primitives(bvh2: &Bvh2, root: usize, order: &mut Vec<u32>) {
             let first = node.first_index as usize;
             order.extend_from_slice(&bvh2.primitive_indices[first..first + node.prim_count as usize]);
         } else {
-            let first = node.first_index as usize;
-            stack.extend([first + 1, first]);
+            let [l, r] = children(node);
+            stack.extend([r, l]);
         }
     }
 }
