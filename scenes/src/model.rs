@@ -640,11 +640,14 @@ pub fn environment_lookup_uv(texture: &Texture, uv: Vec2) -> glam::Vec4 {
     let y = if h > 1 { uv.y * (h - 1) as f32 } else { 0.0 };
     let (x0, y0) = (x.floor(), y.floor());
     let (fx, fy) = (x - x0, y - y0);
-    let (i, j) = (x0 as i64, (y0 as i64).clamp(0, h - 1));
+    // Columns wrap: one remainder, its neighbour wrapped by a compare (i64 division is slow).
+    let i0 = (x0 as i64).rem_euclid(w);
+    let i1 = if i0 + 1 == w { 0 } else { i0 + 1 };
+    let j = (y0 as i64).clamp(0, h - 1);
     let j1 = (j + 1).min(h - 1);
-    let texel = |i: i64, j: i64| texture.texels[(j * w + i.rem_euclid(w)) as usize];
-    let top = texel(i, j) * (1.0 - fx) + texel(i + 1, j) * fx;
-    let bottom = texel(i, j1) * (1.0 - fx) + texel(i + 1, j1) * fx;
+    let texel = |i: i64, j: i64| texture.texels[(j * w + i) as usize];
+    let top = texel(i0, j) * (1.0 - fx) + texel(i1, j) * fx;
+    let bottom = texel(i0, j1) * (1.0 - fx) + texel(i1, j1) * fx;
     top * (1.0 - fy) + bottom * fy
 }
 
