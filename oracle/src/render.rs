@@ -286,7 +286,7 @@ fn run_pass(ctx: &Context, film: &mut Film, share: RowShare, first: u32, end: u3
     let camera = ctx.scene.camera;
     let origin = camera.position();
     let (seed, kind, filter) = (ctx.settings.seed, ctx.settings.sampler, ctx.settings.pixel_filter);
-    let (w, h) = (film.width, film.height);
+    let projection = camera.projection(film.width, film.height);
     let nl = film.light_count;
     let (paths, rays, nonfinite) = film
         .rows_mut()
@@ -313,7 +313,7 @@ fn run_pass(ctx: &Context, film: &mut Film, share: RowShare, first: u32, end: u3
                     let p = fs
                         .centre
                         .unwrap_or(glam::Vec2::new(x as f32 + jitter.x, y as f32 + jitter.y));
-                    let dir = camera.ray_direction(p.x, p.y, w, h);
+                    let dir = projection.ray_direction(p.x, p.y);
                     let cs = integrator::trace(ctx, Ray { origin, dir }, &mut sampler);
                     let mut rays = u64::from(cs.rays);
                     vis.iter_mut().for_each(|v| *v = 0.0);
@@ -344,11 +344,12 @@ fn run_pass(ctx: &Context, film: &mut Film, share: RowShare, first: u32, end: u3
 fn object_id_pass(ctx: &Context, width: u32, height: u32) -> Vec<f32> {
     let camera = ctx.scene.camera;
     let origin = camera.position();
+    let projection = camera.projection(width, height);
     (0..width * height)
         .into_par_iter()
         .map(|i| {
             let (x, y) = (i % width, i / width);
-            let dir = camera.ray_direction(x as f32 + 0.5, y as f32 + 0.5, width, height);
+            let dir = projection.ray_direction(x as f32 + 0.5, y as f32 + 0.5);
             ctx.accel
                 .intersect(&Ray { origin, dir }, f32::INFINITY)
                 .map_or(0.0, |h| (h.shape + 1) as f32)

@@ -157,10 +157,36 @@ impl Camera {
     /// corner of the last pixel. Normalised. This is the one projection both renderers use:
     /// x_cam = (2x/W − 1)·tan(fov/2)·W/H, y_cam = (1 − 2y/H)·tan(fov/2), z_cam = −1.
     pub fn ray_direction(&self, x: f32, y: f32, width: u32, height: u32) -> Vec3 {
-        let tan_half = (self.fov_y_deg.to_radians() * 0.5).tan();
-        let aspect = width as f32 / height as f32;
-        let xc = (2.0 * x / width as f32 - 1.0) * tan_half * aspect;
-        let yc = (1.0 - 2.0 * y / height as f32) * tan_half;
+        self.projection(width, height).ray_direction(x, y)
+    }
+
+    /// [`Camera::ray_direction`]'s projection for a `width`×`height` film, its per-film
+    /// constants (tan(fov/2), the aspect ratio) computed once for a render's many rays.
+    pub fn projection(&self, width: u32, height: u32) -> RasterProjection {
+        RasterProjection {
+            to_world: self.to_world,
+            tan_half: (self.fov_y_deg.to_radians() * 0.5).tan(),
+            width: width as f32,
+            height: height as f32,
+        }
+    }
+}
+
+/// A camera's projection for one film size ([`Camera::projection`]).
+#[derive(Clone, Copy, Debug)]
+pub struct RasterProjection {
+    to_world: Affine3A,
+    tan_half: f32,
+    width: f32,
+    height: f32,
+}
+
+impl RasterProjection {
+    /// [`Camera::ray_direction`] at raster position (x, y), bit for bit.
+    pub fn ray_direction(&self, x: f32, y: f32) -> Vec3 {
+        let aspect = self.width / self.height;
+        let xc = (2.0 * x / self.width - 1.0) * self.tan_half * aspect;
+        let yc = (1.0 - 2.0 * y / self.height) * self.tan_half;
         self.to_world
             .transform_vector3(Vec3::new(xc, yc, -1.0))
             .normalize()
