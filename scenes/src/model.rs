@@ -166,6 +166,7 @@ impl Camera {
         RasterProjection {
             to_world: self.to_world,
             tan_half: (self.fov_y_deg.to_radians() * 0.5).tan(),
+            aspect: width as f32 / height as f32,
             width: width as f32,
             height: height as f32,
         }
@@ -177,6 +178,8 @@ impl Camera {
 pub struct RasterProjection {
     to_world: Affine3A,
     tan_half: f32,
+    /// Width / height.
+    aspect: f32,
     width: f32,
     height: f32,
 }
@@ -184,8 +187,7 @@ pub struct RasterProjection {
 impl RasterProjection {
     /// [`Camera::ray_direction`] at raster position (x, y), bit for bit.
     pub fn ray_direction(&self, x: f32, y: f32) -> Vec3 {
-        let aspect = self.width / self.height;
-        let xc = (2.0 * x / self.width - 1.0) * self.tan_half * aspect;
+        let xc = (2.0 * x / self.width - 1.0) * self.tan_half * self.aspect;
         let yc = (1.0 - 2.0 * y / self.height) * self.tan_half;
         self.to_world
             .transform_vector3(Vec3::new(xc, yc, -1.0))

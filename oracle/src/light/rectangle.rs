@@ -19,8 +19,9 @@
 //! of the cost: the spherical rectangle (f64 square roots, divisions, atan2 and sin/cos) was
 //! 18 % of the Cornell box's render. Measured at 128², 256 spp, relMSE against an 8192-spp
 //! Mitsuba reference, and paired one-thread render times, k = 0.4 against k = 0.2: Cornell box
-//! relMSE 2.852e-4 → 2.997e-4 in 0.87× the time, soft shadow 6.425e-5 → 6.595e-5 in 0.93×,
-//! 64-light room 7.638e-4 → 7.651e-4 (BENCHMARKS.md); all three reach equal error sooner.
+//! relMSE 2.852e-4 → 2.997e-4 in 0.87× the time, soft shadow 6.425e-5 → 6.595e-5 in 0.93×
+//! (both reach equal error sooner), 64-light room 7.638e-4 → 7.651e-4 in 0.99× (even)
+//! (BENCHMARKS.md).
 //! The same trade as pbrt-v4's shapes, which sample by area below a solid angle
 //! (Triangle::Sample, `MinSphericalSampleArea`, pbrt-v4 §6.5.4); either way unbiased. From a
 //! point on the light's plane, or behind a one-sided light, nothing is
