@@ -214,10 +214,8 @@ fn geometry_bvh_matches_brute_force_on_random_soup() {
     let shapes = random_scene(&mut rng, 3000);
     let accel = Accel::build(&scene(shapes.clone())).expect("valid scene");
     assert_eq!(accel.triangle_count() + accel.dropped_degenerate(), 3000);
-    let rays: Vec<Ray> = (0..4000)
-        .map(|_| Ray::new(rng.in_box(Vec3::splat(-7.0), Vec3::splat(7.0)), rng.dir()))
-        .collect();
-    let (hits, edge_cases) = tally_against_brute_force(&accel, &shapes, rays.into_iter());
+    let rays = (0..4000).map(|_| Ray::new(rng.in_box(Vec3::splat(-7.0), Vec3::splat(7.0)), rng.dir()));
+    let (hits, edge_cases) = tally_against_brute_force(&accel, &shapes, rays);
     assert!(
         hits > 1500 && edge_cases < 5,
         "hits {hits}, edge cases {edge_cases}"
@@ -233,17 +231,15 @@ fn geometry_axis_parallel_and_nearly_parallel_rays_match_brute_force() {
     let shapes = random_scene(&mut rng, 3000);
     let accel = Accel::build(&scene(shapes.clone())).expect("valid scene");
     let small = [0.0, -0.0, 1e-40, -1e-40, 1e-30, -1e-30, 1e-20, -3e-8];
-    let rays: Vec<Ray> = (0..3000)
-        .map(|k| {
-            let axis = k % 3;
-            let mut dir = Vec3::ZERO;
-            dir[axis] = if k % 2 == 0 { 1.0 } else { -1.0 };
-            dir[(axis + 1) % 3] = small[(k / 6) % small.len()];
-            dir[(axis + 2) % 3] = small[(k / 48) % small.len()];
-            Ray::new(rng.in_box(Vec3::splat(-7.0), Vec3::splat(7.0)), dir)
-        })
-        .collect();
-    let (hits, edge_cases) = tally_against_brute_force(&accel, &shapes, rays.into_iter());
+    let rays = (0..3000).map(|k| {
+        let axis = k % 3;
+        let mut dir = Vec3::ZERO;
+        dir[axis] = if k % 2 == 0 { 1.0 } else { -1.0 };
+        dir[(axis + 1) % 3] = small[(k / 6) % small.len()];
+        dir[(axis + 2) % 3] = small[(k / 48) % small.len()];
+        Ray::new(rng.in_box(Vec3::splat(-7.0), Vec3::splat(7.0)), dir)
+    });
+    let (hits, edge_cases) = tally_against_brute_force(&accel, &shapes, rays);
     assert!(
         hits > 800 && edge_cases < 5,
         "hits {hits}, edge cases {edge_cases}"
