@@ -13,4 +13,5 @@ pub mod metrics;
 pub mod mitsuba;
 pub mod progress;
 pub mod report;
+pub mod stats;
 pub mod study;
