@@ -1,19 +1,37 @@
 //! One comparison of a test image against a reference, as `verity diff` reports it: every
-//! metric with the reference's noise floor, the signed bias, an optional per-object
-//! breakdown, and the verdict against the bounds (schema: compare/README.md, "verity diff
-//! --json").
+//! metric with the reference's noise floor, the signed bias with its confidence interval, an
+//! optional per-object breakdown, and the verdict against the bounds (schema: compare/README.md,
+//! "verity diff --json").
 //!
-//! **Verdict.** The first metric is the criterion. It fails when a metric's value cannot be
-//! compared with a bound (NaN, ±∞ other than PSNR's exact +∞; a test pixel that is NaN or
+//! **Verdict.** It is the worse of two tests' (pass < warn < fail).
+//!
+//! *The metric test.* The first metric is the criterion. It fails when a metric's value cannot
+//! be compared with a bound (NaN, ±∞ other than PSNR's exact +∞; a test pixel that is NaN or
 //! ±∞), when the criterion is worse than the fail bound (or, with a fail percentage, when more
 //! than that percentage of the mask's pixels have a per-pixel error above it), and warns when
 //! it is worse than the warn bound. Without a fail bound of the user's the criterion's
 //! [`default_fail_bound`] applies, as idiff fails any difference by default: an image that
 //! differs visibly from its reference never passes unnoticed.
+//!
+//! *The bias test.* An error metric averages the noise and the bias of an image together, and
+//! its bound is relaxed for a noisy reference, so a test image uniformly 4 % too bright passed
+//! it. The bias test looks at the sign: per channel (R, G, B and luminance Y) over the mask,
+//! and over each object with a per-object breakdown, the ratio Σ test / Σ reference with its
+//! standard error from both images' variances ([`crate::metrics::bias`]) gives the
+//! interval ratio ± z·SE. z is the two-sided normal quantile at Šidák's per-test level for
+//! the family of 4 × (1 + objects) intervals at [`BIAS_LEVEL`] (Šidák 1967, "Rectangular
+//! confidence regions for the means of multivariate normal distributions", JASA 62), so that
+//! all of them hold together with probability ≥ 99 %. The test fails when a whole interval
+//! lies outside 1 ± `fail_bias` ([`DEFAULT_FAIL_BIAS`], 1 %): a bias the images' noise cannot
+//! explain and larger than the bound. The bound is never relaxed by more than the
+//! reference's own uncertainty (the interval's half-width); a reference without a noise
+//! estimate ([`NoiseEstimate`]) relaxes nothing: its interval is the ratio itself.
 
 use serde::Serialize;
 
+pub use crate::metrics::Rgby;
 use crate::metrics::{Bias, Mask, Metric, MetricValue, RgbImage};
+use crate::stats::{sidak, two_sided_normal_quantile};
 
 /// Version of the JSON document; a field's meaning never changes within a version.
 pub const SCHEMA_VERSION: u32 = 1;
@@ -112,47 +130,218 @@ pub struct MetricEntry {
     pub non_finite_pixels: usize,
 }
 
-/// Signed bias per channel ([`crate::metrics::bias`]).
+/// Signed bias per channel ([`crate::metrics::bias`]) and its test ([`BiasTest`]).
 #[derive(Clone, Debug, Serialize)]
 pub struct BiasEntry {
     /// Σ test / Σ reference: R, G, B, Y (null where the reference sums to 0).
     pub ratio: Rgby,
     /// Mean of test − reference: R, G, B, Y.
     pub mean_signed_error: Rgby,
+    /// Standard error of `ratio` from both images' noise estimates (0 without any).
+    pub standard_error: Rgby,
+    /// Low end of the ratio's confidence interval, ratio − z·SE ([`BiasTest::z`]).
+    pub ratio_ci_low: Rgby,
+    /// High end of the ratio's confidence interval, ratio + z·SE.
+    pub ratio_ci_high: Rgby,
+    /// `fail` when a channel's whole interval lies outside 1 ± `fail_bias`, else `pass`.
+    pub verdict: Verdict,
 }
 
-/// A value per colour channel and for luminance.
-#[derive(Clone, Copy, Debug, Serialize)]
-#[allow(non_snake_case)]
-pub struct Rgby {
-    /// Red.
-    pub R: f64,
-    /// Green.
-    pub G: f64,
-    /// Blue.
-    pub B: f64,
-    /// Rec.709 luminance.
-    pub Y: f64,
+/// The default bound of the bias test (`--fail-bias`): a test image whose mean is
+/// significantly more than 1 % off the reference's in any channel fails. The size of the
+/// material errors that must not pass (issue 42: a metal sphere 1.1 % too bright), while an
+/// image 0.5 % off passes.
+pub const DEFAULT_FAIL_BIAS: f64 = 0.01;
+
+/// Family-wise confidence level of the bias test's intervals.
+pub const BIAS_LEVEL: f64 = 0.99;
+
+/// The bias test (module docs): its bound, its intervals' level, and its verdict.
+#[derive(Clone, Debug, Serialize)]
+pub struct BiasTest {
+    /// The largest |ratio − 1| allowed; null when not tested (`--fail-bias none`).
+    pub fail_bias: Option<f64>,
+    /// `default` ([`DEFAULT_FAIL_BIAS`]) or `flag`.
+    pub fail_bias_source: String,
+    /// Family-wise confidence level of the intervals ([`BIAS_LEVEL`]).
+    pub level: f64,
+    /// Intervals in the family: 4 channels × (1 + objects).
+    pub tests: usize,
+    /// Half-width of each interval in standard errors: the two-sided normal quantile at
+    /// Šidák's per-test level 1 − level^(1/tests).
+    pub z: f64,
+    /// `pass` or `fail`.
+    pub verdict: Verdict,
+    /// Why, in one line.
+    pub reason: String,
 }
 
-impl From<[f64; 4]> for Rgby {
-    fn from([r, g, b, y]: [f64; 4]) -> Rgby {
-        Rgby {
-            R: r,
-            G: g,
-            B: b,
-            Y: y,
+impl BiasTest {
+    /// The test of `groups` biases (the mask's, and one per object) against `fail_bias`
+    /// (None: reported, not tested) from `source`; pass until [`BiasTest::judge`]d.
+    pub fn new(fail_bias: Option<f64>, source: &str, groups: usize) -> BiasTest {
+        let tests = 4 * groups;
+        BiasTest {
+            fail_bias,
+            fail_bias_source: source.into(),
+            level: BIAS_LEVEL,
+            tests,
+            z: two_sided_normal_quantile(sidak(1.0 - BIAS_LEVEL, tests)),
+            verdict: Verdict::Pass,
+            reason: String::new(),
         }
     }
-}
 
-impl From<Bias> for BiasEntry {
-    fn from(b: Bias) -> BiasEntry {
+    /// `bias` with its intervals and verdict.
+    pub fn entry(&self, bias: Bias) -> BiasEntry {
+        let low: [f64; 4] = std::array::from_fn(|k| bias.ratio[k] - self.z * bias.standard_error[k]);
+        let high: [f64; 4] = std::array::from_fn(|k| bias.ratio[k] + self.z * bias.standard_error[k]);
+        let entry = BiasEntry {
+            ratio: bias.ratio.into(),
+            mean_signed_error: bias.mean_signed_error.into(),
+            standard_error: bias.standard_error.into(),
+            ratio_ci_low: low.into(),
+            ratio_ci_high: high.into(),
+            verdict: Verdict::Pass,
+        };
+        let failed = self
+            .fail_bias
+            .is_some_and(|f| (0..4).any(|k| beyond(&entry, k, f)));
         BiasEntry {
-            ratio: b.ratio.into(),
-            mean_signed_error: b.mean_signed_error.into(),
+            verdict: if failed { Verdict::Fail } else { Verdict::Pass },
+            ..entry
         }
     }
+
+    /// Takes the verdict on the mask's entry (`mask` names it) and the objects': the first
+    /// that fails decides, naming its luminance, or where that is within the bound its colour
+    /// channel furthest from 1.
+    pub fn judge(&mut self, mask: &str, overall: &BiasEntry, objects: &[ObjectEntry]) {
+        let Some(f) = self.fail_bias else {
+            self.reason = "bias not tested (--fail-bias none)".into();
+            return;
+        };
+        let bound = format!("1 ± {f} ({})", self.fail_bias_source);
+        let groups = std::iter::once((format!("over `{mask}`"), overall)).chain(
+            objects
+                .iter()
+                .map(|o| (format!("of object `{}`", o.name), &o.bias)),
+        );
+        for (what, entry) in groups {
+            if entry.verdict == Verdict::Fail {
+                let ratio = entry.ratio.values();
+                // Luminance when it is beyond the bound, else the colour channel furthest off.
+                let k = if beyond(entry, 3, f) {
+                    3
+                } else {
+                    (0..3)
+                        .filter(|&k| beyond(entry, k, f))
+                        .max_by(|&a, &b| (ratio[a] - 1.0).abs().total_cmp(&(ratio[b] - 1.0).abs()))
+                        .expect("a failed entry has a channel beyond the bound")
+                };
+                self.verdict = Verdict::Fail;
+                self.reason = format!(
+                    "bias {what}: {} test/reference {:.4}, {}, is beyond {bound}",
+                    Rgby::NAMES[k],
+                    ratio[k],
+                    self.interval(entry, k)
+                );
+                return;
+            }
+        }
+        self.reason = format!(
+            "no significant bias beyond {bound}: Y {:.4}, {}",
+            overall.ratio.Y,
+            self.interval(overall, 3)
+        );
+    }
+
+    /// `99 % interval [lo, hi]` of channel `k` of `entry`.
+    fn interval(&self, entry: &BiasEntry, k: usize) -> String {
+        format!(
+            "{} % interval [{:.4}, {:.4}]",
+            100.0 * self.level,
+            entry.ratio_ci_low.values()[k],
+            entry.ratio_ci_high.values()[k]
+        )
+    }
+}
+
+/// Whether channel `k`'s interval of `entry` lies wholly outside 1 ± `fail_bias` (a NaN
+/// interval, of a black reference channel, is beyond nothing).
+fn beyond(entry: &BiasEntry, k: usize, fail_bias: f64) -> bool {
+    entry.ratio_ci_low.values()[k] > 1.0 + fail_bias || entry.ratio_ci_high.values()[k] < 1.0 - fail_bias
+}
+
+/// Whether each image carries a noise estimate (its variance of the pixel mean).
+#[derive(Clone, Debug, Serialize)]
+pub struct NoiseEstimate {
+    /// Whether the reference has one: the noise floors, the relaxed default bound and the
+    /// bias intervals come from it.
+    pub reference: bool,
+    /// Why it has none (null when it has one): no variance layers, a `replicates` header
+    /// below 2 ([`crate::metrics::missing_noise_estimate`]), or variance layers that are zero
+    /// over the whole mask.
+    pub reference_missing: Option<String>,
+    /// Whether the test image has one (its own variance layers widen the bias intervals).
+    pub test: bool,
+}
+
+impl NoiseEstimate {
+    /// The estimates of `reference` (`missing`: why its file has none) and `test` over `mask`.
+    pub fn new(missing: Option<String>, reference: &RgbImage, test: &RgbImage, mask: &Mask) -> NoiseEstimate {
+        let zero = |v: &Vec<glam::Vec3>| (0..v.len()).all(|i| !mask.selects(i) || v[i] == glam::Vec3::ZERO);
+        let reference_missing = missing.or_else(|| {
+            reference.variance.as_ref().filter(|v| zero(v)).map(|_| {
+                "its variance layers are zero over the mask (one sample per pixel, or no estimate written)"
+                    .to_string()
+            })
+        });
+        NoiseEstimate {
+            reference: reference_missing.is_none(),
+            reference_missing,
+            test: test.variance.is_some(),
+        }
+    }
+}
+
+/// How much better the test image matches with its rows reversed before a hint to use
+/// `--flip-y` is given: its relMSE below a quarter of the relMSE as read.
+pub const FLIP_HINT_FACTOR: f64 = 4.0;
+
+/// The test image matches far better upside down: a framebuffer read back bottom-up.
+#[derive(Clone, Debug, Serialize)]
+pub struct FlipHint {
+    /// relMSE over the mask, the test image as read.
+    pub relmse: f64,
+    /// relMSE over the mask with the test image's rows reversed.
+    pub relmse_rows_reversed: f64,
+}
+
+impl FlipHint {
+    /// The hint when a comparison that did not pass has `relmse` (as read) above
+    /// [`FLIP_HINT_FACTOR`] × `relmse_rows_reversed`.
+    pub fn new(verdict: Verdict, relmse: f64, relmse_rows_reversed: f64) -> Option<FlipHint> {
+        (verdict != Verdict::Pass && relmse > FLIP_HINT_FACTOR * relmse_rows_reversed).then_some(FlipHint {
+            relmse,
+            relmse_rows_reversed,
+        })
+    }
+}
+
+/// The verdict of the metric test and the bias test together: the worse of the two, with
+/// the reasons of those that gave it.
+pub fn combine((metric, metric_reason): (Verdict, String), bias: &BiasTest) -> (Verdict, String) {
+    let verdict = metric.max(bias.verdict);
+    let reasons: Vec<&str> = [
+        (metric, metric_reason.as_str()),
+        (bias.verdict, bias.reason.as_str()),
+    ]
+    .into_iter()
+    .filter(|(v, _)| *v == verdict)
+    .map(|(_, r)| r)
+    .collect();
+    (verdict, reasons.join("; "))
 }
 
 /// One object's share of the comparison.
@@ -167,7 +356,7 @@ pub struct ObjectEntry {
     pub pixels: usize,
     /// Each metric over those pixels ([`MetricValue::over`]), in the order of `metrics`.
     pub values: Vec<f64>,
-    /// Its signed bias.
+    /// Its signed bias, its interval and the bias test's verdict on it.
     pub bias: BiasEntry,
 }
 
@@ -187,8 +376,9 @@ pub struct Bounds {
     pub warn: Option<f64>,
 }
 
-/// Pass, warn or fail, with the exit status `verity diff` returns for it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+/// Pass, warn or fail (in this order: the worse is the greater), with the exit status
+/// `verity diff` returns for it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Verdict {
     /// Within every bound: exit 0.
@@ -223,7 +413,7 @@ pub struct DiffReport {
     pub mask: MaskInfo,
     /// Every metric asked for, the criterion first.
     pub metrics: Vec<MetricEntry>,
-    /// Signed bias over the mask.
+    /// Signed bias over the mask, its interval and the bias test's verdict on it.
     pub bias: BiasEntry,
     /// With --per-object: one entry per object id in the mask, by id.
     pub objects: Option<Vec<ObjectEntry>>,
@@ -231,9 +421,16 @@ pub struct DiffReport {
     pub bounds: Bounds,
     /// With --fail-percent: the percentage of the mask's pixels above the fail bound.
     pub percent_above_fail: Option<f64>,
-    /// The verdict.
+    /// Which images carry a noise estimate.
+    pub noise_estimate: NoiseEstimate,
+    /// The bias test: bound, level, verdict.
+    pub bias_test: BiasTest,
+    /// Set when the comparison did not pass and the test image matches far better with its
+    /// rows reversed.
+    pub flip_y_hint: Option<FlipHint>,
+    /// The verdict: the worse of the metric test's and the bias test's.
     pub verdict: Verdict,
-    /// Why, in one line.
+    /// Why, in one line (the reasons of the tests that gave the verdict, joined by `; `).
     pub reason: String,
     /// [`Verdict::exit_status`].
     pub exit_status: u8,
@@ -322,15 +519,8 @@ fn warn_or_pass(
     }
 }
 
-/// The per-object breakdown: every object id the mask's pixels show in `ids` (the
-/// reference's `object_id.Y`), named from `names` (element k − 1 names id k).
-pub fn per_object(
-    values: &[MetricValue],
-    (reference, test): (&RgbImage, &RgbImage),
-    mask: &Mask,
-    ids: &[f32],
-    names: Option<&[String]>,
-) -> Vec<ObjectEntry> {
+/// The object ids the mask's pixels show in `ids` (the reference's `object_id.Y`), ascending.
+pub fn objects_in(mask: &Mask, ids: &[f32]) -> Vec<u32> {
     let mut present: Vec<u32> = ids
         .iter()
         .zip(&mask.pixels)
@@ -340,8 +530,20 @@ pub fn per_object(
     present.sort_unstable();
     present.dedup();
     present
-        .into_iter()
-        .map(|id| {
+}
+
+/// The per-object breakdown of the objects `present` ([`objects_in`]), named from `names`
+/// (element k − 1 names id k), their biases under `test`.
+pub fn per_object(
+    values: &[MetricValue],
+    (reference, test): (&RgbImage, &RgbImage),
+    (mask, ids, present): (&Mask, &[f32], &[u32]),
+    names: Option<&[String]>,
+    bias_test: &BiasTest,
+) -> Vec<ObjectEntry> {
+    present
+        .iter()
+        .map(|&id| {
             let subset = Mask {
                 name: format!("object {id}"),
                 width: mask.width,
@@ -363,7 +565,7 @@ pub fn per_object(
                 name,
                 pixels: subset.count(),
                 values: values.iter().map(|v| v.over(reference, test, &subset)).collect(),
-                bias: Bias::of(reference, test, &subset).into(),
+                bias: bias_test.entry(Bias::of(reference, test, &subset)),
             }
         })
         .collect()

@@ -186,7 +186,7 @@ fn read_raster(path: &Path, options: &ReadOptions, ledger: &Ledger, ldr: bool) -
 }
 
 /// Reverses the row order of every channel.
-fn flip_rows(image: &mut LayeredImage) {
+pub(crate) fn flip_rows(image: &mut LayeredImage) {
     let w = image.width as usize;
     for (_, data) in &mut image.channels {
         let rows: Vec<f32> = data.chunks_exact(w).rev().flatten().copied().collect();

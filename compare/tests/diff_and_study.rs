@@ -41,6 +41,12 @@ fn diff_exit_statuses_follow_idiff() {
     let (code, text) = diff(&[a, a]);
     assert_eq!(code, 0, "{text}");
     assert!(text.contains("relmse") && text.contains("PASS"), "{text}");
+    // b is 4.7 % brighter on average, which the bias test fails whatever the metric's bound;
+    // the metric's own verdicts are checked with the bias test off.
+    let (code, text) = diff(&[a, b, "--fail", "1e-2"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("FAIL: bias over `all`"), "{text}");
+    let diff = |args: &[&str]| diff(&[args, &["--fail-bias", "none"]].concat());
     // relMSE of b: half the pixels off by 0.05 at ~0.53: (0.0025/0.29)/2 ≈ 4.3e-3.
     assert_eq!(diff(&[a, b, "--fail", "1e-2"]).0, 0);
     assert_eq!(diff(&[a, b, "--fail", "1e-3"]).0, 2);
@@ -92,14 +98,15 @@ fn diff_never_passes_a_non_finite_value_and_names_the_file() {
     let huge = image(&tmp("huge-ref.exr"), 16, 16, |i| if i == 0 { 1e20 } else { 0.5 });
     let flat = image(&tmp("flat.exr"), 16, 16, |_| 0.5);
     let (huge, flat) = (huge.to_str().unwrap(), flat.to_str().unwrap());
-    // One pixel of 256 with relMSE (1e20 − 0.5)²/(1e40 + 0.01) = 1: relMSE 1/256.
-    let (code, text) = diff(&[huge, flat, "--fail", "1e-2"]);
+    // One pixel of 256 with relMSE (1e20 − 0.5)²/(1e40 + 0.01) = 1: relMSE 1/256. (The
+    // reference's sum is that pixel's, so the bias test, off here, fails the flat image.)
+    let (code, text) = diff(&[huge, flat, "--fail", "1e-2", "--fail-bias", "none"]);
     assert_eq!(code, 0, "{text}");
     assert!(
         text.contains("relmse") && text.contains("3.906250e-3") && text.contains("PASS"),
         "{text}"
     );
-    let (code, text) = diff(&[huge, flat, "--fail", "1e-3"]);
+    let (code, text) = diff(&[huge, flat, "--fail", "1e-3", "--fail-bias", "none"]);
     assert_eq!(code, 2, "{text}");
     assert!(text.contains("FAIL"), "{text}");
     // NaN in the test image: every metric is NaN; the failure says which and why.
@@ -152,7 +159,7 @@ fn diff_never_passes_a_non_finite_value_and_names_the_file() {
 fn diff_refuses_bounds_outside_the_metric_range() {
     let flat = image(&tmp("flat-flags.exr"), 16, 16, |_| 0.5);
     let flat = flat.to_str().unwrap();
-    let cases: [(&[&str], &str); 11] = [
+    let cases: [(&[&str], &str); 14] = [
         (&["--fail", "nan"], "--fail NaN: the bound must be a finite number"),
         (&["--warn", "nan"], "--warn NaN: the bound must be a finite number"),
         (&["--fail", "inf"], "--fail inf: the bound must be a finite number"),
@@ -167,6 +174,9 @@ fn diff_refuses_bounds_outside_the_metric_range() {
             "--fail 2.5: with --fail-percent, the bound is on the per-pixel ssim error map (1 − SSIM), which takes values in [0, 2]",
         ),
         (&["--metric", "psnr", "--fail", "30", "--fail-percent", "5"], "--fail-percent needs a per-pixel metric; psnr has no map"),
+        (&["--fail-bias", "-0.1"], "--fail-bias -0.1: expected a fraction ≥ 0 (0.01 allows 1 % either way) or `none`"),
+        (&["--fail-bias", "nan"], "--fail-bias nan: expected a fraction ≥ 0 (0.01 allows 1 % either way) or `none`"),
+        (&["--fail-bias", "1%"], "--fail-bias 1%: expected a fraction ≥ 0 (0.01 allows 1 % either way) or `none`"),
     ];
     for (flags, want) in cases {
         let (code, text) = diff(&[&[flat, flat][..], flags].concat());
@@ -178,6 +188,229 @@ fn diff_refuses_bounds_outside_the_metric_range() {
     assert_eq!(diff(&[flat, flat, "--metric", "psnr", "--fail", "-5"]).0, 0);
     assert_eq!(diff(&[flat, flat, "--metric", "ssim", "--fail", "-1"]).0, 0);
     assert_eq!(diff(&[flat, flat, "--fail", "0", "--fail-percent", "0"]).0, 0);
+}
+
+/// A 64×64 reference: a smooth colour image whose `variance.*` layers state a relative
+/// standard error `rel` per pixel (the variance of the pixel mean, (rel · value)²), with the
+/// header `replicates` when given; and a test image of its colour × `scale`, rows reversed
+/// when `flip`.
+fn reference_and_scaled(
+    name: &str,
+    rel: f32,
+    replicates: Option<&str>,
+    scale: f32,
+    flip: bool,
+) -> (String, String) {
+    let (w, h) = (64u32, 64u32);
+    let n = (w * h) as usize;
+    // Brighter towards the top, so that reversed rows are a large error.
+    let value =
+        |i: usize| 0.1 + 0.8 * (1.0 - (i / w as usize) as f32 / h as f32) + 0.05 * ((i * 37) % 11) as f32;
+    let colour = |i: usize| [value(i), 0.8 * value(i), 0.5 * value(i) + 0.05];
+    let mut a = LayeredImage::new(w, h);
+    let mut b = LayeredImage::new(w, h);
+    for (k, c) in ["R", "G", "B"].into_iter().enumerate() {
+        a.push_channel(c, (0..n).map(|i| colour(i)[k]).collect());
+        a.push_channel(
+            format!("variance.{c}"),
+            (0..n).map(|i| (rel * colour(i)[k]).powi(2)).collect(),
+        );
+        let row = |i: usize| {
+            if flip {
+                (h as usize - 1 - i / w as usize) * w as usize + i % w as usize
+            } else {
+                i
+            }
+        };
+        b.push_channel(c, (0..n).map(|i| scale * colour(row(i))[k]).collect());
+    }
+    if let Some(r) = replicates {
+        a.set_attribute("replicates", r);
+    }
+    let (pa, pb) = (
+        tmp(&format!("{name}-reference.exr")),
+        tmp(&format!("{name}-test.exr")),
+    );
+    a.write_exr(&pa).unwrap();
+    b.write_exr(&pb).unwrap();
+    (pa.display().to_string(), pb.display().to_string())
+}
+
+fn json_of(args: &[&str]) -> (i32, serde_json::Value) {
+    let (code, text) = diff(&[args, &["--json", "-"]].concat());
+    (
+        code,
+        serde_json::from_str(&text).unwrap_or_else(|e| panic!("{e}: {text}")),
+    )
+}
+
+/// Issue 42: ground truth × 1.04 against a reference with 5 % noise per pixel passes relMSE
+/// (its default bound relaxed to the reference's noise) but fails the bias test by default,
+/// naming the bias; × 1.005 passes a 1 % bound. The interval is the reference's uncertainty:
+/// with 100 % noise per pixel a 1.5 % bias is not significant and passes, and the same
+/// reference without a noise estimate (`replicates` = 1) says so and fails it.
+#[test]
+fn diff_fails_a_significant_bias_by_default() {
+    let (a, b) = reference_and_scaled("exposure-1.04", 0.05, None, 1.04, false);
+    let (code, text) = diff(&[&a, &b]);
+    assert_eq!(code, 2, "{text}");
+    assert!(
+        text.contains("FAIL: bias over `all`: ") && text.contains("is beyond 1 ± 0.01 (default)"),
+        "{text}"
+    );
+    let (_, json) = json_of(&[&a, &b]);
+    let criterion = &json["metrics"][0];
+    assert_eq!(
+        json["bounds"]["fail_source"],
+        "default, relaxed to the reference's noise"
+    );
+    assert!(
+        criterion["value"].as_f64() < json["bounds"]["fail"].as_f64(),
+        "the metric test alone passes: {json}"
+    );
+    let bias = &json["bias"];
+    assert_eq!(
+        (bias["verdict"].as_str(), json["verdict"].as_str()),
+        (Some("fail"), Some("fail"))
+    );
+    for c in ["R", "G", "B", "Y"] {
+        let (low, high) = (
+            bias["ratio_ci_low"][c].as_f64().unwrap(),
+            bias["ratio_ci_high"][c].as_f64().unwrap(),
+        );
+        assert!(low < 1.04 && 1.04 < high && low > 1.01, "{c}: [{low}, {high}]");
+    }
+    assert_eq!(json["bias_test"]["tests"], 4);
+    assert!(json["noise_estimate"]["reference"] == true && json["noise_estimate"]["test"] == false);
+
+    let (a, b) = reference_and_scaled("exposure-1.005", 0.05, Some("8"), 1.005, false);
+    for flags in [&["--fail-bias", "0.01"][..], &[]] {
+        let (code, text) = diff(&[&[a.as_str(), &b][..], flags].concat());
+        assert_eq!(code, 0, "{flags:?}: {text}");
+        assert!(text.contains("no significant bias beyond 1 ± 0.01"), "{text}");
+    }
+    // Its interval, about 1.005 ± 0.0026, lies beyond a 0.1 % bound.
+    let (code, text) = diff(&[&a, &b, "--fail-bias", "0.001"]);
+    assert_eq!(code, 2, "{text}");
+
+    // 100 % noise per pixel over 4096 pixels: SE ≈ 1.6 %, so 1.5 % is not significant.
+    let (a, b) = reference_and_scaled("noisy-1.015", 1.0, Some("8"), 1.015, false);
+    let (code, json) = json_of(&[&a, &b]);
+    assert_eq!(code, 0, "{json}");
+    assert!(json["bias"]["ratio_ci_low"]["Y"].as_f64() < Some(1.0), "{json}");
+    // Without a noise estimate nothing is relaxed: the same images fail, and say why.
+    let (a, b) = reference_and_scaled("no-estimate-1.015", 1.0, Some("1"), 1.015, false);
+    let (code, text) = diff(&[&a, &b]);
+    assert_eq!(code, 2, "{text}");
+    assert!(
+        text.contains("(no noise estimate)")
+            && text.contains("the reference has no noise estimate (header `replicates` = 1")
+            && text.contains("FAIL: bias over `all`"),
+        "{text}"
+    );
+    let (_, json) = json_of(&[&a, &b]);
+    assert_eq!(json["noise_estimate"]["reference"], false);
+    assert!(json["noise_estimate"]["reference_missing"]
+        .as_str()
+        .unwrap()
+        .contains("`replicates` = 1"));
+    assert_eq!(json["bounds"]["fail_source"], "default");
+    assert_eq!(json["bias"]["ratio_ci_low"]["Y"], json["bias"]["ratio"]["Y"]);
+    // --fail-bias none reports the bias without testing it (relMSE alone: 2.2e-4 passes).
+    let (code, json) = json_of(&[&a, &b, "--fail-bias", "none"]);
+    assert_eq!(code, 0, "{json}");
+    assert_eq!(json["bias_test"]["fail_bias"], serde_json::Value::Null);
+}
+
+/// An image whose rows are upside down fails with a hint to use --flip-y, and passes with it.
+#[test]
+fn diff_hints_at_flip_y_for_reversed_rows() {
+    let (a, b) = reference_and_scaled("flipped", 0.05, None, 1.0, true);
+    let (code, text) = diff(&[&a, &b]);
+    assert_eq!(code, 2, "{text}");
+    assert!(
+        text.contains("hint: the test image matches far better with its rows reversed")
+            && text.contains("pass --flip-y"),
+        "{text}"
+    );
+    let (_, json) = json_of(&[&a, &b]);
+    let hint = &json["flip_y_hint"];
+    assert!(
+        hint["relmse_rows_reversed"].as_f64().unwrap() * 4.0 < hint["relmse"].as_f64().unwrap(),
+        "{json}"
+    );
+    let (code, json) = json_of(&[&a, &b, "--flip-y"]);
+    assert_eq!(code, 0, "{json}");
+    assert_eq!(json["flip_y_hint"], serde_json::Value::Null);
+    // A failure that reversing the rows does not fix gets no hint.
+    let (a, b) = reference_and_scaled("exposure-hint", 0.05, None, 1.04, false);
+    let (code, json) = json_of(&[&a, &b]);
+    assert_eq!(
+        (code, &json["flip_y_hint"]),
+        (2, &serde_json::Value::Null),
+        "{json}"
+    );
+}
+
+/// Per object: a sphere 4 % too bright over an eighth of the image passes the test over the
+/// whole mask (0.5 % overall) and relMSE, and fails with --per-object, which names it; every
+/// object carries its ratio, interval and verdict.
+#[test]
+fn diff_tests_the_bias_of_each_object() {
+    let (w, h) = (32u32, 32u32);
+    let n = (w * h) as usize;
+    let sphere = |i: usize| i % w as usize >= 24 && i / w as usize >= 16;
+    let value = |i: usize| 0.4 + 0.02 * (i % 5) as f32;
+    let mut a = LayeredImage::new(w, h);
+    let mut b = LayeredImage::new(w, h);
+    for c in ["R", "G", "B"] {
+        a.push_channel(c, (0..n).map(value).collect());
+        a.push_channel(
+            format!("variance.{c}"),
+            (0..n).map(|i| (0.01 * value(i)).powi(2)).collect(),
+        );
+        b.push_channel(
+            c,
+            (0..n)
+                .map(|i| value(i) * if sphere(i) { 1.04 } else { 1.0 })
+                .collect(),
+        );
+    }
+    a.push_channel(
+        "object_id.Y",
+        (0..n).map(|i| if sphere(i) { 1.0 } else { 2.0 }).collect(),
+    );
+    a.set_object_names(["sphere", "floor"]);
+    let (pa, pb) = (tmp("objects-reference.exr"), tmp("objects-test.exr"));
+    a.write_exr(&pa).unwrap();
+    b.write_exr(&pb).unwrap();
+    let (pa, pb) = (pa.to_str().unwrap(), pb.to_str().unwrap());
+    let (code, text) = diff(&[pa, pb]);
+    assert_eq!(code, 0, "{text}");
+    let (code, text) = diff(&[pa, pb, "--per-object"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(
+        text.contains("FAIL: bias of object `sphere`: ") && text.contains("beyond the bias bound"),
+        "{text}"
+    );
+    let (_, json) = json_of(&[pa, pb, "--per-object"]);
+    assert_eq!(
+        json["bias_test"]["tests"], 12,
+        "4 channels × (the mask + 2 objects)"
+    );
+    let objects = json["objects"].as_array().unwrap();
+    for o in objects {
+        let bias = &o["bias"];
+        let want = if o["name"] == "sphere" { "fail" } else { "pass" };
+        assert_eq!(bias["verdict"], want, "{o}");
+        let (low, ratio, high) = (
+            bias["ratio_ci_low"]["Y"].as_f64().unwrap(),
+            bias["ratio"]["Y"].as_f64().unwrap(),
+            bias["ratio_ci_high"]["Y"].as_f64().unwrap(),
+        );
+        assert!(low < ratio && ratio < high, "{o}");
+    }
+    assert_eq!(json["bias"]["verdict"], "pass");
 }
 
 fn study_error(body: &str) -> String {

@@ -102,8 +102,18 @@ fn a_flipped_or_black_image_fails_by_default_and_the_render_itself_passes() {
     let h = read(render()).height as usize;
     let flipped = derived_exr("flipped.exr", |s, i, c| colour(s, (h - 1 - i / w) * w + i % w, c));
     assert_eq!(diff(&[a, flipped.to_str().unwrap(), "--flip-y"]).0, 0);
-    // An explicit bound still decides.
-    assert_eq!(diff(&[a, black.to_str().unwrap(), "--fail", "2"]).0, 0);
+    // An explicit bound still decides the metric test; the bias test fails the black image
+    // unless it is off.
+    let (code, text) = diff(&[a, black.to_str().unwrap(), "--fail", "2"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(
+        text.contains("FAIL: bias over `all`: Y test/reference 0.0000"),
+        "{text}"
+    );
+    assert_eq!(
+        diff(&[a, black.to_str().unwrap(), "--fail", "2", "--fail-bias", "none"]).0,
+        0
+    );
 }
 
 #[test]
@@ -156,7 +166,15 @@ fn png_jpeg_and_hdr_inputs_are_decoded_to_linear() {
     image::RgbImage::from_fn(w, h, |x, y| image::Rgb(rgb[(y * w + x) as usize].map(encode8)))
         .save(&jpeg)
         .unwrap();
+    // Its chroma quantisation moves the mean of the small blue channel by 7 %: a real bias,
+    // which a 10 % bound lets through.
     let (code, text) = diff(&[a, jpeg.to_str().unwrap(), "--fail", "0.2"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(
+        text.contains("FAIL: bias over `all`: B test/reference 1.07"),
+        "{text}"
+    );
+    let (code, text) = diff(&[a, jpeg.to_str().unwrap(), "--fail", "0.2", "--fail-bias", "0.1"]);
     assert_eq!(code, 0, "{text}");
     // Radiance HDR: linear, RGBE-quantised (8-bit mantissas: < 1 % per pixel).
     let hdr = tmp("render.hdr");
@@ -271,10 +289,18 @@ fn objects_are_named_in_masks_and_in_the_per_object_table() {
         "--json",
         "-",
     ]);
-    // The verdict is over the mask (`all`): one darker object among nine stays within the
-    // default bound there; the table shows where the difference is.
-    assert_eq!(code, 0, "{text}");
+    // Over the mask (`all`) one darker object among nine stays within the default bound and
+    // its bias is not significant; the bias test of each object finds it.
+    assert_eq!(code, 2, "{text}");
     let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(json["bias"]["verdict"], "pass", "{json}");
+    assert!(
+        json["reason"]
+            .as_str()
+            .unwrap()
+            .starts_with("bias of object `tall_block`: Y test/reference 0.7000"),
+        "{json}"
+    );
     let objects = json["objects"].as_array().unwrap();
     let block = objects.iter().find(|o| o["name"] == "tall_block").unwrap();
     assert!(

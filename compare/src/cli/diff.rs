@@ -13,6 +13,17 @@
 //!   ([`crate::diff::default_fail_bound`]: relMSE 1e-3, …) applies, as idiff fails any
 //!   difference by default.
 //! - `--warn T`: warn when the value is worse than T.
+//! - `--fail-bias F` (default 0.01, [`crate::diff::DEFAULT_FAIL_BIAS`]): fail when the ratio
+//!   Σ B / Σ A of a channel (R, G, B, luminance; over the mask, and over each object with
+//!   `--per-object`) is significantly outside 1 ± F: its whole 99 % confidence interval,
+//!   from both images' noise estimates, lies outside ([`crate::diff::BiasTest`]). `none`: the
+//!   bias is reported, not tested. The verdict is the worse of this test's and the metric's.
+//!
+//! A reference without a noise estimate (no `variance.*` layers, a `replicates` header
+//! below 2, or variance layers that are zero over the mask) is reported as such: its noise
+//! floors are the perfect scores, no bound is relaxed, and its bias interval is the ratio
+//! itself. When the comparison does not pass and B matches A far better with its rows
+//! reversed, a hint names `--flip-y`.
 //!
 //! NaN/Inf in B always fails, and so does any metric whose value is not a number that can be
 //! compared with a bound (NaN, ±∞; [`Metric::check_value`]: PSNR's +∞ of identical images is
@@ -29,7 +40,9 @@ use scenes::budget::Ledger;
 use scenes::layered::LayeredImage;
 
 use super::{CliError, Failure};
-use crate::diff::{self, Bounds, DiffReport, ImageInfo, MaskInfo, MetricEntry, Verdict};
+use crate::diff::{
+    self, BiasTest, Bounds, DiffReport, FlipHint, ImageInfo, MaskInfo, MetricEntry, NoiseEstimate, Verdict,
+};
 use crate::input::{read_image, Format, InputImage, ReadOptions};
 use crate::metrics::{self, Bias, Mask, Metric, MetricError, RgbImage};
 
@@ -62,6 +75,12 @@ pub struct DiffArgs {
     /// Warn when the criterion is worse than T.
     #[arg(long, value_name = "T", allow_negative_numbers = true)]
     pub warn: Option<f64>,
+    /// Fail when a channel's mean (R, G, B, luminance; over the mask, and each object with
+    /// --per-object) is significantly more than FRACTION off the reference's: its whole 99 %
+    /// confidence interval of Σ B / Σ A lies outside 1 ± FRACTION [default: 0.01]; `none`
+    /// reports the bias without testing it.
+    #[arg(long, value_name = "FRACTION", allow_hyphen_values = true)]
+    pub fail_bias: Option<String>,
     /// The test image's EXR layer (NAME.R/G/B) [default: the unprefixed R, G, B, or the only
     /// layer with them].
     #[arg(long, value_name = "NAME")]
@@ -173,6 +192,7 @@ fn check_bounds(args: &DiffArgs, criterion: Metric) -> Result<(), CliError> {
     if let Some(t) = args.warn {
         metric_range("--warn", t)?;
     }
+    fail_bias(args)?;
     if !args.exposure.is_finite() {
         return Err(CliError::input(format!(
             "--exposure {}: the exposure must be a finite number of stops",
@@ -180,6 +200,22 @@ fn check_bounds(args: &DiffArgs, criterion: Metric) -> Result<(), CliError> {
         )));
     }
     Ok(())
+}
+
+/// `--fail-bias`: the bound (None for `none`) and where it came from (`flag`, `default`).
+fn fail_bias(args: &DiffArgs) -> Result<(Option<f64>, &'static str), CliError> {
+    let Some(text) = args.fail_bias.as_deref() else {
+        return Ok((Some(diff::DEFAULT_FAIL_BIAS), "default"));
+    };
+    if text == "none" {
+        return Ok((None, "flag"));
+    }
+    match text.parse::<f64>() {
+        Ok(f) if f.is_finite() && f >= 0.0 => Ok((Some(f), "flag")),
+        _ => Err(CliError::input(format!(
+            "--fail-bias {text}: expected a fraction ≥ 0 (0.01 allows 1 % either way) or `none`"
+        ))),
+    }
 }
 
 /// The mask `spec` for images like `a`.
@@ -280,7 +316,8 @@ pub fn run(args: &DiffArgs) -> Result<u8, CliError> {
         // The only bad input left is the reference's (a non-finite pixel, a mask of nothing).
         MetricError::BadInput(m) => CliError::input(format!("{}: {m}", args.reference.display())),
     })?;
-    let objects = if args.per_object {
+    let (fail_bias, fail_bias_source) = fail_bias(args)?;
+    let (objects, bias_test) = if args.per_object {
         let ids = a_in.image.channel("object_id.Y").ok_or_else(|| {
             CliError::input(format!(
                 "{}: --per-object needs the reference's object_id.Y channel (a Verity render has it)",
@@ -291,21 +328,54 @@ pub fn run(args: &DiffArgs) -> Result<u8, CliError> {
             .image
             .object_names()
             .map_err(|e| CliError::input(format!("{}: {e}", args.reference.display())))?;
-        Some(diff::per_object(&values, (&a, &b), &mask, ids, names.as_deref()))
+        let present = diff::objects_in(&mask, ids);
+        let test = BiasTest::new(fail_bias, fail_bias_source, 1 + present.len());
+        let objects = diff::per_object(&values, (&a, &b), (&mask, ids, &present), names.as_deref(), &test);
+        (Some(objects), test)
     } else {
-        None
+        (None, BiasTest::new(fail_bias, fail_bias_source, 1))
     };
-    let report = report(args, (&a_in, &b_in), &mask, &values, (&a, &b), objects);
+    let missing = metrics::missing_noise_estimate(&a_in.image)
+        .map_err(|e| CliError::input(format!("{}: {e}", args.reference.display())))?;
+    let noise = NoiseEstimate::new(missing, &a, &b, &mask);
+    let mut report = report(
+        args,
+        (&a_in, &b_in),
+        &mask,
+        &values,
+        (&a, &b),
+        (objects, bias_test, noise),
+    );
+    if report.verdict != Verdict::Pass {
+        report.flip_y_hint = flip_hint(report.verdict, (&a, &b, &b_in), &mask);
+    }
     match args.json.as_deref() {
         Some(p) if p.as_os_str() == "-" => println!("{}", to_json(&report)),
         Some(p) => {
-            print_text(&report);
+            print_text(&report, args.flip_y);
             scenes::atomic::write_atomic(p, to_json(&report).as_bytes())
                 .map_err(|e| CliError::run(format!("{}: {e}", p.display())))?;
         }
-        None => print_text(&report),
+        None => print_text(&report, args.flip_y),
     }
     Ok(report.exit_status)
+}
+
+/// The `--flip-y` hint ([`FlipHint`]): relMSE over `mask` of the test image `b` as read and
+/// with the rows of its file `b_in` reversed (None when either is not a number).
+fn flip_hint(
+    verdict: Verdict,
+    (a, b, b_in): (&RgbImage, &RgbImage, &InputImage),
+    mask: &Mask,
+) -> Option<FlipHint> {
+    let relmse = |b: &RgbImage| -> Option<f64> {
+        let v = metrics::evaluate(a, b, mask, &[Metric::RelMse]).ok()?;
+        v[0].is_finite().then_some(v[0].value)
+    };
+    let mut reversed = b_in.image.clone();
+    crate::input::flip_rows(&mut reversed);
+    let reversed = RgbImage::from_layered(&reversed, "").ok()?;
+    FlipHint::new(verdict, relmse(b)?, relmse(&reversed)?)
 }
 
 /// The report of a comparison: values, bias, bounds (the default one, relaxed for a noisy
@@ -316,9 +386,10 @@ fn report(
     mask: &Mask,
     values: &[metrics::MetricValue],
     (a, b): (&RgbImage, &RgbImage),
-    objects: Option<Vec<diff::ObjectEntry>>,
+    (objects, mut bias_test, noise_estimate): (Option<Vec<diff::ObjectEntry>>, BiasTest, NoiseEstimate),
 ) -> DiffReport {
     let criterion = &values[0];
+    // Without a noise estimate the floor is the perfect score, and nothing is relaxed.
     let (fail, fail_source) = match args.fail {
         Some(t) => (t, "flag".to_string()),
         None => match diff::default_bound_for(criterion.metric, criterion.noise_floor) {
@@ -333,7 +404,10 @@ fn report(
         fail_percent: args.fail_percent,
         warn: args.warn,
     };
-    let (verdict, reason, percent_above_fail) = diff::verdict(values, &bounds, mask);
+    let (metric_verdict, metric_reason, percent_above_fail) = diff::verdict(values, &bounds, mask);
+    let bias = bias_test.entry(Bias::of(a, b, mask));
+    bias_test.judge(&mask.name, &bias, objects.as_deref().unwrap_or_default());
+    let (verdict, reason) = diff::combine((metric_verdict, metric_reason), &bias_test);
     let info = |i: &InputImage, path: &PathBuf| ImageInfo {
         path: path.display().to_string(),
         format: match i.format {
@@ -363,10 +437,13 @@ fn report(
                 non_finite_pixels: v.non_finite,
             })
             .collect(),
-        bias: Bias::of(a, b, mask).into(),
+        bias,
         objects,
         bounds,
         percent_above_fail,
+        noise_estimate,
+        bias_test,
+        flip_y_hint: None,
         verdict,
         reason,
         exit_status: verdict.exit_status(),
@@ -377,38 +454,78 @@ fn to_json(report: &DiffReport) -> String {
     serde_json::to_string_pretty(report).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
 }
 
-/// The text report on standard output.
-fn print_text(r: &DiffReport) {
+/// The text report on standard output (`flip_y`: whether --flip-y was given, for the hint).
+fn print_text(r: &DiffReport, flip_y: bool) {
     println!(
         "{} vs {} over `{}` ({} pixels):",
         r.test.path, r.reference.path, r.mask.spec, r.mask.pixels
     );
+    let noise = &r.noise_estimate;
     for v in &r.metrics {
-        println!(
-            "  {:<9} {:>12.6e}   (reference noise floor {:.3e})",
-            v.metric, v.value, v.noise_floor
-        );
+        let floor = match noise.reference_missing {
+            Some(_) => "no noise estimate".to_string(),
+            None => format!("reference noise floor {:.3e}", v.noise_floor),
+        };
+        println!("  {:<9} {:>12.6e}   ({floor})", v.metric, v.value);
+    }
+    if let Some(why) = &noise.reference_missing {
+        println!("  the reference has no noise estimate ({why}): no bound is relaxed for its noise");
     }
     let (ratio, signed) = (&r.bias.ratio, &r.bias.mean_signed_error);
     println!(
         "  bias      test/reference R {:.4} G {:.4} B {:.4} Y {:.4}; mean signed error Y {:+.3e}",
         ratio.R, ratio.G, ratio.B, ratio.Y, signed.Y
     );
+    let (low, high) = (&r.bias.ratio_ci_low, &r.bias.ratio_ci_high);
+    println!(
+        "            {} % interval R [{:.4}, {:.4}] G [{:.4}, {:.4}] B [{:.4}, {:.4}] Y [{:.4}, {:.4}]{}",
+        100.0 * r.bias_test.level,
+        low.R,
+        high.R,
+        low.G,
+        high.G,
+        low.B,
+        high.B,
+        low.Y,
+        high.Y,
+        match (noise.reference, noise.test) {
+            (false, false) => " (no noise estimate: the ratio itself)",
+            (false, true) => " (from the test image's noise only)",
+            _ => "",
+        }
+    );
     if let Some(objects) = &r.objects {
         let names: Vec<&str> = r.metrics.iter().map(|m| m.metric.as_str()).collect();
         println!(
-            "  {:<24} {:>8}  {}  bias Y",
+            "  {:<24} {:>8}  {}  bias Y  {} % interval",
             "object",
             "pixels",
-            names.iter().map(|n| format!("{n:>12}")).collect::<String>()
+            names.iter().map(|n| format!("{n:>12}")).collect::<String>(),
+            100.0 * r.bias_test.level
         );
         for o in objects {
             let values: String = o.values.iter().map(|v| format!("{v:>12.4e}")).collect();
+            let flag = if o.bias.verdict == Verdict::Fail {
+                "  beyond the bias bound"
+            } else {
+                ""
+            };
             println!(
-                "  {:<24} {:>8}  {values}  {:.4}",
-                o.name, o.pixels, o.bias.ratio.Y
+                "  {:<24} {:>8}  {values}  {:.4}  [{:.4}, {:.4}]{flag}",
+                o.name, o.pixels, o.bias.ratio.Y, o.bias.ratio_ci_low.Y, o.bias.ratio_ci_high.Y
             );
         }
+    }
+    if let Some(h) = &r.flip_y_hint {
+        let advice = if flip_y {
+            "drop --flip-y (the file is top-down already)"
+        } else {
+            "pass --flip-y (a framebuffer read back bottom-up)"
+        };
+        println!(
+            "hint: the test image matches far better with its rows reversed (relmse {:.3e} against {:.3e}): {advice}",
+            h.relmse_rows_reversed, h.relmse
+        );
     }
     let word = match r.verdict {
         Verdict::Pass => "PASS",

@@ -38,7 +38,7 @@ use std::fmt;
 use glam::Vec3;
 use scenes::layered::LayeredImage;
 
-pub use bias::Bias;
+pub use bias::{Bias, Rgby};
 pub use mask::Mask;
 
 /// ε of relMSE and SMAPE (docs/ARCHITECTURE.md "Comparison"; Rousselle et al. 2011 and Vogels et al.
@@ -170,6 +170,33 @@ pub(crate) fn interval_text((lo, hi): (f64, f64)) -> String {
     format!("{lo}, {hi}")
 }
 
+/// Header attribute of an oracle render: the number of independently seeded replicates its
+/// `variance.*` layers were estimated from. Below 2 they estimate nothing (they are zeros),
+/// and the image has no noise estimate; an image without the attribute (another renderer's
+/// EXR) has its variance layers taken as they are.
+pub const REPLICATES_ATTRIBUTE: &str = "replicates";
+
+/// Why `img` has no noise estimate — no `variance.R/G/B` layers, or a
+/// [`REPLICATES_ATTRIBUTE`] below 2 — or None when its variance layers are one. An error when
+/// the attribute is not a whole number.
+pub fn missing_noise_estimate(img: &LayeredImage) -> Result<Option<String>, String> {
+    if let Some(text) = img.attribute(REPLICATES_ATTRIBUTE) {
+        let replicates: u64 = text.trim().parse().map_err(|_| {
+            format!("header attribute `{REPLICATES_ATTRIBUTE}` = `{text}` is not a whole number")
+        })?;
+        if replicates < 2 {
+            return Ok(Some(format!(
+                "header `{REPLICATES_ATTRIBUTE}` = {replicates}: its variance layers estimate nothing"
+            )));
+        }
+    }
+    let layers = ["R", "G", "B"].map(|c| img.channel(&scenes::layered::channel_name("variance", c)));
+    if layers.iter().any(Option::is_none) {
+        return Ok(Some("no variance.R/G/B layers".into()));
+    }
+    Ok(None)
+}
+
 /// An RGB image with the reference's per-pixel variance of the mean, when it has one.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RgbImage {
@@ -179,22 +206,27 @@ pub struct RgbImage {
     pub height: usize,
     /// Linear Rec.709 RGB, row-major, row 0 at the top.
     pub rgb: Vec<Vec3>,
-    /// Variance of each pixel's mean (`variance.R/G/B`), if the image has it.
+    /// Variance of each pixel's mean (`variance.R/G/B`), if the image has a noise estimate
+    /// ([`missing_noise_estimate`]).
     pub variance: Option<Vec<Vec3>>,
 }
 
 impl RgbImage {
-    /// The `R`, `G`, `B` (and `variance.*`) channels of a layered image; `what` names the image
-    /// in the error.
+    /// The `R`, `G`, `B` (and `variance.*`, unless they estimate nothing:
+    /// [`missing_noise_estimate`]) channels of a layered image; `what` names the image in the
+    /// error.
     pub fn from_layered(img: &LayeredImage, what: &str) -> Result<RgbImage, String> {
         let rgb = img
             .rgb("")
             .ok_or_else(|| format!("{what}: no R, G, B channels"))?;
+        let estimated = missing_noise_estimate(img)
+            .map_err(|e| format!("{what}: {e}"))?
+            .is_none();
         Ok(RgbImage {
             width: img.width as usize,
             height: img.height as usize,
             rgb,
-            variance: img.rgb("variance"),
+            variance: if estimated { img.rgb("variance") } else { None },
         })
     }
 
@@ -472,6 +504,34 @@ mod tests {
 
     fn image(values: &[f32]) -> RgbImage {
         RgbImage::new(values.len(), 1, values.iter().map(|&v| Vec3::splat(v)).collect())
+    }
+
+    #[test]
+    fn variance_layers_count_only_from_two_replicates_up() {
+        let mut img = LayeredImage::new(2, 1);
+        img.push_rgb("", &[Vec3::splat(0.5); 2]);
+        let read = |img: &LayeredImage| RgbImage::from_layered(img, "x.exr");
+        assert_eq!(
+            missing_noise_estimate(&img).unwrap().as_deref(),
+            Some("no variance.R/G/B layers")
+        );
+        img.push_rgb("variance", &[Vec3::splat(1e-4); 2]);
+        // No attribute: another renderer's (or an older oracle's) layers, taken as they are.
+        assert!(read(&img).unwrap().variance.is_some());
+        img.set_attribute(REPLICATES_ATTRIBUTE, "8");
+        assert!(read(&img).unwrap().variance.is_some());
+        for n in ["0", "1"] {
+            img.set_attribute(REPLICATES_ATTRIBUTE, n);
+            assert_eq!(read(&img).unwrap().variance, None, "replicates = {n}");
+            let why = missing_noise_estimate(&img).unwrap().unwrap();
+            assert!(why.contains(&format!("`replicates` = {n}")), "{why}");
+        }
+        img.set_attribute(REPLICATES_ATTRIBUTE, "eight");
+        let e = read(&img).unwrap_err();
+        assert!(
+            e.starts_with("x.exr: header attribute `replicates` = `eight`"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -103,7 +103,7 @@ fn resample(reference: &RgbImage, variance: &[Vec3]) -> RgbImage {
 /// A standard normal deviate from (pixel, channel) by Box–Muller (Box & Muller 1958) over two
 /// SplitMix64 uniforms (Steele, Lea, Flood, "Fast splittable pseudorandom number generators",
 /// OOPSLA 2014).
-fn normal(pixel: usize, channel: u64) -> f32 {
+pub(super) fn normal(pixel: usize, channel: u64) -> f32 {
     let key = (pixel as u64) << 2 | channel;
     let u1 = unit(splitmix64(key.wrapping_mul(2)));
     let u2 = unit(splitmix64(key.wrapping_mul(2) + 1));
