@@ -1154,3 +1154,98 @@ fn a_second_ground_truth_is_read_checked_and_measured() {
         .iter()
         .any(|c| c["on"] == "second_ground_truth" && c["passed"] == false));
 }
+
+/// `metric = "bias"` bounds the luminance ratio Σ image / Σ ground truth over the mask, from
+/// both sides, whatever the study's `metrics`: the value checked is the one metrics.json
+/// records; against brighter walls than the method renders the ratio is lower; a `max` the
+/// image exceeds fails with a message naming the bias.
+#[test]
+fn a_bias_threshold_bounds_the_mean_ratio() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/studies/test-bad.toml");
+    let bias_bound = |on: &str, bounds: &str| {
+        format!("[[threshold]]\nmethod = \"area_quadrature\"\nparams = {{ n = 4 }}\non = \"{on}\"\nmetric = \"bias\"\n{bounds}\nreason = \"r\"\n")
+    };
+    let s = compare::study::load_str(
+        &(GOOD.to_string() + &bias_bound("image", "min = 0.9\nmax = 1.1")),
+        &path,
+    )
+    .unwrap();
+    assert_eq!(s.thresholds[1].metric, compare::study::Measure::Bias);
+    for (body, want) in [
+        (
+            GOOD.to_string() + &bias_bound("image", "max = -1"),
+            "max -1 can never hold: bias takes values in [0, ∞)",
+        ),
+        (
+            GOOD.replace("metric = \"relmse\"", "metric = \"biass\""),
+            "unknown metric `biass`; metrics: mse, rmse, mae, relmse, smape, psnr, ssim, flip_ldr, flip_hdr, bias",
+        ),
+    ] {
+        let e = study_error(&body);
+        assert!(e.contains(want), "expected `{want}` in: {e}");
+    }
+
+    // Measured (16×16, 4 spp: a noisy ground truth, so the bounds are wide): the image's
+    // ratio is above a half (holds) and not below it (fails); against brighter walls it is
+    // lower than against the scene.
+    let dir = tmp("bias-threshold");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell-box.toml");
+    let study = dir.join("bias.toml");
+    let brighter = "[second_ground_truth]\nname = \"brighter walls\"\nscene_set = { \"material.white.albedo\" = [0.95, 0.95, 0.95] }\n[quick]\nspp = 4\nresolution = [16, 16]\n[[method]]";
+    let text = GOOD
+        .replace("../cornell-box.toml", scene.to_str().unwrap())
+        .replace("[[method]]", brighter)
+        + &bias_bound("image", "min = 0.5")
+        + &bias_bound("image", "max = 0.5")
+        + &bias_bound("second_ground_truth", "max = 10");
+    std::fs::write(&study, text).unwrap();
+    let out = dir.join("out");
+    let (code, stdout, stderr) = report(&[
+        "report",
+        study.to_str().unwrap(),
+        "--quick",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        dir.join("cache").to_str().unwrap(),
+    ]);
+    let text = stdout + &stderr;
+    assert_eq!(code, 1, "{text}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).unwrap()).unwrap();
+    let variant = json["variants"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|v| v["label"] == "area_quadrature(n=4)")
+        .unwrap();
+    let recorded = |list: &str| variant[list][0]["bias"]["ratio"]["Y"].as_f64().unwrap();
+    let checks: Vec<&serde_json::Value> = json["thresholds"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|c| c["metric"] == "bias")
+        .collect();
+    let [above, below, against_brighter] = checks[..] else {
+        panic!("three bias checks: {checks:?}")
+    };
+    assert_eq!(above["value"].as_f64(), Some(recorded("metrics")));
+    assert_eq!(
+        (&above["passed"], &below["passed"]),
+        (&true.into(), &false.into())
+    );
+    assert_eq!(
+        against_brighter["value"].as_f64(),
+        Some(recorded("second_ground_truth"))
+    );
+    assert_eq!(against_brighter["passed"], true);
+    assert!(recorded("second_ground_truth") < recorded("metrics"), "{variant}");
+    assert!(
+        text.contains("FAIL bias: area_quadrature(n=4) bias over `all` = ")
+            && text.contains("expected ≤ 5e-1 (r)"),
+        "{text}"
+    );
+}

@@ -200,7 +200,7 @@ fn a_method_broken_on_purpose_fails_its_bound_with_a_clear_message() {
         .position(|t| {
             t.max.is_some()
                 && t.params == [("n".to_string(), "16".to_string())]
-                && t.metric.is_some_and(|m| m.name() == "relmse")
+                && t.metric.name() == "relmse"
         })
         .expect("the default study bounds quadrature n = 16 from above");
     s.thresholds = vec![s.thresholds[converged].clone()];

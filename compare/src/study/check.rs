@@ -116,10 +116,14 @@ pub(super) fn check_references(study: &Study, doc: &Table) -> Result<(), SceneEr
         if th.mask != "all" && !study.masks.iter().any(|k| k.name() == th.mask) {
             return Err(t.req("mask")?.err(format!("no [[mask]] named `{}`", th.mask)));
         }
-        if let Some(metric) = th.metric.filter(|m| !study.metrics.contains(m)) {
-            return Err(t
-                .req("metric")?
-                .err(format!("`{metric}` is not in the study's `metrics`")));
+        // The bias is measured whatever the study's `metrics` (model.rs `Measure::Bias`).
+        match th.metric {
+            Measure::Metric(metric) if !study.metrics.contains(&metric) => {
+                return Err(t
+                    .req("metric")?
+                    .err(format!("`{metric}` is not in the study's `metrics`")));
+            }
+            _ => {}
         }
     }
     // `[stability]`'s own fields where written; the defaults (relmse over `all`) are

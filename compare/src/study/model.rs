@@ -499,8 +499,8 @@ pub struct Threshold {
     pub params: Vec<(String, String)>,
     /// Only at these scene-sweep values (every scene point when empty).
     pub scene: Vec<(String, String)>,
-    /// The metric bounded (None for `on = "flicker"`, which has its own measure).
-    pub metric: Option<Metric>,
+    /// What is bounded: a metric, the bias ratio, or (`on = "flicker"`) the flicker.
+    pub metric: Measure,
     /// What is measured: the image, the light's visibility factor, or the flicker.
     pub on: Target,
     /// The mask it is measured over (`all` by default).
@@ -517,6 +517,50 @@ pub struct Threshold {
     pub mode: Option<RunMode>,
     /// Where it is declared: `file:line`.
     pub location: String,
+}
+
+/// What a threshold bounds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Measure {
+    /// A metric of the study's `metrics`, over the threshold's mask.
+    Metric(Metric),
+    /// `metric = "bias"`: the luminance ratio Σ test / Σ reference over the threshold's mask
+    /// ([`crate::metrics::bias`]; 1 is unbiased, 0.97 is 3 % too dark). Measured for every
+    /// variant and mask whatever the study's `metrics`; a method whose failure is a loss or
+    /// gain of energy is bounded on both sides.
+    Bias,
+    /// `on = "flicker"`: the temporal flicker ([`super::stability`]).
+    Flicker,
+}
+
+impl Measure {
+    /// The name in study files, metrics.json and messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Measure::Metric(m) => m.name(),
+            Measure::Bias => "bias",
+            Measure::Flicker => "flicker",
+        }
+    }
+
+    /// The values it can take ([`Metric::range`]; a ratio of non-negative sums and flicker,
+    /// a mean of absolute values, are ≥ 0).
+    pub fn range(self) -> (f64, f64) {
+        match self {
+            Measure::Metric(m) => m.range(),
+            Measure::Bias | Measure::Flicker => (0.0, f64::INFINITY),
+        }
+    }
+
+    /// Whether `value` can be compared with a bound ([`Metric::check_value`]; the bias and
+    /// flicker must be finite: a black reference's ratio is NaN).
+    pub fn check_value(self, value: f64) -> Result<(), String> {
+        match self {
+            Measure::Metric(m) => m.check_value(value),
+            _ if value.is_finite() => Ok(()),
+            _ => Err(format!("{} is {value}: not finite", self.name())),
+        }
+    }
 }
 
 /// A study run's mode: the `[quick]` resolution and sample count (what the tests run), or

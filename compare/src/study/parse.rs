@@ -651,9 +651,13 @@ fn threshold(t: &Table) -> Result<Threshold, SceneError> {
                 ));
             }
         }
-        None
+        Measure::Flicker
     } else {
-        Some(metric(&t.req("metric")?)?)
+        let f = t.req("metric")?;
+        match f.str()? {
+            "bias" => Measure::Bias,
+            _ => Measure::Metric(Metric::parse(f.str()?).map_err(|e| f.err(format!("{e}, bias")))?),
+        }
     };
     let bound = |key: &str| t.get(key).map(|f| number(&f)).transpose();
     let (max, min) = (bound("max")?, bound("min")?);
@@ -669,10 +673,11 @@ fn threshold(t: &Table) -> Result<Threshold, SceneError> {
     }
     // A bound past the end of the measure's range can never hold (flicker is a mean of
     // absolute values, ≥ 0: stability.rs).
-    let (name, range, range_text) = match metric {
-        Some(m) => (m.name(), m.range(), m.range_text()),
-        None => ("flicker", (0.0, f64::INFINITY), "[0, ∞)".to_string()),
-    };
+    let (name, range, range_text) = (
+        metric.name(),
+        metric.range(),
+        crate::metrics::interval_text(metric.range()),
+    );
     if let Some(hi) = max.filter(|&hi| hi < range.0) {
         return Err(t.req("max")?.err(format!(
             "max {hi} can never hold: {name} takes values in {range_text}"

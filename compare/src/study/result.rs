@@ -5,7 +5,8 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use crate::metrics::MetricValue;
+use crate::metrics::{Bias, MetricValue, Rgby};
+use crate::study::Measure;
 
 /// Version of the metrics.json schema; bumped on any incompatible change.
 pub const SCHEMA_VERSION: u32 = 1;
@@ -246,6 +247,27 @@ pub struct MaskMetrics {
     pub mask: String,
     /// One value per metric, in the study's order.
     pub values: Vec<MetricEntry>,
+    /// The signed bias, whatever the study's metrics (what `metric = "bias"` bounds).
+    pub bias: BiasRecord,
+}
+
+/// A variant's bias over one mask ([`crate::metrics::bias`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct BiasRecord {
+    /// Σ test / Σ ground truth: R, G, B, Y (`metric = "bias"` bounds Y; null where the ground
+    /// truth sums to 0).
+    pub ratio: Rgby,
+    /// Its standard error from the ground truth's noise estimate.
+    pub standard_error: Rgby,
+}
+
+impl From<Bias> for BiasRecord {
+    fn from(b: Bias) -> Self {
+        BiasRecord {
+            ratio: b.ratio.into(),
+            standard_error: b.standard_error.into(),
+        }
+    }
 }
 
 /// One metric value with its noise floor.
@@ -487,8 +509,9 @@ impl StudyResult {
         self.value_on(label, "image", mask, metric)
     }
 
-    /// The value of `metric` over `mask` of the image (`on` = `image`), the visibility
-    /// (`visibility`) or the image against the second ground truth (`second_ground_truth`).
+    /// The value of `metric` (for `bias`: the luminance ratio) over `mask` of the image (`on`
+    /// = `image`), the visibility (`visibility`) or the image against the second ground truth
+    /// (`second_ground_truth`).
     pub fn value_on(&self, label: &str, on: &str, mask: &str, metric: &str) -> Option<f64> {
         let v = self.variants.iter().find(|v| v.label == label)?;
         let list = match on {
@@ -497,6 +520,9 @@ impl StudyResult {
             _ => &v.metrics,
         };
         let m = list.iter().find(|m| m.mask == mask)?;
+        if metric == Measure::Bias.name() {
+            return Some(m.bias.ratio.Y);
+        }
         m.values.iter().find(|e| e.metric == metric).map(|e| e.value)
     }
 

@@ -14,8 +14,8 @@ pub use super::setup::{
     ground_truth, ground_truth_hash, prepare, prepare_second, raster_settings, RunOptions, StudyError,
 };
 use super::setup::{io_err, measured_raster_settings};
-use super::{plan, stability, MaskSpec, ScenePoint, Study, Target, Variant};
-use crate::metrics::{self, Mask, Metric, MetricValue, RgbImage};
+use super::{plan, stability, MaskSpec, Measure, ScenePoint, Study, Target, Variant};
+use crate::metrics::{self, Bias, Mask, MetricValue, RgbImage};
 use crate::progress::StepProgress;
 use crate::report::colormap;
 
@@ -342,6 +342,7 @@ fn measure_variant(
         per_mask.push(MaskMetrics {
             mask: mask.name.clone(),
             values: values.iter().map(MetricEntry::from).collect(),
+            bias: Bias::of(reference, &test, mask).into(),
         });
         if maps.is_empty() {
             maps = values;
@@ -466,20 +467,17 @@ fn over_masks(
             Ok(MaskMetrics {
                 mask: mask.name.clone(),
                 values: values.iter().map(MetricEntry::from).collect(),
+                bias: Bias::of(reference, test, mask).into(),
             })
         })
         .collect()
 }
 
-/// Whether `value` of `metric` (None: flicker) is within `[min, max]`. A value that cannot be
-/// compared ([`Metric::check_value`]: NaN, ±∞ but PSNR's exact +∞) holds no bound, `min` and
-/// `max` alike: every comparison with NaN is false, so `!(value > max)` would let it pass.
-pub fn bound_holds(metric: Option<Metric>, value: f64, min: Option<f64>, max: Option<f64>) -> bool {
-    let comparable = match metric {
-        Some(m) => m.check_value(value).is_ok(),
-        None => value.is_finite(),
-    };
-    comparable && max.is_none_or(|m| value <= m) && min.is_none_or(|m| value >= m)
+/// Whether `value` of `measure` is within `[min, max]`. A value that cannot be compared
+/// ([`Measure::check_value`]: NaN, ±∞ but PSNR's exact +∞) holds no bound, `min` and `max`
+/// alike: every comparison with NaN is false, so `!(value > max)` would let it pass.
+pub fn bound_holds(measure: Measure, value: f64, min: Option<f64>, max: Option<f64>) -> bool {
+    measure.check_value(value).is_ok() && max.is_none_or(|m| value <= m) && min.is_none_or(|m| value >= m)
 }
 
 /// Every threshold against every variant it applies to (flicker bounds: the variants of the
@@ -500,18 +498,18 @@ fn check_thresholds(
         };
         for v in candidates.iter().filter(|v| th.applies_to(v)) {
             let value = match th.metric {
-                Some(metric) => result.value_on(&v.label(), th.on.name(), &th.mask, metric.name()),
-                None => result
+                Measure::Flicker => result
                     .flicker
                     .iter()
                     .find(|f| f.variant == v.label())
                     .map(|f| f.flicker),
+                measure => result.value_on(&v.label(), th.on.name(), &th.mask, measure.name()),
             }
             .unwrap_or(f64::NAN);
             let passed = bound_holds(th.metric, value, th.min, th.max);
             checks.push(ThresholdCheck {
                 variant: v.label(),
-                metric: th.metric.map_or("flicker", |m| m.name()).into(),
+                metric: th.metric.name().into(),
                 on: th.on.name().into(),
                 mask: if th.on == Target::Flicker {
                     "interior".into()
@@ -533,22 +531,35 @@ fn check_thresholds(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::metrics::Metric;
 
     #[test]
     fn a_nan_holds_no_bound() {
+        let (relmse, mse, psnr) = (
+            Measure::Metric(Metric::RelMse),
+            Measure::Metric(Metric::Mse),
+            Measure::Metric(Metric::Psnr),
+        );
         for (min, max) in [(None, Some(1.0)), (Some(0.5), None), (Some(0.0), Some(1e30))] {
+            assert!(!bound_holds(relmse, f64::NAN, min, max), "{min:?} {max:?}");
             assert!(
-                !bound_holds(Some(Metric::RelMse), f64::NAN, min, max),
-                "{min:?} {max:?}"
+                !bound_holds(Measure::Flicker, f64::NAN, min, max),
+                "flicker {min:?} {max:?}"
             );
-            assert!(!bound_holds(None, f64::NAN, min, max), "flicker {min:?} {max:?}");
-            assert!(!bound_holds(Some(Metric::Mse), f64::INFINITY, min, None));
+            // A black ground truth's bias ratio is NaN.
+            assert!(
+                !bound_holds(Measure::Bias, f64::NAN, min, max),
+                "bias {min:?} {max:?}"
+            );
+            assert!(!bound_holds(mse, f64::INFINITY, min, None));
         }
-        assert!(bound_holds(Some(Metric::RelMse), 0.5, Some(0.1), Some(1.0)));
-        assert!(!bound_holds(Some(Metric::RelMse), 2.0, Some(0.1), Some(1.0)));
+        assert!(bound_holds(relmse, 0.5, Some(0.1), Some(1.0)));
+        assert!(!bound_holds(relmse, 2.0, Some(0.1), Some(1.0)));
+        assert!(bound_holds(Measure::Bias, 0.995, Some(0.98), Some(1.02)));
+        assert!(!bound_holds(Measure::Bias, 0.97, Some(0.98), Some(1.02)));
         // PSNR of an exact image is +∞ dB: above any `min`, above every `max`.
-        assert!(bound_holds(Some(Metric::Psnr), f64::INFINITY, Some(40.0), None));
-        assert!(!bound_holds(Some(Metric::Psnr), f64::INFINITY, None, Some(40.0)));
+        assert!(bound_holds(psnr, f64::INFINITY, Some(40.0), None));
+        assert!(!bound_holds(psnr, f64::INFINITY, None, Some(40.0)));
     }
 
     #[test]
