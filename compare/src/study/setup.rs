@@ -244,7 +244,13 @@ pub fn oracle_job(scene: &Scene, settings: RenderSettings) -> RenderJob<'_> {
 
 /// Mean over pixels and channels of σ/(|r| + 0.01): the reference's own relative noise.
 fn mean_relative_std_error(img: &LayeredImage) -> f64 {
-    let (Some(rgb), Some(var)) = (img.rgb(""), img.rgb("variance")) else {
+    // NaN without a noise estimate (metrics::missing_noise_estimate), not a noiseless 0.
+    let Ok(metrics::RgbImage {
+        rgb,
+        variance: Some(var),
+        ..
+    }) = metrics::RgbImage::from_layered(img, "")
+    else {
         return f64::NAN;
     };
     let sum: f64 = rgb

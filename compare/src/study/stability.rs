@@ -28,7 +28,7 @@ use super::result::{
 };
 use super::setup::{flicker_raster_settings, ground_truth, prepare, RunOptions, StudyError};
 use super::{shifted, Flicker, Motion, ScenePoint, Study, Variant};
-use crate::metrics::{Mask, RELATIVE_EPSILON};
+use crate::metrics::{Mask, RgbImage, RELATIVE_EPSILON};
 
 /// One [`SweepResult`] per method and swept parameter, the other swept parameters at their
 /// first listed value.
@@ -223,11 +223,12 @@ pub fn flicker(
     let mut interiors = Vec::new();
     for (k, s) in frames.iter().enumerate() {
         let (img, _) = ground_truth(s, settings, &frame_opts, &format!("frame-{k}"))?;
-        let rgb = img
-            .rgb("")
-            .ok_or_else(|| StudyError::Run("ground truth without RGB".into()))?;
-        let var = img.rgb("variance").unwrap_or_else(|| vec![Vec3::ZERO; rgb.len()]);
-        refs.push((rgb, var));
+        let image = RgbImage::from_layered(&img, "flicker ground truth").map_err(StudyError::Run)?;
+        // Without a noise estimate (metrics::missing_noise_estimate) the floor is 0.
+        let var = image
+            .variance
+            .unwrap_or_else(|| vec![Vec3::ZERO; image.rgb.len()]);
+        refs.push((image.rgb, var));
         interiors.push(Mask::interior(&img));
     }
     let no_pixels = || {
