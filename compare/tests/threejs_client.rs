@@ -2,7 +2,8 @@
 //! headless Chromium renders the example glb into a float target; the oracle renders the
 //! same glb with pixel-centre sampling and direct light without shadows; `verity diff --json`
 //! says what differs. With three.js's geometric specular anti-aliasing and its
-//! multiple-scattering energy compensation switched off the two agree closely; each one
+//! multiple-scattering energy compensation switched off the two agree closely (but for the
+//! plastic sphere's +1.7 % from its Fresnel fit, which the bias test fails); each one
 //! switched on is found, the compensation by the metal sphere's bias; against the oracle's
 //! multiple scattering (`--scattering multiple`) the compensated sphere is the closer one.
 //!
@@ -151,13 +152,19 @@ fn threejs_is_measured_against_the_pixel_centre_ground_truth() {
     // Both off: three.js and the oracle evaluate the same BRDF (GGX, height-correlated Smith,
     // F0 mixed by metalness) at the same pixel centres; what is left is three.js's
     // spherical-Gaussian Fresnel (about +1.7 % on the dielectric sphere) and f32 arithmetic.
+    // relMSE is far within its default bound; the bias test of each object finds the
+    // Fresnel's +1.7 % (the exact reference has no noise to excuse it) and nothing else.
     let (code, off) = render("both-off", "off", "off");
-    assert_eq!(code, 0, "within the default bound: {off}");
     assert!(
         relmse(&off) < 2e-5,
         "both off: relMSE {} over the interior",
         relmse(&off)
     );
+    assert_eq!(code, 2, "the plastic sphere's bias fails: {off}");
+    for o in off["objects"].as_array().unwrap() {
+        let plastic = o["name"].as_str().unwrap().starts_with("sphere_plastic");
+        assert_eq!(o["bias"]["verdict"], if plastic { "fail" } else { "pass" }, "{o}");
+    }
     assert!(
         (metal_ratio(&off) - 1.0).abs() < 0.01,
         "both off: metal sphere ratio {}",
