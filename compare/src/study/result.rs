@@ -299,7 +299,7 @@ impl From<&MetricValue> for MetricEntry {
 pub struct ThresholdCheck {
     /// Variant label.
     pub variant: String,
-    /// Metric.
+    /// Metric, `bias` or `flicker` (what the bound is on).
     pub metric: String,
     /// `image` or `visibility`.
     pub on: String,
