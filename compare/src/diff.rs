@@ -576,6 +576,44 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_bias_test_fails_a_significant_bias_beyond_its_bound_only() {
+        let test = BiasTest::new(Some(0.01), "default", 1);
+        // Šidák for 4 intervals at 99 %: 1 − 0.99^(1/4) = 2.509e-3, z = Φ⁻¹(1 − 1.255e-3) = 3.02220
+        // (Python statistics.NormalDist).
+        assert!((test.z - 3.022_20).abs() < 1e-5, "{}", test.z);
+        // G is a black reference channel: no ratio (NaN), never tested.
+        let bias = |ratio: f64, se: f64| Bias {
+            ratio: [ratio, f64::NAN, ratio, ratio],
+            mean_signed_error: [0.0; 4],
+            standard_error: [se, f64::NAN, se, se],
+        };
+        let verdict = |t: &BiasTest, ratio, se| t.entry(bias(ratio, se)).verdict;
+        // 1.04 ± 3.02 × 0.005 = [1.025, 1.055]: wholly beyond 1.01.
+        assert_eq!(verdict(&test, 1.04, 0.005), Verdict::Fail);
+        // 1.04 ± 3.02 × 0.02 reaches 0.98: the noise could explain it.
+        assert_eq!(verdict(&test, 1.04, 0.02), Verdict::Pass);
+        // Without a noise estimate the interval is the ratio itself: 1.5 % off fails.
+        assert_eq!(verdict(&test, 0.985, 0.0), Verdict::Fail);
+        assert_eq!(verdict(&test, 1.005, 0.0), Verdict::Pass);
+        assert_eq!(verdict(&BiasTest::new(None, "flag", 1), 2.0, 0.0), Verdict::Pass);
+        // The verdict is the worse of the two tests, with the reasons of those that gave it.
+        let mut judged = BiasTest::new(Some(0.01), "default", 1);
+        let entry = judged.entry(bias(1.04, 0.0));
+        judged.judge("all", &entry, &[]);
+        let (v, reason) = combine((Verdict::Warn, "relmse warns".into()), &judged);
+        assert_eq!(v, Verdict::Fail);
+        assert!(
+            reason.starts_with("bias over `all`: Y test/reference 1.0400, 99 % interval [1.0400, 1.0400]"),
+            "{reason}"
+        );
+        let (v, reason) = combine((Verdict::Fail, "relmse fails".into()), &judged);
+        assert!(
+            v == Verdict::Fail && reason.starts_with("relmse fails; bias over `all`"),
+            "{reason}"
+        );
+    }
+
+    #[test]
     fn default_bounds_relax_only_for_a_noisy_reference() {
         assert_eq!(default_bound_for(Metric::RelMse, 0.0), (1e-3, false));
         assert_eq!(default_bound_for(Metric::RelMse, 4e-3), (8e-3, true));
