@@ -6,9 +6,10 @@
 //! the map is baked in — they neither receive a chart nor cast shadows or bounce light into
 //! it, as a dynamic object in an engine is not in its bake.
 //!
-//! Each texel's estimate is the mean of `spp` independent samples (its own sampler stream,
-//! keyed by the atlas texel and the seed), with the variance of that mean from the samples'
-//! spread; the uncovered texels (padding, outside a disk) are then filled by dilation.
+//! Each texel's estimate is the mean of `spp` samples (its own sampler stream, keyed by the
+//! atlas texel and the seed), dealt to independent replicates as a pixel's are, with the
+//! variance of that mean from the spread of the replicate means (crate::sampler, "Independent
+//! replicates"; crate::film::replicate_estimate); the uncovered texels (padding, outside a disk) are then filled by dilation.
 
 use std::time::Instant;
 
@@ -17,10 +18,11 @@ use rayon::prelude::*;
 use scenes::lightmap::{self, LightMap};
 use scenes::{IntegratorKind, RenderSettings, Scene};
 
+use crate::film::{replicate_estimate, REPLICATE_SUMS};
 use crate::geometry::{Accel, SurfaceHit};
 use crate::integrator::{path_irradiance, Context};
 use crate::light::LightSet;
-use crate::sampler::PixelSampler;
+use crate::sampler::{replicate_of, PixelSampler};
 
 /// What a bake computes.
 #[derive(Clone, Debug, PartialEq)]
@@ -148,24 +150,18 @@ pub fn bake(scene: &Scene, s: &BakeSettings) -> Result<Baked, String> {
                         prim: q.triangle,
                     };
                     let (ax, ay) = (chart.x + i, chart.y + j);
-                    let (mut sum, mut sum2) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
+                    let mut sums = [0.0f64; REPLICATE_SUMS];
                     for k in 0..s.spp {
                         let mut sampler = PixelSampler::of_kind(ctx.settings.sampler, ax, ay, k, s.seed);
                         let (e, r) = path_irradiance(&ctx, &hit, &mut sampler);
                         row_rays += u64::from(r);
-                        let e = e.as_dvec3();
-                        sum += e;
-                        sum2 += e * e;
+                        let rep = &mut sums[4 * replicate_of(k) as usize..][..4];
+                        rep[0] += 1.0;
+                        (0..3).for_each(|c| rep[1 + c] += f64::from(e[c]));
                     }
-                    let n_s = f64::from(s.spp);
-                    let mean = sum / n_s;
-                    // Variance of the mean: the samples' unbiased variance over n.
-                    let var = if s.spp > 1 {
-                        ((sum2 - sum * mean) / (n_s - 1.0)).max(glam::DVec3::ZERO) / n_s
-                    } else {
-                        glam::DVec3::ZERO
-                    };
-                    row.push((mean.as_vec3(), var.as_vec3(), true));
+                    let (mean, var, _) = replicate_estimate(&sums);
+                    let vec = |v: [f64; 3]| glam::DVec3::from_array(v).as_vec3();
+                    row.push((vec(mean), vec(var), true));
                 }
                 (j, row, row_rays)
             })

@@ -1,15 +1,17 @@
 //! Checkpoints: the film's exact f64 accumulators, so a resumed render ends with the same
 //! bits as an uninterrupted one.
 //!
-//! Format 2 (little endian): magic `VRTYCKP2`, u64 job fingerprint, u32 width, u32 height,
+//! Format 3 (little endian): magic `VRTYCKP3`, u64 job fingerprint, u32 width, u32 height,
 //! u32 light count, u32 spp, u64 paths, u64 rays, u64 non-finite samples, f64 seconds, the
 //! film's f64 values, then the SHA-256 (FIPS 180-4) of every byte before it. The checksum
 //! makes a damaged file (flipped bits, a torn copy, a truncation) a refusal instead of an
 //! image that silently differs: a resumed render would otherwise carry the damage into every
 //! later sample's mean. A file that passes the checksum is still refused when its values are
 //! impossible ([`Film::check_invariants`]): a checksum proves the file is what was written,
-//! not that what was written was sound. Format 1 (`VRTYCKP1`, no checksum) is refused with a
-//! message saying so; its renders must be started afresh.
+//! not that what was written was sound. The film's values are its per-replicate sums
+//! (crate::film); format 2 (`VRTYCKP2`) held a running mean and variance instead, and format 1
+//! (`VRTYCKP1`) had no checksum: both are refused with a message saying so, and their renders
+//! must be started afresh.
 //!
 //! Every refusal says what to do: delete the file or drop `--resume`.
 
@@ -22,7 +24,7 @@ use sha2::{Digest, Sha256};
 use crate::film::Film;
 use crate::job::{RenderError, RenderJob};
 
-const MAGIC: &[u8; 8] = b"VRTYCKP2";
+const MAGIC: &[u8; 8] = b"VRTYCKP3";
 /// What every format's magic starts with; the last byte is the format version.
 const MAGIC_FAMILY: &[u8; 7] = b"VRTYCKP";
 const HEADER: usize = 8 + 8 + 4 * 4 + 8 * 3 + 8;
@@ -129,8 +131,9 @@ pub fn load(path: &Path, fingerprint: u64, like: &Film) -> Result<State, RenderE
         return Err(refuse(
             path,
             format_args!(
-                "is in checkpoint format `{}`, not this version's `{}` (format 2 adds a SHA-256 \
-                 checksum); it cannot be resumed",
+                "is in checkpoint format `{}`, not this version's `{}` (format 3 keeps the \
+                 sums of independent replicates for an honest variance estimate); it cannot be \
+                 resumed",
                 String::from_utf8_lossy(&bytes[..8]),
                 String::from_utf8_lossy(MAGIC)
             ),

@@ -4,9 +4,9 @@
 //!
 //! | buffer | bytes |
 //! |---|---|
-//! | the film's accumulators ([`PixelStats`]) | W·H·(20 + L)·8 |
+//! | the film's accumulators ([`PixelStats`]: AOVs, 4 per replicate) | W·H·(30 + L)·8 |
 //! | the object-id pass and the EXR image written at the end | W·H·(1 + 21 + L)·4 |
-//! | a checkpoint's serialised copy of the film (when checkpoints are on) | W·H·(20 + L)·8 |
+//! | a checkpoint's serialised copy of the film (when checkpoints are on) | W·H·(30 + L)·8 |
 //! | the acceleration structure | [`ACCEL_BYTES_PER_PRIMITIVE`] per triangle or analytic shape |
 //! | a displaced rectangle's height grid and its min/max hierarchy | 8 per height texel |
 //! | a displaced mesh's micro-triangles (`scenes::displacement::displace_mesh`) | N²·T·([`ACCEL_BYTES_PER_PRIMITIVE`] + 48) |

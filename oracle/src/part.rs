@@ -11,14 +11,17 @@
 //! single render's. Rows are dealt out interleaved (row y belongs to share y mod N), so every
 //! part gets a slice of every region of the image and about the same work.
 //!
-//! **File** (format 1, little endian): magic `VRTYPRT1`; u64 job fingerprint
+//! **File** (format 2, little endian): magic `VRTYPRT2`; u64 job fingerprint
 //! (crate::checkpoint::fingerprint: scene, settings, oracle version); u32 share index, share
-//! count, width, height, light count, spp; u64 paths, rays, non-finite samples (of this part's
+//! count, width, height, light count, spp, sample streams per pixel (the pixel filter's
+//! sub-pixel count, which decides each sample's replicate); u64 paths, rays, non-finite samples (of this part's
 //! pixels); f64 seconds; u32 count and that many length-prefixed (u32) UTF-8 strings: the light
 //! names; u32 count and that many key/value string pairs: the EXR header the single render
 //! would carry (its per-part figures are recomputed when merging); then, for each row of the
 //! share in increasing order, the film's f64 accumulators of the row and its f32 object ids;
-//! last, the SHA-256 (FIPS 180-4) of every byte before it. The size of a file follows from its
+//! last, the SHA-256 (FIPS 180-4) of every byte before it. Format 1 (`VRTYPRT1`) held a
+//! running mean and variance per pixel instead of per-replicate sums (crate::film) and is
+//! refused. The size of a file follows from its
 //! header, so a truncated or padded file is refused before anything else is read.
 
 use std::io::Read;
@@ -29,11 +32,11 @@ use sha2::{Digest, Sha256};
 
 use crate::film::{Film, PixelStats};
 
-const MAGIC: &[u8; 8] = b"VRTYPRT1";
+const MAGIC: &[u8; 8] = b"VRTYPRT2";
 /// What every format's magic starts with; the last byte is the format version.
 const MAGIC_FAMILY: &[u8; 7] = b"VRTYPRT";
-/// Magic, fingerprint, six u32, three u64, one f64.
-const FIXED_HEADER: usize = 8 + 8 + 6 * 4 + 3 * 8 + 8;
+/// Magic, fingerprint, seven u32, three u64, one f64.
+const FIXED_HEADER: usize = 8 + 8 + 7 * 4 + 3 * 8 + 8;
 const CHECKSUM: usize = 32;
 /// Most shares a render may be split into.
 pub const MAX_SHARES: u32 = 65_536;
@@ -147,6 +150,7 @@ pub fn save(path: &Path, part: &Part) -> Result<(), PartError> {
         f.height,
         f.light_count as u32,
         f.spp,
+        f.subpixels,
     ] {
         bytes.extend_from_slice(&v.to_le_bytes());
     }
@@ -227,7 +231,8 @@ pub fn load(path: &Path, ledger: &scenes::budget::Ledger) -> Result<Part, PartEr
         return Err(error(
             path,
             format!(
-                "is in part format `{}`, not this version's `{}`",
+                "is in part format `{}`, not this version's `{}` (format 2 keeps the sums of \
+                 independent replicates for an honest variance estimate); render it again",
                 String::from_utf8_lossy(&head[..8]),
                 String::from_utf8_lossy(MAGIC)
             ),
@@ -242,8 +247,15 @@ pub fn load(path: &Path, ledger: &scenes::budget::Ledger) -> Result<Part, PartEr
         path,
     };
     let _fingerprint = r.u64()?;
-    let (index, count, width, height, lights, _spp) =
-        (r.u32()?, r.u32()?, r.u32()?, r.u32()?, r.u32()?, r.u32()?);
+    let (index, count, width, height, lights, _spp, _subpixels) = (
+        r.u32()?,
+        r.u32()?,
+        r.u32()?,
+        r.u32()?,
+        r.u32()?,
+        r.u32()?,
+        r.u32()?,
+    );
     if count == 0 || count > MAX_SHARES || index >= count || width == 0 || height == 0 || lights > 1 << 16 {
         return Err(error(
             path,
@@ -295,8 +307,15 @@ fn parse(content: &[u8], path: &Path) -> Result<Part, PartError> {
         path,
     };
     let fingerprint = r.u64()?;
-    let (index, count, width, height, lights, spp) =
-        (r.u32()?, r.u32()?, r.u32()?, r.u32()?, r.u32()?, r.u32()?);
+    let (index, count, width, height, lights, spp, subpixels) = (
+        r.u32()?,
+        r.u32()?,
+        r.u32()?,
+        r.u32()?,
+        r.u32()?,
+        r.u32()?,
+        r.u32()?,
+    );
     let (paths, rays, nonfinite) = (r.u64()?, r.u64()?, r.u64()?);
     let seconds = f64::from_bits(r.u64()?);
     let names = r.u32()?;
@@ -310,6 +329,7 @@ fn parse(content: &[u8], path: &Path) -> Result<Part, PartError> {
         height,
         light_count: lights as usize,
         spp,
+        subpixels,
         paths,
         rays,
         nonfinite,
@@ -387,8 +407,13 @@ pub fn merge(parts: &[(PathBuf, Part)], ledger: &scenes::budget::Ledger) -> Resu
                 p.film.spp, first.film.spp
             )));
         }
-        if (p.film.width, p.film.height, p.film.light_count)
-            != (first.film.width, first.film.height, first.film.light_count)
+        if (p.film.width, p.film.height, p.film.light_count, p.film.subpixels)
+            != (
+                first.film.width,
+                first.film.height,
+                first.film.light_count,
+                first.film.subpixels,
+            )
             || p.light_names != first.light_names
         {
             return Err(differs("the film"));
@@ -420,7 +445,7 @@ pub fn merge(parts: &[(PathBuf, Part)], ledger: &scenes::budget::Ledger) -> Resu
     ledger
         .charge(bytes, "the merged film and image")
         .map_err(|e| error(first_path, e.to_string()))?;
-    let mut film = Film::new(width, height, first.film.light_count);
+    let mut film = Film::new(width, height, first.film.light_count, first.film.subpixels);
     film.spp = first.film.spp;
     let mut object_ids = vec![0.0_f32; width as usize * height as usize];
     let mut seconds = 0.0;

@@ -17,7 +17,7 @@ use crate::job::{Progress, RenderError, RenderJob, RenderResult, StopRule};
 use crate::light::LightSet;
 use crate::part::{Part, RowShare};
 use crate::pixel_filter::{check_spp, film_sample};
-use crate::sampler::PixelSampler;
+use crate::sampler::{replicate_of, PixelSampler, REPLICATES};
 
 /// Seconds a pass aims to take: short enough for responsive progress and time budgets.
 const PASS_TARGET_SECONDS: f64 = 1.0;
@@ -123,7 +123,7 @@ fn accumulate(
     };
     let fingerprint = crate::checkpoint::fingerprint(job);
 
-    let mut film = Film::new(width, height, names.len());
+    let mut film = Film::new(width, height, names.len(), job.settings.pixel_filter.subpixels());
     let mut prior_seconds = 0.0;
     if let Some(cp) = job.checkpoint.as_ref().filter(|c| c.resume && c.path.exists()) {
         let state = crate::checkpoint::load(&cp.path, fingerprint, &film)?;
@@ -146,7 +146,8 @@ fn accumulate(
             rays: film.rays,
             rel_err,
         });
-        let finished = stop_now(&job.stop, done, elapsed, rel_err);
+        let round = job.settings.pixel_filter.subpixels();
+        let finished = stop_now(&job.stop, done, round, elapsed, rel_err);
         if !go_on && !finished {
             let checkpointed = job.checkpoint.is_some();
             if let Some(cp) = &job.checkpoint {
@@ -160,7 +161,6 @@ fn accumulate(
         if finished {
             break;
         }
-        let round = job.settings.pixel_filter.subpixels();
         let pass = pass_size(done, job.stop.spp, round, samples_per_second, width, height);
         let t = Instant::now();
         run_pass(&ctx, &mut film, share, done, done + pass);
@@ -248,9 +248,10 @@ fn attributes(job: &RenderJob, film: &Film, seconds: f64) -> Vec<(&'static str, 
         ("paths", film.paths.to_string()),
         ("rays", film.rays.to_string()),
         ("nonfinite_samples", film.nonfinite.to_string()),
+        ("variance", variance_description(film.replicates())),
         (
-            "variance",
-            "variance of the pixel mean (sample variance / spp)".to_string(),
+            scenes::layered::REPLICATES_ATTRIBUTE,
+            film.replicates().to_string(),
         ),
         ("pixel_filter", filter.name().to_string()),
     ];
@@ -260,10 +261,23 @@ fn attributes(job: &RenderJob, film: &Film, seconds: f64) -> Vec<(&'static str, 
     attributes
 }
 
-fn stop_now(stop: &StopRule, done: u32, elapsed: f64, rel_err: f32) -> bool {
+/// The `variance` header attribute: what `variance.*` holds with `replicates` replicates.
+fn variance_description(replicates: u32) -> String {
+    if replicates < 2 {
+        format!("none: {replicates} replicate (at least 2 needed to estimate the variance of the pixel mean; the layers are 0)")
+    } else {
+        format!("variance of the pixel mean, from the spread of {replicates} independently scrambled replicate means")
+    }
+}
+
+/// Whether to stop after `done` samples. An error target is trusted only once every replicate
+/// holds at least two of the pixel's `round` streams' samples (and 16 samples in all), so that
+/// the estimate behind it has its full R − 1 degrees of freedom.
+fn stop_now(stop: &StopRule, done: u32, round: u32, elapsed: f64, rel_err: f32) -> bool {
+    let trusted = done >= 16.max(2 * REPLICATES * round);
     done >= stop.spp
         || stop.time.is_some_and(|t| done > 0 && elapsed >= t.as_secs_f64())
-        || stop.target_rel_err.is_some_and(|e| done >= 16 && rel_err <= e)
+        || stop.target_rel_err.is_some_and(|e| trusted && rel_err <= e)
 }
 
 /// Samples per pixel of the next pass: about [`PASS_TARGET_SECONDS`] of work, a whole
@@ -323,7 +337,8 @@ fn run_pass(ctx: &Context, film: &mut Film, share: RowShare, first: u32, end: u3
                         let mut vs = stream(seed ^ 0x5649_5349_4249_4c45);
                         rays += u64::from(integrator::light_visibility(ctx, &fh.hit, &mut vs, &mut vis));
                     }
-                    if !PixelStats::add(px, nl, &cs, &vis, &camera) {
+                    let replicate = replicate_of(fs.stream_index);
+                    if !PixelStats::add(px, nl, replicate, &cs, &vis, &camera) {
                         counts.2 += 1;
                     }
                     counts.0 += 1;

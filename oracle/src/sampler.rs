@@ -3,15 +3,33 @@
 //!
 //! Independent samples make the textbook Monte Carlo estimator: its error falls as 1/spp
 //! exactly and the per-pixel sample variance is an unbiased estimate of the estimator's
-//! variance (what a z-test against another renderer assumes). Scrambled Sobol points are
-//! stratified, so the error falls at least that fast, often faster; their per-pixel sample
-//! variance then overestimates the true variance (conservative).
+//! variance. Scrambled Sobol points are stratified, so the error falls at least that fast,
+//! often faster, and their per-pixel sample variance over-states the variance of their mean
+//! (by ~1,000× on the default study's scene at 256 spp): it is no estimate of the reference's
+//! noise at all.
+//!
+//! **Independent replicates.** The variance of a randomized quasi-Monte Carlo mean is
+//! estimated the standard way, from independent replicates (Owen 1997, "Monte Carlo variance
+//! of scrambled net quadrature", SIAM J. Numer. Anal. 34(5), §1; L'Ecuyer & Lemieux 2002,
+//! "Recent advances in randomized quasi-Monte Carlo methods", §3): each pixel's samples are
+//! dealt to [`REPLICATES`] independently scrambled Sobol sequences, stream index i to replicate
+//! i mod R at index ⌊i / R⌋ of that replicate's sequence. The replicate means m₁ … m_R are then
+//! independent and unbiased, their mean m̄ is the pixel's value, and
+//! s² = Σ (m_r − m̄)² / (R (R − 1)) is an unbiased estimate of Var(m̄) whatever the replicates'
+//! own variances (crate::film). Interleaving keeps every stop progressive: after any sample
+//! count each replicate holds a prefix of its own sequence, and with spp a multiple of R each
+//! holds the same number of points (a power of two when spp is, Sobol's best-stratified
+//! sizes). Below R samples per pixel each replicate holds at most one point: the samples are
+//! then simply independent. The price is the stratification lost between replicates: a
+//! variance of roughly R^(α−1) times one sequence's where one sequence's variance falls as
+//! n^−α (measured in docs/ARCHITECTURE.md, "Decisions"). The independent sampler needs no
+//! replicates but is dealt to them the same way, so one estimator serves both.
 //!
 //! Points come from Burley 2020, "Practical Hash-based Owen Scrambling" (JCGT 9(4)), via the
 //! `sobol_burley` crate: a nested-uniform scrambled and shuffled Sobol sequence per seed.
-//! Each pixel gets the seed hash(pixel, user seed), so error shows as noise, not structure,
-//! and a pixel's samples depend only on (pixel, sample index, seed): the image is identical
-//! whatever the thread count or the order in which pixels are rendered.
+//! Each (pixel, replicate) gets the seed hash(pixel, replicate, user seed), so error shows as
+//! noise, not structure, and a pixel's samples depend only on (pixel, sample index, seed): the
+//! image is identical whatever the thread count or the order in which pixels are rendered.
 //!
 //! Limits handled here: the crate serves 2¹⁶ samples and 256 dimensions per seed; sample
 //! indices and dimensions beyond those move to further seeds (independent sequences), so
@@ -23,6 +41,17 @@ use scenes::random::{splitmix64, GAMMA};
 const BLOCK: u32 = 1 << 16;
 /// Dimensions per seed (the crate's maximum).
 const DIMS: u32 = 256;
+
+/// Independent replicates per pixel (module header): the degrees of freedom of every variance
+/// estimate are R − 1. 4 is the decision of docs/ARCHITECTURE.md ("Decisions": what 4, 8 and
+/// 16 cost in error; a replicate needs enough points of its own for the stratification to
+/// pay, 64 on the default study's scene).
+pub const REPLICATES: u32 = 4;
+
+/// The replicate that pixel-stream sample `index` belongs to (module header).
+pub const fn replicate_of(index: u32) -> u32 {
+    index % REPLICATES
+}
 
 /// Sample stream for one pixel sample: successive calls walk the dimensions.
 #[derive(Clone, Debug)]
@@ -41,11 +70,13 @@ pub struct PixelSampler {
 }
 
 impl PixelSampler {
-    /// Owen-scrambled Sobol stream for sample `index` of pixel (x, y) under the user `seed`.
+    /// Owen-scrambled Sobol stream for sample `index` of pixel (x, y) under the user `seed`:
+    /// point ⌊index / R⌋ of replicate [`replicate_of`]`(index)`'s own sequence.
     pub fn new(x: u32, y: u32, index: u32, seed: u64) -> Self {
         let pixel = (u64::from(y) << 32) | u64::from(x);
-        let block = u64::from(index / BLOCK);
-        let h = splitmix64(splitmix64(pixel ^ splitmix64(seed)) ^ block.wrapping_mul(GAMMA));
+        let (replicate, index) = (replicate_of(index), index / REPLICATES);
+        let sequence = u64::from(index / BLOCK) | u64::from(replicate) << 32;
+        let h = splitmix64(splitmix64(pixel ^ splitmix64(seed)) ^ sequence.wrapping_mul(GAMMA));
         let seed = h as u32 ^ (h >> 32) as u32;
         let index = index % BLOCK;
         PixelSampler {
@@ -201,15 +232,28 @@ mod tests {
     }
 
     #[test]
-    fn first_dimensions_are_stratified_per_pixel() {
-        // 2^k Sobol points hit each of 2^k strata of the first dimension exactly once.
+    fn first_dimensions_are_stratified_per_replicate() {
+        // 2^k Sobol points of one replicate hit each of 2^k strata of the first dimension
+        // exactly once; the pixel's first 2^k samples, spread over R replicates, do not.
         let n = 256;
+        for r in 0..REPLICATES {
+            let mut seen = vec![0u32; n];
+            for i in 0..n as u32 {
+                let index = r + REPLICATES * i;
+                assert_eq!(replicate_of(index), r);
+                let v = PixelSampler::new(5, 9, index, 7).next_1d();
+                seen[(v * n as f32) as usize] += 1;
+            }
+            assert!(
+                seen.iter().all(|&c| c == 1),
+                "replicate {r}: strata counts {seen:?}"
+            );
+        }
         let mut seen = vec![0u32; n];
         for i in 0..n as u32 {
-            let v = PixelSampler::new(5, 9, i, 7).next_1d();
-            seen[(v * n as f32) as usize] += 1;
+            seen[(PixelSampler::new(5, 9, i, 7).next_1d() * n as f32) as usize] += 1;
         }
-        assert!(seen.iter().all(|&c| c == 1), "strata counts: {seen:?}");
+        assert!(seen.iter().any(|&c| c != 1), "replicates share one scramble");
     }
 
     #[test]

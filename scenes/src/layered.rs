@@ -51,6 +51,12 @@ pub struct LayeredImage {
 /// of object id k, e.g. `["floor","ball"]`. Both renderers write it.
 pub const OBJECT_NAMES_ATTRIBUTE: &str = "object_names";
 
+/// Header attribute of an oracle render: the number of independently scrambled replicates its
+/// `variance.*` layers were estimated from (oracle/src/sampler.rs). Below 2 they estimate
+/// nothing (they are zeros) and the image has no noise estimate; an image without the
+/// attribute (another renderer's EXR) has its variance layers taken as they are.
+pub const REPLICATES_ATTRIBUTE: &str = "replicates";
+
 /// The full name of component `component` of layer `prefix`: `("", "R")` → `R`,
 /// `("albedo", "R")` → `albedo.R`.
 pub fn channel_name(prefix: &str, component: &str) -> String {

@@ -257,11 +257,12 @@ impl IntegratorKind {
 /// How the oracle draws its random numbers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum SamplerKind {
-    /// Owen-scrambled Sobol points (Burley 2020): stratified, converges at least as 1/spp.
+    /// Owen-scrambled Sobol points (Burley 2020): stratified, converges at least as 1/spp;
+    /// each pixel's samples are dealt to independently scrambled replicates, whose spread
+    /// estimates the variance of the pixel mean (oracle/src/sampler.rs).
     #[default]
     Sobol,
-    /// Independent uniform samples: the plain Monte Carlo estimator, error exactly ∝ 1/spp
-    /// and per-pixel sample variances that estimate the estimator's variance without bias.
+    /// Independent uniform samples: the plain Monte Carlo estimator, error exactly ∝ 1/spp.
     Independent,
 }
 

@@ -171,7 +171,7 @@ fn checkpoint_of_format_1_is_refused_as_old() {
     std::fs::write(&path, old).unwrap();
     let message = refusal(&job, "format 1");
     assert!(
-        message.contains("is in checkpoint format `VRTYCKP1`, not this version's `VRTYCKP2`")
+        message.contains("is in checkpoint format `VRTYCKP1`, not this version's `VRTYCKP3`")
             && message.contains("cannot be resumed"),
         "{message}"
     );
@@ -185,27 +185,38 @@ fn checkpoint_with_impossible_values_is_refused() {
     let job = job(&scene, &path);
     write_checkpoint(&job);
     let fingerprint = oracle::checkpoint::fingerprint(&job);
-    let like = oracle::film::Film::new(8, 8, scene.light_names().len());
+    let like = oracle::film::Film::new(8, 8, scene.light_names().len(), 1);
     let state = oracle::checkpoint::load(&path, fingerprint, &like).expect("intact checkpoint");
     assert_eq!((state.film.spp, state.film.paths), (1, 64));
     // Pixel (0, 0) starts the data; its slab (oracle/src/film.rs `PixelStats`): sample
-    // count at 0, mean R, G, B at 1..4, M2 at 4..7, coverage at 19.
+    // count at 0, coverage at 13, then per replicate its count and R, G, B sums (replicate 0
+    // at 14..18, which the one sample of this 1-spp render went to).
     type Edit = fn(&mut oracle::film::Film, &mut f64);
-    let cases: [(&str, Edit, &str); 9] = [
+    let cases: [(&str, Edit, &str); 11] = [
         (
-            "NaN mean",
-            |f, _| f.data[1] = f64::NAN,
+            "NaN replicate sum",
+            |f, _| f.data[15] = f64::NAN,
             "pixel (0, 0): an accumulator is NaN",
         ),
         (
-            "infinite M2",
-            |f, _| f.data[5] = f64::INFINITY,
+            "infinite replicate sum",
+            |f, _| f.data[16] = f64::INFINITY,
             "pixel (0, 0): an accumulator is inf",
         ),
         (
-            "negative M2",
-            |f, _| f.data[4] = -1e-3,
-            "negative sum of squared deviations (M2) -0.001",
+            "replicate count above the samples it was dealt",
+            |f, _| f.data[14] = 2.0,
+            "replicate 0's sample count 2 is not a whole number in 0..=1",
+        ),
+        (
+            "a sample in a replicate that was dealt none",
+            |f, _| f.data[18] = 1.0,
+            "replicate 1's sample count 1 is not a whole number in 0..=0",
+        ),
+        (
+            "replicates that miss the pixel's sample",
+            |f, _| f.data[14] = 0.0,
+            "the replicates hold 0 samples, the pixel 1",
         ),
         (
             "count above spp",
@@ -219,7 +230,7 @@ fn checkpoint_with_impossible_values_is_refused() {
         ),
         (
             "coverage above count",
-            |f, _| f.data[19] = 5.0,
+            |f, _| f.data[13] = 5.0,
             "coverage count 5 is not a whole number in 0..=",
         ),
         (

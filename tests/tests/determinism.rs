@@ -214,9 +214,15 @@ fn time_budget_and_target_error_stop_early() {
 }
 
 /// `Film::mean_relative_error` (oracle/src/film.rs) from an image: mean over pixels of
-/// σ̄/(|μ̄| + 0.01), σ̄² the variance of the pixel mean and μ̄ the mean, both averaged over
-/// R, G, B (`variance.*` is that variance of the mean, sample variance / n).
+/// s̄/(c₄·(|μ̄| + 0.01)), s̄² the estimated variance of the pixel mean and μ̄ the mean, both
+/// averaged over R, G, B (`variance.*` is that variance of the mean, from the independent
+/// replicates; c₄ of their number corrects the bias of s as an estimate of σ).
 fn mean_relative_error(img: &scenes::layered::LayeredImage) -> f64 {
+    let replicates: u32 = img
+        .attribute("replicates")
+        .and_then(|r| r.parse().ok())
+        .expect("an oracle image names its replicates");
+    let c4 = oracle::film::c4(replicates);
     let (r, g, b) = (channel(img, "R"), channel(img, "G"), channel(img, "B"));
     let (vr, vg, vb) = (
         channel(img, "variance.R"),
@@ -228,7 +234,7 @@ fn mean_relative_error(img: &scenes::layered::LayeredImage) -> f64 {
         .map(|i| {
             let var = (f64::from(vr[i]) + f64::from(vg[i]) + f64::from(vb[i])) / 3.0;
             let mean = (f64::from(r[i]) + f64::from(g[i]) + f64::from(b[i])) / 3.0;
-            var.sqrt() / (mean.abs() + 0.01)
+            var.sqrt() / (c4 * (mean.abs() + 0.01))
         })
         .sum();
     sum / n as f64

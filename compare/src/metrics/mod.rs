@@ -36,7 +36,7 @@ pub mod ssim;
 use std::fmt;
 
 use glam::Vec3;
-use scenes::layered::LayeredImage;
+use scenes::layered::{LayeredImage, REPLICATES_ATTRIBUTE};
 
 pub use bias::{Bias, Rgby};
 pub use mask::Mask;
@@ -169,12 +169,6 @@ pub(crate) fn interval_text((lo, hi): (f64, f64)) -> String {
     };
     format!("{lo}, {hi}")
 }
-
-/// Header attribute of an oracle render: the number of independently seeded replicates its
-/// `variance.*` layers were estimated from. Below 2 they estimate nothing (they are zeros),
-/// and the image has no noise estimate; an image without the attribute (another renderer's
-/// EXR) has its variance layers taken as they are.
-pub const REPLICATES_ATTRIBUTE: &str = "replicates";
 
 /// Why `img` has no noise estimate — no `variance.R/G/B` layers, or a
 /// [`REPLICATES_ATTRIBUTE`] below 2 — or None when its variance layers are one. An error when

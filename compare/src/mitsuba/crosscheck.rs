@@ -1,8 +1,9 @@
 //! One cross-check: export a scene, render it with Mitsuba and with the oracle at the same
 //! sample count, and z-test the two images ([`super::ztest`]).
 //!
-//! Both sides use independent samples (Mitsuba's `independent` sampler, the oracle's
-//! [`SamplerKind::Independent`]), so both per-pixel variances are unbiased estimates.
+//! Both per-pixel variances are unbiased estimates of the variance of the pixel mean: Mitsuba's
+//! from its independent passes, the oracle's (with its default scrambled Sobol sampler) from
+//! its independent replicates; the test refers them to Student's t ([`super::ztest`]).
 //! The oracle may render a different in-memory scene than the one exported (the tests
 //! perturb it to prove the test fails); normally both are the same.
 
@@ -121,16 +122,17 @@ pub fn crosscheck(
     ));
 
     note(format!("crosscheck: oracle: {w}x{h}, {spp} spp"));
-    // Independent samples: the per-pixel sample variance is then an unbiased estimate of the
-    // estimator's variance (Sobol points would make it an overestimate, weakening the test).
-    let (oracle, oracle_seconds) = render_oracle(oracle_scene, w, h, spp, SamplerKind::Independent)?;
+    // The oracle's default sampler: its variance of the mean comes from independent replicates
+    // (oracle/src/sampler.rs), unbiased for scrambled Sobol points too, so the test is as
+    // strong as the oracle's own noise allows.
+    let (oracle, oracle_seconds) = render_oracle(oracle_scene, w, h, spp, oracle_scene.render.sampler)?;
     let oracle_exr = opts.out_dir.join("oracle.exr");
     oracle.write_exr(&oracle_exr).map_err(io)?;
     note(format!("crosscheck: oracle took {oracle_seconds:.2} s"));
 
-    let a = Estimate::from_layered(&oracle, spp)
+    let a = Estimate::from_oracle(&oracle, spp)
         .map_err(|e| CrossCheckError::Oracle(format!("oracle image: {e}")))?;
-    let b = Estimate::from_layered(&m.image, spp).map_err(|e| {
+    let b = Estimate::from_layered(&m.image, spp, m.passes.saturating_sub(1)).map_err(|e| {
         CrossCheckError::Mitsuba(RunnerError::Failed(format!("{}: {e}", mitsuba_exr.display())))
     })?;
     let ztest = z_test(&a, &b, &ZTestConfig::default()).map_err(|e| {

@@ -6,6 +6,16 @@
 //!
 //! z = (a − b) / √(σa² + σb²),  p = 2·(1 − Φ(|z|)) = erfc(|z|/√2).
 //!
+//! Mitsuba compares against a reference of many samples, where z is normal. Here both
+//! variances are estimated — the oracle's from its independent replicates (R − 1 = 3 degrees
+//! of freedom, oracle/src/sampler.rs), Mitsuba's from its independent passes — so z is
+//! Welch's statistic and is referred to Student's t with the Welch–Satterthwaite degrees of
+//! freedom ν = (σa² + σb²)² / (σa⁴/νa + σb⁴/νb) (Welch 1947, "The generalization of
+//! 'Student's' problem when several different population variances are involved",
+//! Biometrika 34; Satterthwaite 1946): p = I_{ν/(ν+z²)}(ν/2, ½) (Abramowitz & Stegun 26.7.1),
+//! which tends to the normal p as ν grows. A normal p with 3 degrees of freedom would fail
+//! about 1.8 % of the pixel-channels of an exact pair at the corrected level below (64²).
+//!
 //! Each variance is floored as Mitsuba floors its reference variance: the per-sample variance
 //! n·σ² is clamped to ≥ 1e-4 (Mitsuba clamps `m2 − m1²` of the `moment` integrator, a
 //! per-sample variance, then divides by the sample count), i.e. σ² ≥ 1e-4/n. A floor on the
@@ -18,7 +28,7 @@
 use glam::Vec3;
 use scenes::layered::LayeredImage;
 
-use crate::stats::{erfc, sidak};
+use crate::stats::{sidak, student_t_p};
 
 /// One render's estimate: per-pixel mean, variance of the mean, and sample count.
 #[derive(Clone, Debug, PartialEq)]
@@ -33,11 +43,14 @@ pub struct Estimate {
     pub variance: Vec<Vec3>,
     /// Samples per pixel behind the mean.
     pub spp: u32,
+    /// Degrees of freedom of the variance estimate (independent replicates or passes − 1).
+    pub dof: u32,
 }
 
 impl Estimate {
-    /// From a layered image with `R,G,B` and `variance.R/G/B`.
-    pub fn from_layered(image: &LayeredImage, spp: u32) -> Result<Self, String> {
+    /// From a layered image with `R,G,B` and `variance.R/G/B`, whose variance has `dof`
+    /// degrees of freedom.
+    pub fn from_layered(image: &LayeredImage, spp: u32, dof: u32) -> Result<Self, String> {
         let mean = image.rgb("").ok_or("the image has no R, G, B channels")?;
         let variance = image
             .rgb("variance")
@@ -48,7 +61,22 @@ impl Estimate {
             mean,
             variance,
             spp,
+            dof,
         })
+    }
+
+    /// From an oracle render: the degrees of freedom are its `replicates` attribute − 1.
+    pub fn from_oracle(image: &LayeredImage, spp: u32) -> Result<Self, String> {
+        let replicates: u32 = image
+            .attribute(scenes::layered::REPLICATES_ATTRIBUTE)
+            .and_then(|r| r.parse().ok())
+            .ok_or("the image has no `replicates` attribute (not an oracle render of this version)")?;
+        if replicates < 2 {
+            return Err(format!(
+                "the image's variance rests on {replicates} replicate: no estimate to test against"
+            ));
+        }
+        Self::from_layered(image, spp, replicates - 1)
     }
 }
 
@@ -116,6 +144,9 @@ pub fn z_test(a: &Estimate, b: &Estimate, cfg: &ZTestConfig) -> Result<ZTestResu
     if a.spp == 0 || b.spp == 0 {
         return Err("a sample count of 0".into());
     }
+    if a.dof == 0 || b.dof == 0 {
+        return Err("a variance with 0 degrees of freedom (fewer than 2 replicates or passes)".into());
+    }
     let alpha = sidak(cfg.significance, pixels);
     let (floor_a, floor_b) = (
         cfg.variance_floor / f64::from(a.spp),
@@ -144,9 +175,11 @@ pub fn z_test(a: &Estimate, b: &Estimate, cfg: &ZTestConfig) -> Result<ZTestResu
                 r.failed += 1;
                 continue;
             }
-            let var = va.max(floor_a) + vb.max(floor_b);
+            let (va_f, vb_f) = (va.max(floor_a), vb.max(floor_b));
+            let var = va_f + vb_f;
             let z = (ma - mb) / var.sqrt();
-            let p = erfc(z.abs() / std::f64::consts::SQRT_2);
+            let dof = var * var / (va_f * va_f / f64::from(a.dof) + vb_f * vb_f / f64::from(b.dof));
+            let p = student_t_p(z, dof);
             *p_out = p;
             r.min_p = r.min_p.min(p);
             r.mean_z2 += z * z;
@@ -193,6 +226,7 @@ mod tests {
             mean: vec![Vec3::splat(mean); n],
             variance: vec![Vec3::splat(var); n],
             spp,
+            dof: 1_000_000,
         }
     }
 
