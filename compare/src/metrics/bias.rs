@@ -8,7 +8,7 @@
 //! sums St = Σ test_c and Sr = Σ reference_c:
 //!
 //! - ratio R = St / Sr (the mean of the test over the mean of the reference; 1 is unbiased,
-//!   1.38 is 2.8 % too bright; NaN where the reference's sum is 0);
+//!   1.028 is 2.8 % too bright; NaN where the reference's sum is 0);
 //! - mean signed error = (St − Sr) / N;
 //! - standard error of R, from each image's variance of the pixel mean σ² (`variance.*`; none
 //!   for an image without a noise estimate). Pixels' Monte Carlo errors are independent (each
