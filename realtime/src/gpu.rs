@@ -19,6 +19,10 @@ use std::sync::{Arc, Mutex};
 
 use crate::error::{RasterError, INSTALL_HINT};
 
+/// How long one wait for the queue may take in all before it is an error: ten minutes, far
+/// above what a frame takes even on lavapipe, yet bounded, so a lost device cannot hang a run.
+pub(crate) const GPU_WAIT_LIMIT: std::time::Duration = std::time::Duration::from_secs(600);
+
 /// Colour-attachment bytes per sample the passes write (three Rgba32Float targets).
 pub const COLOR_BYTES_PER_SAMPLE: u32 = 48;
 
@@ -163,15 +167,31 @@ impl Gpu {
         })
     }
 
+    /// Waits until the queue is idle; `context` names the wait in the error.
+    ///
+    /// wgpu-core gives up a `PollType::Wait` after a fixed 60 s (`CLEANUP_WAIT_MS`). A
+    /// software rasteriser (lavapipe) on a loaded two-core machine can take longer than that
+    /// for one submission without anything being wrong, so a timed-out wait is retried until
+    /// [`GPU_WAIT_LIMIT`] has passed; only then is it an error.
+    pub(crate) fn wait_for(&self, context: &str) -> Result<(), RasterError> {
+        let start = std::time::Instant::now();
+        loop {
+            match self.device.poll(wgpu::PollType::Wait) {
+                Ok(_) => return Ok(()),
+                Err(wgpu::PollError::Timeout) if start.elapsed() < GPU_WAIT_LIMIT => continue,
+                Err(e) => {
+                    return Err(RasterError::Gpu {
+                        context: context.to_string(),
+                        message: format!("{e} (waited {:.0} s)", start.elapsed().as_secs_f64()),
+                    })
+                }
+            }
+        }
+    }
+
     /// Waits until the queue is idle.
     pub(crate) fn wait(&self) -> Result<(), RasterError> {
-        self.device
-            .poll(wgpu::PollType::Wait)
-            .map(|_| ())
-            .map_err(|e| RasterError::Gpu {
-                context: "waiting for the GPU".into(),
-                message: e.to_string(),
-            })
+        self.wait_for("waiting for the GPU")
     }
 
     /// The adapter's name as the driver reports it.

@@ -77,12 +77,7 @@ impl Timestamps {
         slice.map_async(wgpu::MapMode::Read, move |r| {
             *s.lock().unwrap_or_else(|p| p.into_inner()) = Some(r);
         });
-        gpu.device
-            .poll(wgpu::PollType::Wait)
-            .map_err(|e| RasterError::Gpu {
-                context: "reading timestamps".into(),
-                message: e.to_string(),
-            })?;
+        gpu.wait_for("reading timestamps")?;
         if !matches!(
             status.lock().unwrap_or_else(|p| p.into_inner()).take(),
             Some(Ok(()))
