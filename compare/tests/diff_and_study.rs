@@ -1243,6 +1243,22 @@ fn a_bias_threshold_bounds_the_mean_ratio() {
     );
     assert_eq!(against_brighter["passed"], true);
     assert!(recorded("second_ground_truth") < recorded("metrics"), "{variant}");
+    // metrics.csv carries the same ratio in a `bias` row per target and mask, with the
+    // standard error in its noise_floor column.
+    let csv = std::fs::read_to_string(out.join("metrics.csv")).unwrap();
+    let bias_row = csv
+        .lines()
+        .find(|l| l.starts_with("\"area_quadrature(n=4)\"") && l.contains(",image,all,bias,"))
+        .unwrap_or_else(|| panic!("no bias row in metrics.csv:\n{csv}"));
+    let fields: Vec<&str> = bias_row.split(',').collect();
+    let value: f64 = fields[7].parse().unwrap();
+    assert_eq!(value, recorded("metrics"), "{bias_row}");
+    let se: f64 = fields[8].parse().unwrap();
+    assert_eq!(
+        Some(se),
+        variant["metrics"][0]["bias"]["standard_error"]["Y"].as_f64()
+    );
+    assert!(csv.contains(",second_ground_truth,all,bias,"), "{csv}");
     assert!(
         text.contains("FAIL bias: area_quadrature(n=4) bias over `all` = ")
             && text.contains("expected ≤ 5e-1 (r)"),

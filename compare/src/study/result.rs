@@ -459,7 +459,9 @@ impl StudyResult {
         serde_json::to_string_pretty(self).expect("plain data serialises")
     }
 
-    /// metrics.csv: one row per variant × mask × metric.
+    /// metrics.csv: one row per variant × mask × metric, and per variant × mask a `bias` row
+    /// (value: the luminance ratio Σ test / Σ ground truth; noise_floor: its standard error
+    /// from the ground truth's noise estimate; empty where the ground truth sums to 0).
     pub fn to_csv(&self) -> String {
         let mut s = String::from(
             "variant,method,params,scene,on,mask,metric,value,noise_floor,non_finite,frame_ms,gpu_ms,wall_ms,\
@@ -477,7 +479,26 @@ impl StudyResult {
                 .chain(v.visibility.iter().map(|m| ("visibility", m)))
                 .chain(v.second_ground_truth.iter().map(|m| ("second_ground_truth", m)));
             for (on, m) in tagged {
-                for e in &m.values {
+                let finite = |x: f64| opt(x.is_finite().then_some(x));
+                let bias = (
+                    Measure::Bias.name().to_string(),
+                    finite(m.bias.ratio.Y),
+                    finite(m.bias.standard_error.Y),
+                    m.values.first().map_or(0, |e| e.non_finite),
+                );
+                let rows = m
+                    .values
+                    .iter()
+                    .map(|e| {
+                        (
+                            e.metric.clone(),
+                            e.value.to_string(),
+                            e.noise_floor.to_string(),
+                            e.non_finite,
+                        )
+                    })
+                    .chain([bias]);
+                for (metric, value, noise_floor, non_finite) in rows {
                     s += &format!(
                         "\"{}\",{},\"{}\",\"{}\",{on},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
                         v.label,
@@ -485,10 +506,10 @@ impl StudyResult {
                         params.join(" "),
                         scene.join(" "),
                         m.mask,
-                        e.metric,
-                        e.value,
-                        e.noise_floor,
-                        e.non_finite,
+                        metric,
+                        value,
+                        noise_floor,
+                        non_finite,
                         v.cost.frame_ms,
                         opt(v.cost.gpu_ms),
                         v.cost.wall_ms,
