@@ -6,6 +6,4 @@ cd "$(dirname "$0")/.."
 ./scripts/setup.sh
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --locked -- -D warnings
-# `cargo test --workspace --locked`, with its test binaries run two (or more) at a time,
-# the slowest first: scripts/run_tests.py says why and how.
-python3 scripts/run_tests.py
+cargo test --workspace --locked

@@ -47,7 +47,6 @@ pub mod image;
 pub mod pipelines;
 pub mod render;
 pub mod settings;
-mod specialize;
 mod targets;
 pub mod technique;
 mod timestamps;

@@ -1,8 +1,6 @@
 //! The shader module, its bind group layouts and the render pipelines, created lazily and
 //! cached per (entry point, area method, shadow method, detail method, counters) — lavapipe compiles each with LLVM, so a
-//! pipeline is built once per process, not once per frame or render. Each pipeline's module
-//! is the shading module specialised for its entry points and constants (specialize.rs), and
-//! keys whose specialised modules are equal share one pipeline.
+//! pipeline is built once per process, not once per frame or render.
 //!
 //! | pipeline | vertex | fragment | targets | depth |
 //! |---|---|---|---|---|
@@ -34,7 +32,6 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 use crate::gpu_types::{AnalyticVertex, MeshVertex};
-use crate::specialize::ShaderIr;
 use crate::technique::area::AreaMethod;
 use crate::technique::texture::{self as texture_filter, Filter};
 use crate::technique::{self, Method};
@@ -309,15 +306,9 @@ pub struct Pipelines {
     lighting_msaa_layout: wgpu::PipelineLayout,
     aov_pipeline_layout: wgpu::PipelineLayout,
     shadow_pass_layout: wgpu::PipelineLayout,
-    /// The shading module's IR by (counting, texture filter code), parsed when first needed
-    /// and specialised per pipeline (specialize.rs).
-    modules: Mutex<HashMap<(bool, u32), Arc<ShaderIr>>>,
+    /// Shader modules by (counting, texture filter code), made when first needed.
+    modules: Mutex<HashMap<(bool, u32), Arc<wgpu::ShaderModule>>>,
     cache: Mutex<HashMap<Key, Arc<wgpu::RenderPipeline>>>,
-    /// The same pipelines by what the driver compiles: (stage, samples, the specialised
-    /// module). Keys that differ only in constants a pipeline never reads (the background's
-    /// area method, the visibility pass's every method) specialise to one module and share
-    /// one pipeline.
-    by_code: Mutex<HashMap<(Stage, u32, String), Arc<wgpu::RenderPipeline>>>,
 }
 
 /// A storage buffer: read-only ones are visible to the vertex stage too (the vertex-lit
@@ -602,7 +593,6 @@ impl Pipelines {
             shadow_pass_layout,
             modules: Mutex::new(HashMap::new()),
             cache: Mutex::new(HashMap::new()),
-            by_code: Mutex::new(HashMap::new()),
         }
     }
 
@@ -700,21 +690,25 @@ impl Pipelines {
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
         cache
             .entry(key)
-            .or_insert_with(|| self.build(device, key))
+            .or_insert_with(|| Arc::new(self.build(device, key)))
             .clone()
     }
 
-    /// The shading module's IR with or without counters for the texture filter of WGSL code
-    /// `filter`.
-    fn module(&self, counters: bool, filter: u32) -> Arc<ShaderIr> {
+    /// The shader module with or without counters for the texture filter of WGSL code `filter`.
+    fn module(&self, device: &wgpu::Device, counters: bool, filter: u32) -> Arc<wgpu::ShaderModule> {
         let mut modules = self.modules.lock().unwrap_or_else(|e| e.into_inner());
         modules
             .entry((counters, filter))
             .or_insert_with(|| {
                 let f = (texture_filter::METHODS[filter as usize].default)().filter;
-                let ir = ShaderIr::parse(&shader_source(counters, f))
-                    .unwrap_or_else(|e| panic!("Verity's shading module does not validate: {e}"));
-                Arc::new(ir)
+                let label = format!(
+                    "verity realtime shaders ({}, counters {counters})",
+                    f.wgsl_function()
+                );
+                Arc::new(device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(&label),
+                    source: wgpu::ShaderSource::Wgsl(shader_source(counters, f).into()),
+                }))
             })
             .clone()
     }
@@ -723,7 +717,7 @@ impl Pipelines {
         &self,
         device: &wgpu::Device,
         (stage, method, shadow, detail, envmap, texture, counters, samples, specular, shading, lightmap): Key,
-    ) -> Arc<wgpu::RenderPipeline> {
+    ) -> wgpu::RenderPipeline {
         // Under deferred MSAA the lighting pass reads `samples` G-buffer samples per pixel
         // and writes one: its own pipeline is single-sampled.
         let msaa_lighting = stage == Stage::Lighting && samples > 1;
@@ -752,24 +746,9 @@ impl Pipelines {
             ("LIGHTMAP_METHOD", f64::from(lightmap & 0xff)),
             ("LIGHTMAP_SPECULAR", f64::from(lightmap >> 8)),
         ];
-        let fragment_entry = (!fs.is_empty()).then_some(fs);
-        let specialised = self
-            .module(counters, texture & 0xff)
-            .specialise(vs, fragment_entry, &constants)
-            .unwrap_or_else(|e| panic!("{label}: the shading module does not specialise: {e}"));
-        // The module's debug form is its whole content (types, globals, functions, entry
-        // points), so equal strings are equal code.
-        let code_key = (stage, samples, format!("{specialised:?}"));
-        let mut by_code = self.by_code.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(pipeline) = by_code.get(&code_key) {
-            return pipeline.clone();
-        }
-        let module = &device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(&label),
-            source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(specialised)),
-        });
+        let module = &*self.module(device, counters, texture & 0xff);
         let options = wgpu::PipelineCompilationOptions {
-            constants: &[],
+            constants: &constants,
             zero_initialize_workgroup_memory: false,
         };
         let mesh_layout = [wgpu::VertexBufferLayout {
@@ -811,13 +790,13 @@ impl Pipelines {
             Stage::ShadowMesh | Stage::ShadowAnalytic => &self.shadow_pass_layout,
             _ => &self.forward_layout,
         };
-        let fragment = fragment_entry.map(|fs| wgpu::FragmentState {
+        let fragment = (!fs.is_empty()).then(|| wgpu::FragmentState {
             module,
             entry_point: Some(fs),
             compilation_options: options.clone(),
             targets,
         });
-        let pipeline = Arc::new(device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(&label),
             layout: Some(layout),
             vertex: wgpu::VertexState {
@@ -840,9 +819,7 @@ impl Pipelines {
             fragment,
             multiview: None,
             cache: None,
-        }));
-        by_code.insert(code_key, pipeline.clone());
-        pipeline
+        })
     }
 }
 

@@ -15,21 +15,15 @@ fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-/// A renderer for one process: its device, shader modules and pipeline cache are released
-/// with it. One shared across the ~40 studies kept every pipeline any study compiled
-/// (lavapipe's JIT code with it) and grew past 24 GB; one per family's process keeps the
-/// family's pipelines, which its studies share.
+/// A renderer of its own for each study run: its device, shader modules and pipeline cache
+/// are released with it. One shared across the ~40 studies kept every pipeline any study
+/// compiled (lavapipe's JIT code with it) and grew past 24 GB.
 fn renderer() -> Renderer {
     Renderer::new().unwrap_or_else(|e| panic!("no GPU adapter: {e} (run ./scripts/setup.sh)"))
 }
 
-/// Runs `study` in quick mode into target/study-tests/<name>, with a renderer of its own.
+/// Runs `study` in quick mode into target/study-tests/<name>.
 fn run_quick(study: &Study, tag: &str) -> StudyResult {
-    run_quick_with(study, tag, &renderer())
-}
-
-/// [`run_quick`] with `renderer`.
-fn run_quick_with(study: &Study, tag: &str, renderer: &Renderer) -> StudyResult {
     let out = workspace()
         .join("target/study-tests")
         .join(format!("{}{tag}", study.name));
@@ -39,7 +33,7 @@ fn run_quick_with(study: &Study, tag: &str, renderer: &Renderer) -> StudyResult 
         cache_dir: workspace().join("target/study-tests/cache"),
         progress: ProgressMode::Quiet,
     };
-    let r = run_study(study, &Rasters::Live(renderer), &opts)
+    let r = run_study(study, &Rasters::Live(&renderer()), &opts)
         .unwrap_or_else(|e| panic!("{}: {e}", study.path.display()));
     compare::report::write(&r, &out).expect("report written");
     r
@@ -73,30 +67,12 @@ fn every_study_holds_its_declared_bounds_in_quick_mode() {
             path.display()
         );
     }
-    // One child process per family (the studies whose names share their first word:
-    // detail-*, envmap-*, shadow-*, …), its studies one after another with one renderer:
-    // building the pipelines is most of a quick study's time on lavapipe (88 % of
-    // detail-view-angle's), and a family's studies draw with the same methods, so each
-    // pipeline is built once per family instead of once per study.
-    //
-    // Several children at once: one keeps about one core busy (lavapipe's queue thread
-    // waits on its raster threads and the readbacks), so two at a time fill a 2-core machine
-    // (with a cold ground-truth cache, as in CI: 36 min one study at a time, 21–23 two). At
-    // most MAX_CHILDREN, each holding its family's pipelines. The largest families go first. Studies that
-    // share a ground truth may both render it; the cache's entries are written atomically
-    // (study::cache), so the second write replaces the first with an equal image.
-    let mut families: Vec<Vec<PathBuf>> = Vec::new();
-    for path in &paths {
-        let family = |p: &Path| {
-            let stem = p.file_stem().unwrap_or_default().to_string_lossy().into_owned();
-            stem.split('-').next().unwrap_or_default().to_string()
-        };
-        match families.iter_mut().find(|f| family(&f[0]) == family(path)) {
-            Some(f) => f.push(path.clone()),
-            None => families.push(vec![path.clone()]),
-        }
-    }
-    families.sort_by_key(|f| std::cmp::Reverse(f.len()));
+    // Several children at once: one study keeps about one core busy (lavapipe's queue
+    // thread waits on its raster threads and the readbacks), so two at a time fill a 2-core
+    // machine (with a cold ground-truth cache, as in CI: 36 min one at a time, 21–23 two). At
+    // most MAX_CHILDREN: each peaks near 2 GB. Studies that share a ground truth may both
+    // render it; the cache's entries are written atomically (study::cache), so the second
+    // write replaces the first with an equal image.
     let jobs = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .clamp(1, MAX_CHILDREN);
@@ -108,8 +84,8 @@ fn every_study_holds_its_declared_bounds_in_quick_mode() {
                     let mut done = Vec::new();
                     loop {
                         let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        let Some(family) = families.get(i) else { break done };
-                        done.push((i, run_quick_in_child(family)));
+                        let Some(path) = paths.get(i) else { break done };
+                        done.push((i, run_quick_in_child(path)));
                     }
                 })
             })
@@ -139,30 +115,26 @@ fn every_study_holds_its_declared_bounds_in_quick_mode() {
 /// The most study processes run at once.
 const MAX_CHILDREN: usize = 4;
 
-/// The environment variable naming the studies [`one_family_in_quick_mode`] runs (a path
-/// list, as in `PATH`).
+/// The environment variable naming the study [`one_study_in_quick_mode`] runs.
 const CHILD_STUDY: &str = "VERITY_TEST_STUDY";
 
-/// Runs the studies of `family` in quick mode in a child process of this test binary
-/// ([`one_family_in_quick_mode`]) and returns the messages of their failed bounds. One
-/// process per family: what the realtime renderer leaves behind (lavapipe's compiled
+/// Runs the study at `path` in quick mode in a child process of this test binary
+/// ([`one_study_in_quick_mode`]) and returns the messages of its failed bounds. One process
+/// per study: what the realtime renderer leaves behind per render (lavapipe's compiled
 /// pipelines among it; issue 26 measures it) goes with the process, where one process for
-/// all ~40 studies grew past 24 GB. Its output is printed in one piece when it ends; a child
-/// that fails (a panic, an error) comes back as `Err` with its output.
-fn run_quick_in_child(family: &[PathBuf]) -> Result<Vec<String>, String> {
+/// all ~40 studies grew past 24 GB. Its output is printed in one piece when it ends; a
+/// child that fails (a panic, an error) comes back as `Err` with its output.
+fn run_quick_in_child(path: &Path) -> Result<Vec<String>, String> {
     let out = std::process::Command::new(std::env::current_exe().expect("the test binary"))
         .args([
-            "one_family_in_quick_mode",
+            "one_study_in_quick_mode",
             "--exact",
             "--ignored",
             "--nocapture",
             "--test-threads",
             "1",
         ])
-        .env(
-            CHILD_STUDY,
-            std::env::join_paths(family).expect("study paths without the path-list separator"),
-        )
+        .env(CHILD_STUDY, path)
         .output()
         .expect("the test binary runs");
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -170,7 +142,7 @@ fn run_quick_in_child(family: &[PathBuf]) -> Result<Vec<String>, String> {
     if !out.status.success() {
         return Err(format!(
             "{}: the quick run failed:\n{stdout}\n{}",
-            family[0].display(),
+            path.display(),
             String::from_utf8_lossy(&out.stderr)
         ));
     }
@@ -180,39 +152,37 @@ fn run_quick_in_child(family: &[PathBuf]) -> Result<Vec<String>, String> {
         .collect())
 }
 
-/// The child of [`every_study_holds_its_declared_bounds_in_quick_mode`]: runs the studies
-/// `VERITY_TEST_STUDY` lists with one renderer, prints `holds …` / `FAILS …` per bound and
-/// checks that every bound of quick mode applies to a variant. Ignored when run on its own:
-/// it is that test's per-family process, started with `--ignored`.
+/// The child of [`every_study_holds_its_declared_bounds_in_quick_mode`]: runs the study
+/// `VERITY_TEST_STUDY` names, prints `holds …` / `FAILS …` per bound and checks that every
+/// bound of quick mode applies to a variant. Ignored when run on its own: it is that test's
+/// per-study process, started with `--ignored`.
 #[test]
-#[ignore = "the per-family child process of every_study_holds_its_declared_bounds_in_quick_mode"]
-fn one_family_in_quick_mode() {
-    let paths = std::env::var_os(CHILD_STUDY).expect("started by the parent test with VERITY_TEST_STUDY");
-    let renderer = renderer();
-    for path in std::env::split_paths(&paths) {
-        let s = study::load(&path).unwrap_or_else(|e| panic!("{e}"));
-        let r = run_quick_with(&s, "", &renderer);
-        for t in &r.thresholds {
-            println!(
-                "{} {}",
-                if t.passed { "holds" } else { "FAILS" },
-                t.message(&s.name)
-            );
-        }
-        // Every bound checked in quick mode applies to at least one variant; bounds declared
-        // for full mode only (`mode = "full"`) are checked by the full-mode records.
-        for t in s
-            .thresholds
-            .iter()
-            .filter(|t| t.checked_in(study::RunMode::Quick))
-        {
-            assert!(
-                r.thresholds.iter().any(|c| c.location == t.location),
-                "{}: the bound at {} applies to no variant in quick mode",
-                path.display(),
-                t.location
-            );
-        }
+#[ignore = "the per-study child process of every_study_holds_its_declared_bounds_in_quick_mode"]
+fn one_study_in_quick_mode() {
+    let path =
+        PathBuf::from(std::env::var(CHILD_STUDY).expect("started by the parent test with VERITY_TEST_STUDY"));
+    let s = study::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    let r = run_quick(&s, "");
+    for t in &r.thresholds {
+        println!(
+            "{} {}",
+            if t.passed { "holds" } else { "FAILS" },
+            t.message(&s.name)
+        );
+    }
+    // Every bound checked in quick mode applies to at least one variant; bounds declared for
+    // full mode only (`mode = "full"`) are checked by the full-mode records.
+    for t in s
+        .thresholds
+        .iter()
+        .filter(|t| t.checked_in(study::RunMode::Quick))
+    {
+        assert!(
+            r.thresholds.iter().any(|c| c.location == t.location),
+            "{}: the bound at {} applies to no variant in quick mode",
+            path.display(),
+            t.location
+        );
     }
 }
 
