@@ -85,8 +85,8 @@ struct FrameUniforms {
     mesh_lights: vec4<u32>,
     // Screen-space AO: the lighting's output (0 the shaded image, 1 the AO factor), unused ×3.
     ambient_occlusion: vec4<u32>,
-    // Energy compensation (energy/*.wgsl): the method (ENERGY_*), its table's texture record
-    // or NONE, unused, unused.
+    // Energy compensation (energy/*.wgsl): the method (ENERGY_*; the shader reads the
+    // pipeline's ENERGY_METHOD), its table's texture record or NONE, unused, unused.
     energy: vec4<u32>,
 }
 

@@ -47,6 +47,7 @@ pub mod image;
 pub mod pipelines;
 pub mod render;
 pub mod settings;
+mod specialize;
 mod targets;
 pub mod technique;
 mod timestamps;

@@ -1,6 +1,8 @@
 //! The shader module, its bind group layouts and the render pipelines, created lazily and
-//! cached per (entry point, area method, shadow method, detail method, counters) — lavapipe compiles each with LLVM, so a
-//! pipeline is built once per process, not once per frame or render.
+//! cached per [`Key`] (the stage and every family's method code) — lavapipe compiles each with
+//! LLVM, so a pipeline is built once per process, not once per frame or render. Each pipeline's module
+//! is the shading module specialised for its entry points and constants (specialize.rs), and
+//! keys whose specialised modules are equal share one pipeline.
 //!
 //! | pipeline | vertex | fragment | targets | depth |
 //! |---|---|---|---|---|
@@ -32,6 +34,7 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 use crate::gpu_types::{AnalyticVertex, MeshVertex};
+use crate::specialize::ShaderIr;
 use crate::technique::area::AreaMethod;
 use crate::technique::texture::{self as texture_filter, Filter};
 use crate::technique::{self, Method};
@@ -283,9 +286,23 @@ impl Stage {
 /// methods' WGSL codes, the texture filter's
 /// ([`crate::technique::texture::TextureFilter::pipeline_code`]), whether it is the counting
 /// variant, its sample count (MSAA), its specular anti-aliasing (WGSL `SPECULAR_AA`) and its
-/// shading frequency (WGSL `SHADING_FREQUENCY`, with `VERTEX_ALBEDO` above its low byte) and
-/// its light-map lookup (WGSL `LIGHTMAP_METHOD`).
-type Key = (Stage, AreaMethod, u32, u32, u32, u32, bool, u32, u32, u32, u32);
+/// shading frequency (WGSL `SHADING_FREQUENCY`, with `VERTEX_ALBEDO` above its low byte), its
+/// light-map lookup (WGSL `LIGHTMAP_METHOD`) and its energy compensation (WGSL
+/// `ENERGY_METHOD`).
+type Key = (
+    Stage,
+    AreaMethod,
+    u32,
+    u32,
+    u32,
+    u32,
+    bool,
+    u32,
+    u32,
+    u32,
+    u32,
+    u32,
+);
 
 /// Layouts, the shader module and the pipeline cache.
 pub struct Pipelines {
@@ -306,9 +323,15 @@ pub struct Pipelines {
     lighting_msaa_layout: wgpu::PipelineLayout,
     aov_pipeline_layout: wgpu::PipelineLayout,
     shadow_pass_layout: wgpu::PipelineLayout,
-    /// Shader modules by (counting, texture filter code), made when first needed.
-    modules: Mutex<HashMap<(bool, u32), Arc<wgpu::ShaderModule>>>,
+    /// The shading module's IR by (counting, texture filter code), parsed when first needed
+    /// and specialised per pipeline (specialize.rs).
+    modules: Mutex<HashMap<(bool, u32), Arc<ShaderIr>>>,
     cache: Mutex<HashMap<Key, Arc<wgpu::RenderPipeline>>>,
+    /// The same pipelines by what the driver compiles: (stage, samples, the specialised
+    /// module). Keys that differ only in constants a pipeline never reads (the background's
+    /// area method, the visibility pass's every method) specialise to one module and share
+    /// one pipeline.
+    by_code: Mutex<HashMap<(Stage, u32, String), Arc<wgpu::RenderPipeline>>>,
 }
 
 /// A storage buffer: read-only ones are visible to the vertex stage too (the vertex-lit
@@ -593,6 +616,7 @@ impl Pipelines {
             shadow_pass_layout,
             modules: Mutex::new(HashMap::new()),
             cache: Mutex::new(HashMap::new()),
+            by_code: Mutex::new(HashMap::new()),
         }
     }
 
@@ -657,7 +681,7 @@ impl Pipelines {
     ) -> Arc<wgpu::RenderPipeline> {
         let texture = method.texture_filter().pipeline_code();
         let key = if stage.is_shadow() {
-            (stage, AreaMethod::Quadrature, 0, 0, 0, 0, false, 1, 0, 0, 0)
+            (stage, AreaMethod::Quadrature, 0, 0, 0, 0, false, 1, 0, 0, 0, 0)
         } else if stage.shades() {
             (
                 stage,
@@ -671,6 +695,7 @@ impl Pipelines {
                 method.antialias.map_or(0, |a| a.specular_code()),
                 method.shading_code(),
                 method.lightmap_code(),
+                method.energy_code(),
             )
         } else {
             (
@@ -685,30 +710,27 @@ impl Pipelines {
                 0,
                 0,
                 0,
+                0,
             )
         };
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
         cache
             .entry(key)
-            .or_insert_with(|| Arc::new(self.build(device, key)))
+            .or_insert_with(|| self.build(device, key))
             .clone()
     }
 
-    /// The shader module with or without counters for the texture filter of WGSL code `filter`.
-    fn module(&self, device: &wgpu::Device, counters: bool, filter: u32) -> Arc<wgpu::ShaderModule> {
+    /// The shading module's IR with or without counters for the texture filter of WGSL code
+    /// `filter`.
+    fn module(&self, counters: bool, filter: u32) -> Arc<ShaderIr> {
         let mut modules = self.modules.lock().unwrap_or_else(|e| e.into_inner());
         modules
             .entry((counters, filter))
             .or_insert_with(|| {
                 let f = (texture_filter::METHODS[filter as usize].default)().filter;
-                let label = format!(
-                    "verity realtime shaders ({}, counters {counters})",
-                    f.wgsl_function()
-                );
-                Arc::new(device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some(&label),
-                    source: wgpu::ShaderSource::Wgsl(shader_source(counters, f).into()),
-                }))
+                let ir = ShaderIr::parse(&shader_source(counters, f))
+                    .unwrap_or_else(|e| panic!("Verity's shading module does not validate: {e}"));
+                Arc::new(ir)
             })
             .clone()
     }
@@ -716,8 +738,21 @@ impl Pipelines {
     fn build(
         &self,
         device: &wgpu::Device,
-        (stage, method, shadow, detail, envmap, texture, counters, samples, specular, shading, lightmap): Key,
-    ) -> wgpu::RenderPipeline {
+        (
+            stage,
+            method,
+            shadow,
+            detail,
+            envmap,
+            texture,
+            counters,
+            samples,
+            specular,
+            shading,
+            lightmap,
+            energy,
+        ): Key,
+    ) -> Arc<wgpu::RenderPipeline> {
         // Under deferred MSAA the lighting pass reads `samples` G-buffer samples per pixel
         // and writes one: its own pipeline is single-sampled.
         let msaa_lighting = stage == Stage::Lighting && samples > 1;
@@ -731,7 +766,7 @@ impl Pipelines {
         };
         let label = format!(
             "{vs}/{fs} ({method:?}, shadow method {shadow}, detail method {detail}, environment map {envmap}, \
-             texture filter {texture:#x}, counters {counters}, {samples} samples, specular AA {specular}, shading frequency {shading}, light map {lightmap})"
+             texture filter {texture:#x}, counters {counters}, {samples} samples, specular AA {specular}, shading frequency {shading}, light map {lightmap}, energy compensation {energy})"
         );
         let constants = [
             ("AREA_METHOD", f64::from(method.shader_code())),
@@ -745,10 +780,26 @@ impl Pipelines {
             ("VERTEX_ALBEDO", f64::from(shading >> 8)),
             ("LIGHTMAP_METHOD", f64::from(lightmap & 0xff)),
             ("LIGHTMAP_SPECULAR", f64::from(lightmap >> 8)),
+            ("ENERGY_METHOD", f64::from(energy)),
         ];
-        let module = &*self.module(device, counters, texture & 0xff);
+        let fragment_entry = (!fs.is_empty()).then_some(fs);
+        let specialised = self
+            .module(counters, texture & 0xff)
+            .specialise(&[vs, fs], &constants)
+            .unwrap_or_else(|e| panic!("{label}: the shading module does not specialise: {e}"));
+        // The module's debug form is its whole content (types, globals, functions, entry
+        // points), so equal strings are equal code.
+        let code_key = (stage, samples, format!("{specialised:?}"));
+        let mut by_code = self.by_code.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(pipeline) = by_code.get(&code_key) {
+            return pipeline.clone();
+        }
+        let module = &device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(&label),
+            source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(specialised)),
+        });
         let options = wgpu::PipelineCompilationOptions {
-            constants: &constants,
+            constants: &[],
             zero_initialize_workgroup_memory: false,
         };
         let mesh_layout = [wgpu::VertexBufferLayout {
@@ -790,13 +841,13 @@ impl Pipelines {
             Stage::ShadowMesh | Stage::ShadowAnalytic => &self.shadow_pass_layout,
             _ => &self.forward_layout,
         };
-        let fragment = (!fs.is_empty()).then(|| wgpu::FragmentState {
+        let fragment = fragment_entry.map(|fs| wgpu::FragmentState {
             module,
             entry_point: Some(fs),
             compilation_options: options.clone(),
             targets,
         });
-        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        let pipeline = Arc::new(device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(&label),
             layout: Some(layout),
             vertex: wgpu::VertexState {
@@ -819,7 +870,9 @@ impl Pipelines {
             fragment,
             multiview: None,
             cache: None,
-        })
+        }));
+        by_code.insert(code_key, pipeline.clone());
+        pipeline
     }
 }
 

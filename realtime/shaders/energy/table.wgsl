@@ -7,7 +7,11 @@
 // single-scattering GGX with height-correlated masking (Karis 2013, "Real Shading in Unreal
 // Engine 4"; E(μ) = A + B for F = 1) and E_avg = 2∫E(μ)μ dμ of the row.
 // Failure mode: the table's resolution (`lut`): between texels E is interpolated linearly.
-// Inputs: `frame.energy`, `texture_infos`, `texels` (through `bilinear`).
+// Inputs: `ENERGY_METHOD`, `frame.energy`, `texture_infos`, `texels` (through `bilinear`).
+
+// The method (ENERGY_*), a pipeline constant like the other families' methods, so a pipeline
+// carries only its own method's lookups (each inlined at every BSDF evaluation; pipelines.rs).
+override ENERGY_METHOD: u32 = 0u;
 
 struct EnergyTerms {
     // E(μ) = A + B: the directional albedo of the lobe without Fresnel.
@@ -36,11 +40,10 @@ fn fresnel_average(f0: vec3<f32>) -> vec3<f32> {
 // with normal-incidence f0, and whose single-scattering value f_ss·cos θi is `single`; the
 // cosines are those of the upper-side pair. 0 under ENERGY_NONE or without a table.
 fn energy_compensation(alpha: f32, k: vec3<f32>, f0: vec3<f32>, single: vec3<f32>, cos_o: f32, cos_i: f32) -> vec3<f32> {
-    let method = frame.energy.x;
-    if method == ENERGY_NONE || frame.energy.y == NONE {
+    if ENERGY_METHOD == ENERGY_NONE || frame.energy.y == NONE {
         return vec3<f32>(0.0);
     }
-    switch method {
+    switch ENERGY_METHOD {
         case ENERGY_KULLA_CONTY: {
             return kulla_conty(alpha, k * fresnel_average(f0), cos_o, cos_i);
         }

@@ -701,7 +701,8 @@ impl Method {
         }
     }
 
-    /// `frame.energy.x`: WGSL `ENERGY_NONE` … `ENERGY_FDEZ_AGUERA` (none: single scattering).
+    /// WGSL `ENERGY_METHOD` (and `frame.energy.x`): `ENERGY_NONE` … `ENERGY_FDEZ_AGUERA` (none:
+    /// single scattering).
     pub fn energy_code(&self) -> u32 {
         self.energy.map_or(0, |e| e.shader_code())
     }

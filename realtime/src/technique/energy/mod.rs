@@ -27,7 +27,7 @@ pub mod tables;
 
 use super::param::{Kind, MethodSpec, Param, Value};
 
-/// Which compensation (WGSL `ENERGY_*`, `frame.energy.x`).
+/// Which compensation (WGSL `ENERGY_*`, the pipeline constant `ENERGY_METHOD`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Compensation {
     /// Single scattering only.
@@ -53,7 +53,8 @@ pub struct EnergyCompensation {
 pub const DEFAULT_LUT: u32 = 32;
 
 impl EnergyCompensation {
-    /// `frame.energy.x`: its index in [`METHODS`] (WGSL `ENERGY_NONE` … `ENERGY_FDEZ_AGUERA`).
+    /// WGSL `ENERGY_METHOD` (and `frame.energy.x`): its index in [`METHODS`] (WGSL
+    /// `ENERGY_NONE` … `ENERGY_FDEZ_AGUERA`).
     pub fn shader_code(&self) -> u32 {
         self.compensation as u32
     }

@@ -38,6 +38,7 @@ use crate::frame::{encode_passes, Frame, ShadingGroups};
 use crate::gpu::Gpu;
 use crate::pipelines::{shader_source, PipelineKind, Pipelines};
 use crate::settings::RasterSettings;
+use crate::specialize::ShaderIr;
 use crate::targets::Targets;
 use crate::technique::detail::ConeCache;
 use crate::technique::shadow::maps::ShadowMaps;
@@ -256,18 +257,18 @@ impl EnvMapBuilder {
     }
 
     /// The environment-map filter pipelines: a module of the shading sources (whose BSDF and
-    /// frame helpers the filters call) and envmap/filter.wgsl, compiled once.
+    /// frame helpers the filters call) and envmap/filter.wgsl, parsed once and specialised
+    /// for each filter's entry point (specialize.rs).
     pub(crate) fn filters(&self, device: &wgpu::Device) -> Arc<FilterPipelines> {
         self.filters
             .get_or_init(|| {
                 let source = shader_source(false, Filter::Bilinear)
                     + "// ---- envmap/filter.wgsl ----\n"
                     + include_str!("../../../shaders/envmap/filter.wgsl");
-                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some("verity environment map filters"),
-                    source: wgpu::ShaderSource::Wgsl(source.into()),
+                let ir = ShaderIr::parse(&source).unwrap_or_else(|e| {
+                    panic!("Verity's environment-map filter module does not validate: {e}")
                 });
-                Arc::new(FilterPipelines::new(device, &module))
+                Arc::new(FilterPipelines::new(device, &ir))
             })
             .clone()
     }

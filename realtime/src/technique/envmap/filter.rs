@@ -7,6 +7,7 @@ use glam::Vec3;
 use wgpu::util::DeviceExt;
 
 use super::{EnvMapping, Parameterization, IRRADIANCE_SIZE};
+use crate::specialize::ShaderIr;
 
 /// Format of every map.
 pub(super) const MAP_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -66,12 +67,20 @@ pub(crate) struct FilterPipelines {
 }
 
 impl FilterPipelines {
-    pub(crate) fn new(device: &wgpu::Device, module: &wgpu::ShaderModule) -> FilterPipelines {
+    /// Each filter's pipeline from `ir` specialised for its entry point alone.
+    pub(crate) fn new(device: &wgpu::Device, ir: &ShaderIr) -> FilterPipelines {
         let make = |entry: &str| {
+            let specialised = ir
+                .specialise(&[entry], &[])
+                .unwrap_or_else(|e| panic!("{entry}: the filter module does not specialise: {e}"));
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(entry),
+                source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(specialised)),
+            });
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(entry),
                 layout: None,
-                module,
+                module: &module,
                 entry_point: Some(entry),
                 compilation_options: Default::default(),
                 cache: None,
