@@ -1258,6 +1258,21 @@ fn a_bias_threshold_bounds_the_mean_ratio() {
         Some(se),
         variant["metrics"][0]["bias"]["standard_error"]["Y"].as_f64()
     );
+    // The report's bias table has a cell per variant and mask holding the same ratio.
+    let html = std::fs::read_to_string(out.join("index.html")).unwrap();
+    let table = html
+        .split("<h2>Bias per mask")
+        .nth(1)
+        .and_then(|t| t.split("</table>").next())
+        .unwrap_or_else(|| panic!("no bias table in index.html"));
+    let row = table
+        .split("<tr>")
+        .find(|r| r.contains("area_quadrature(n=4)"))
+        .unwrap_or_else(|| panic!("no row for area_quadrature(n=4): {table}"));
+    assert!(
+        row.contains(&format!("<td data-v=\"{}\">", recorded("metrics"))),
+        "{row}"
+    );
     assert!(csv.contains(",second_ground_truth,all,bias,"), "{csv}");
     assert!(
         text.contains("FAIL bias: area_quadrature(n=4) bias over `all` = ")

@@ -76,6 +76,7 @@ pub fn page(r: &StudyResult, cost_svgs: &[String], sweep_svgs: &[(String, String
         }
     }
     metric_table(&mut h, r);
+    bias_table(&mut h, r);
     visibility_table(&mut h, r);
     second_ground_truth_table(&mut h, r);
     flicker(&mut h, r);
@@ -237,6 +238,36 @@ fn metric_table(h: &mut String, r: &StudyResult) {
         h.push_str("</tr>\n");
     }
     h.push_str("</tbody></table><p>Hover a value for the reference's noise floor of that metric, a frame time for its passes.</p>\n");
+}
+
+/// Each variant's luminance bias over each mask: Σ test / Σ ground truth (what
+/// `metric = "bias"` bounds) ± its standard error from the ground truth's noise estimate.
+fn bias_table(h: &mut String, r: &StudyResult) {
+    h.push_str("<h2>Bias per mask (luminance, Σ approximation / Σ ground truth)</h2><table><thead><tr><th class=l onclick=\"sortTable(this)\">variant</th>");
+    for mask in &r.masks {
+        let _ = write!(h, "<th onclick=\"sortTable(this)\">{}</th>", esc(&mask.name));
+    }
+    h.push_str("</tr></thead><tbody>\n");
+    for v in &r.variants {
+        let _ = write!(h, "<tr><td class=l>{}</td>", esc(&v.label));
+        for mask in &r.masks {
+            let bias = v.metrics.iter().find(|m| m.mask == mask.name).map(|m| &m.bias);
+            match bias.filter(|b| b.ratio.Y.is_finite()) {
+                Some(b) => {
+                    let _ = write!(
+                        h,
+                        "<td data-v=\"{}\">{} ± {}</td>",
+                        b.ratio.Y,
+                        num(b.ratio.Y),
+                        num(b.standard_error.Y)
+                    );
+                }
+                None => h.push_str("<td>–</td>"),
+            }
+        }
+        h.push_str("</tr>\n");
+    }
+    h.push_str("</tbody></table><p>1 is unbiased; ± one standard error of the ratio from the ground truth's noise (a dash: the ground truth sums to 0 there).</p>\n");
 }
 
 /// The visibility-factor metrics over `all`, when the study measures them.
