@@ -6,7 +6,8 @@
 # of this run (date, fingerprint of the study and its scene, bounds, figures) that
 # tests/tests/studies.rs checks. Takes hours on 2 cores; ground truths are cached in
 # out/cache, so a second run re-renders only what changed; `--stale` runs only the studies
-# whose record is missing, out of date or failed (resumes a run that was cut off). Extra
+# whose record is missing, out of date, made with another oracle or failed (resumes a run
+# that was cut off). Extra
 # arguments go to `verity report --all` (e.g. --stale, --out DIR, --cache DIR); the memory
 # limit goes through VERITY_MEMORY_LIMIT. Exit status: that of `verity report --all` (0: every bound held).
 set -euo pipefail

@@ -59,7 +59,8 @@ pub struct ReportArgs {
     pub record: bool,
 
     /// With --all in full mode: run only the studies whose full-mode record is missing, out
-    /// of date (the study or its scene changed) or has a failed bound; the others keep their
+    /// of date (the study or its scene changed), made with another oracle or has a failed
+    /// bound; the others keep their
     /// record and are listed in the summary as current. Resumes a full run that was cut off.
     #[arg(long, requires = "all", conflicts_with = "quick")]
     pub stale: bool,

@@ -12,6 +12,7 @@
 //! # --- full-mode record (verity report --all --record; checked by tests/tests/studies.rs) ---
 //! # date: 2026-12-03
 //! # fingerprint: 0123456789abcdef
+//! # oracle: 89abcdef01234567
 //! # bounds: 7 of 7 hold
 //! # run: 256x256, ground truth 64 spp, 205.9 s, peak memory 2.3 GiB, llvmpipe (LLVM 15.0.6, 256 bits)
 //! #   envmap_cube(size=128) relmse over ball = 2.31e-4 (max 1e-3) [line 60]
@@ -23,6 +24,14 @@
 //! rewording a comment does not. Files the scene references (textures, glTF assets) and the
 //! renderers' code are not covered: a change there is verified by running the full studies
 //! again before the change lands.
+//!
+//! The `oracle` line is the hash of the oracle's source that rendered the run's ground truths
+//! (the one the ground-truth cache keys on; absent from records older than the line). A record
+//! made with another oracle stands as [`Standing::OtherOracle`]: `--stale` runs its study
+//! again, and the studies test lists it without failing. An oracle change is judged by the
+//! analytic tests and the Mitsuba z-tests, which hold its expected values; what it can move in
+//! a record is the ground truth's noise (its sample sets), so the record is due again, not
+//! wrong.
 
 use std::path::Path;
 
@@ -41,6 +50,9 @@ pub struct Record {
     pub date: String,
     /// [`fingerprint`] of the study and scene when the run was made.
     pub fingerprint: String,
+    /// The oracle's source hash ([`oracle_now`]) of the run; `None` in records made before
+    /// the field.
+    pub oracle: Option<String>,
     /// Bounds that held.
     pub held: usize,
     /// Bounds checked.
@@ -80,17 +92,27 @@ pub fn fingerprint_files(study: &Path, scene: &Path) -> std::io::Result<String> 
     Ok(fingerprint(&read(study)?, &read(scene)?))
 }
 
+/// The hash of the oracle's source this build renders ground truths with (compare/build.rs).
+pub fn oracle_now() -> &'static str {
+    env!("VERITY_ORACLE_SOURCE_HASH")
+}
+
 /// The record block of a study file's text, if it has one.
 pub fn read(text: &str) -> Option<Record> {
-    let mut lines = text.lines().skip_while(|l| l.trim_end() != BEGIN).skip(1);
+    let mut lines = text
+        .lines()
+        .skip_while(|l| l.trim_end() != BEGIN)
+        .skip(1)
+        .peekable();
     let mut field = |key: &str| {
+        let prefix = format!("# {key}: ");
         lines
-            .next()
-            .and_then(|l| l.strip_prefix(&format!("# {key}: ")))
-            .map(str::to_string)
+            .next_if(|l| l.starts_with(&prefix))
+            .map(|l| l[prefix.len()..].to_string())
     };
     let date = field("date")?;
     let fingerprint = field("fingerprint")?;
+    let oracle = field("oracle");
     let bounds = field("bounds")?;
     let run = field("run")?;
     let (held, checked) = bounds.strip_suffix(" hold")?.split_once(" of ")?;
@@ -101,6 +123,7 @@ pub fn read(text: &str) -> Option<Record> {
     Some(Record {
         date,
         fingerprint,
+        oracle,
         held: held.parse().ok()?,
         checked: checked.parse().ok()?,
         run,
@@ -123,6 +146,9 @@ pub enum Standing {
     },
     /// The record is of the study as it is, but a bound failed in that run.
     Failed(Record),
+    /// The record is of the study as it is and every bound held, but its ground truths were
+    /// rendered by another oracle (module header): due to be run again.
+    OtherOracle(Record),
     /// The record is of the study as it is, and every bound held.
     Current(Record),
 }
@@ -138,6 +164,14 @@ impl Standing {
             Standing::Failed(r) | Standing::Current(r) => format!(
                 "full-mode record of {}: {} of {} bounds held",
                 r.date, r.held, r.checked
+            ),
+            Standing::OtherOracle(r) => format!(
+                "full-mode record of {}: {} of {} bounds held, with the ground truths of another oracle ({}; now {})",
+                r.date,
+                r.held,
+                r.checked,
+                r.oracle.as_deref().unwrap_or("from before records named it"),
+                oracle_now()
             ),
         }
     }
@@ -158,6 +192,8 @@ pub fn standing(study: &Path, scene: &Path) -> std::io::Result<Standing> {
         }
     } else if r.held < r.checked || r.checked == 0 {
         Standing::Failed(r)
+    } else if r.oracle.as_deref() != Some(oracle_now()) {
+        Standing::OtherOracle(r)
     } else {
         Standing::Current(r)
     })
@@ -166,8 +202,15 @@ pub fn standing(study: &Path, scene: &Path) -> std::io::Result<Standing> {
 /// The record block's lines for `record`.
 pub fn block(record: &Record) -> String {
     let mut s = format!(
-        "{BEGIN}\n# date: {}\n# fingerprint: {}\n# bounds: {} of {} hold\n# run: {}\n",
-        record.date, record.fingerprint, record.held, record.checked, record.run
+        "{BEGIN}\n# date: {}\n# fingerprint: {}\n",
+        record.date, record.fingerprint
+    );
+    if let Some(oracle) = &record.oracle {
+        s += &format!("# oracle: {oracle}\n");
+    }
+    s += &format!(
+        "# bounds: {} of {} hold\n# run: {}\n",
+        record.held, record.checked, record.run
     );
     for c in &record.checks {
         s += &format!("#   {c}\n");
@@ -201,8 +244,8 @@ pub fn with_record(text: &str, record: &Record) -> String {
 }
 
 /// The record of a finished full-mode run, from its `metrics.json` (compare/README.md), of a
-/// study whose files have `fingerprint`, dated `date`; `None` for a quick run or a file that
-/// lacks the fields.
+/// study whose files have `fingerprint`, dated `date`, made by this build (its oracle is
+/// [`oracle_now`]); `None` for a quick run or a file that lacks the fields.
 pub fn from_metrics(json: &Value, fingerprint: String, date: String) -> Option<Record> {
     let run = &json["run"];
     if run["mode"] != "full" {
@@ -218,6 +261,7 @@ pub fn from_metrics(json: &Value, fingerprint: String, date: String) -> Option<R
     Some(Record {
         date,
         fingerprint,
+        oracle: Some(oracle_now().to_string()),
         held: thresholds.iter().filter(|t| t["passed"] == true).count(),
         checked: thresholds.len(),
         run: format!(
@@ -360,6 +404,7 @@ mod tests {
         let r = Record {
             date: "2026-12-04".into(),
             fingerprint: fingerprint_files(&study, &scene).unwrap(),
+            oracle: Some(oracle_now().into()),
             held: 1,
             checked: 1,
             run: "256x256".into(),
@@ -370,6 +415,12 @@ mod tests {
         let failed = Record { held: 0, ..r.clone() };
         std::fs::write(&study, with_record(text, &failed)).unwrap();
         assert_eq!(standing(&study, &scene).unwrap(), Standing::Failed(failed));
+        // Made with another oracle, or before records named it: due again.
+        for oracle in [Some("0000000000000000".to_string()), None] {
+            let other = Record { oracle, ..r.clone() };
+            std::fs::write(&study, with_record(text, &other)).unwrap();
+            assert_eq!(standing(&study, &scene).unwrap(), Standing::OtherOracle(other));
+        }
         std::fs::write(&study, with_record(&text.replace("1e-3", "2e-3"), &r)).unwrap();
         assert!(matches!(
             standing(&study, &scene).unwrap(),
@@ -389,6 +440,7 @@ mod tests {
         let r = Record {
             date: "2026-12-03".into(),
             fingerprint: "0123456789abcdef".into(),
+            oracle: Some("89abcdef01234567".into()),
             held: 2,
             checked: 3,
             run: "256x256, ground truth 64 spp, 12.0 s, llvmpipe".into(),
@@ -405,6 +457,15 @@ mod tests {
         let twice = with_record(&once, &newer);
         assert_eq!(twice.matches(BEGIN).count(), 1, "{twice}");
         assert_eq!(read(&twice), Some(newer));
+        // A record from before the oracle line reads with none.
+        let old = once.replace("# oracle: 89abcdef01234567\n", "");
+        assert_eq!(
+            read(&old),
+            Some(Record {
+                oracle: None,
+                ..r.clone()
+            })
+        );
         assert!(read(text).is_none());
         assert_eq!(
             fingerprint(&twice, ""),
