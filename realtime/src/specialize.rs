@@ -93,33 +93,12 @@ impl ShaderIr {
         // result is known when its callers are pruned.
         let mut returns = HashMap::new();
         for (handle, function) in functions.iter_mut() {
-            let fold = Fold {
-                expressions: &function.expressions,
-                constants,
-                global_expressions,
-                returns: &returns,
-            };
-            let mut body = std::mem::take(&mut function.body);
-            prune_block(&mut body, &fold);
-            if let Some(value) = fold.constant_return(&body) {
+            if let Some(value) = prune_function(function, constants, global_expressions, &returns) {
                 returns.insert(handle, value);
             }
-            function.body = body;
-            // `let` names keep expressions alive through compaction; they are debug names only.
-            function.named_expressions.clear();
         }
         for ep in entry_points.iter_mut() {
-            let function = &mut ep.function;
-            let fold = Fold {
-                expressions: &function.expressions,
-                constants,
-                global_expressions,
-                returns: &returns,
-            };
-            let mut body = std::mem::take(&mut function.body);
-            prune_block(&mut body, &fold);
-            function.body = body;
-            function.named_expressions.clear();
+            prune_function(&mut ep.function, constants, global_expressions, &returns);
         }
         naga::compact::compact(&mut module, naga::compact::KeepUnused::No);
         validator()
@@ -136,6 +115,29 @@ fn validator() -> naga::valid::Validator {
         naga::valid::ValidationFlags::all(),
         naga::valid::Capabilities::all(),
     )
+}
+
+/// Prunes `function`'s body ([`prune_block`]) given the constant results of the functions
+/// it may call (`returns`), and returns the literal it then always returns, if any.
+fn prune_function(
+    function: &mut naga::Function,
+    constants: &naga::Arena<naga::Constant>,
+    global_expressions: &naga::Arena<Expression>,
+    returns: &HashMap<naga::Handle<naga::Function>, Literal>,
+) -> Option<Literal> {
+    let fold = Fold {
+        expressions: &function.expressions,
+        constants,
+        global_expressions,
+        returns,
+    };
+    let mut body = std::mem::take(&mut function.body);
+    prune_block(&mut body, &fold);
+    let value = fold.constant_return(&body);
+    function.body = body;
+    // `let` names keep expressions alive through compaction; they are debug names only.
+    function.named_expressions.clear();
+    value
 }
 
 /// Replaces, in `block` and every block nested in it, each `if` whose condition `literal`
