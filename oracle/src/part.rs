@@ -217,8 +217,9 @@ impl Reader<'_> {
 /// another format or version, a damaged file (checksum), a truncated or padded one, and
 /// header values no render writes.
 pub fn load(path: &Path, ledger: &scenes::budget::Ledger) -> Result<Part, PartError> {
-    let len = std::fs::metadata(path)
-        .map_err(|e| error(path, format!("cannot be read ({e})")))?
+    // A FIFO or a device is refused before it is opened: opening a FIFO blocks.
+    let len = scenes::access::regular_file(path)
+        .map_err(|why| error(path, format!("cannot be read: it {why}")))?
         .len();
     let mut head = Vec::new();
     std::fs::File::open(path)

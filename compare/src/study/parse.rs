@@ -16,11 +16,17 @@ use super::model::*;
 use super::plan;
 use super::scene_check;
 
-/// Loads and checks a study file.
+/// The longest study file read: the largest built-in study is under 20 KiB.
+const MAX_STUDY_FILE_BYTES: u64 = 4 << 20;
+
+/// Loads and checks a study file: a regular file (a FIFO or a device is refused before it is
+/// opened) of at most [`MAX_STUDY_FILE_BYTES`] of UTF-8.
 pub fn load(path: &Path) -> Result<Study, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        SceneError::new(path, format!("cannot read the study file: {e}")).hint("check the path")
+    let bytes = scenes::access::read_regular(path, MAX_STUDY_FILE_BYTES).map_err(|why| {
+        SceneError::new(path, format!("cannot read the study file: it {why}")).hint("check the path")
     })?;
+    let text = String::from_utf8(bytes)
+        .map_err(|e| SceneError::new(path, format!("cannot read the study file: it is not UTF-8 ({e})")))?;
     load_str(&text, path)
 }
 

@@ -388,6 +388,47 @@ pub const CASES: &[Case] = &[
         error: &["image-uri.gltf", "images[0].uri", "--allow-paths-outside"],
         ..BASE
     },
+    // --- issue 43: readers that opened a FIFO (blocking forever) or read a device unbounded.
+    Case {
+        name: "merge-part-fifo",
+        make: &[Make::Fifo],
+        args: &["merge", "fifo", "--out", "{DIR}/x.exr"],
+        error: &["fifo", "regular file", "FIFO"],
+        ..BASE
+    },
+    Case {
+        name: "study-fifo",
+        make: &[Make::Fifo],
+        args: dry_run!("fifo"),
+        error: &["fifo", "study file", "FIFO"],
+        ..BASE
+    },
+    Case {
+        name: "study-dev-zero",
+        args: dry_run!("/dev/zero"),
+        error: &["/dev/zero", "study file", "device"],
+        ..BASE
+    },
+    Case {
+        name: "run-job-plan-fifo",
+        make: &[Make::Fifo],
+        args: &["run-job", "fifo", "ground_truth"],
+        error: &["fifo", "plan", "FIFO"],
+        ..BASE
+    },
+    Case {
+        name: "run-job-plan-dev-zero",
+        args: &["run-job", "/dev/zero", "ground_truth"],
+        error: &["/dev/zero", "plan", "device"],
+        ..BASE
+    },
+    Case {
+        name: "report-from-plan-fifo",
+        make: &[Make::Fifo],
+        args: &["report", "--from", "fifo"],
+        error: &["fifo", "plan", "FIFO"],
+        ..BASE
+    },
     Case {
         name: "gltf-image-uri-fifo",
         files: &["image-uri.gltf"],
