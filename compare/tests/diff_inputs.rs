@@ -195,6 +195,16 @@ fn png_jpeg_and_hdr_inputs_are_decoded_to_linear() {
             "error: --exposure applies to PNG/JPEG inputs; both images are scene-referred (OpenEXR or HDR)"
         )
     );
+    // An exposure beyond ±64 stops (render's and merge's range) is a usage error: 1e30
+    // stops divided a white PNG to 0, and black against it passed (issue 43).
+    for stops in ["1e30", "65", "-64.5"] {
+        let (code, text) = diff(&[a, hdr.to_str().unwrap(), &format!("--exposure={stops}")]);
+        assert_eq!(code, 2, "{stops}: {text}");
+        assert!(
+            text.contains("expected a number of stops in −64..=64"),
+            "{stops}: {text}"
+        );
+    }
     // Not an image at all: exit 4, one line naming the file once.
     let junk = tmp("junk.png");
     std::fs::write(&junk, b"this is not an image").unwrap();

@@ -39,6 +39,7 @@ use clap::Args;
 use scenes::budget::Ledger;
 use scenes::layered::LayeredImage;
 
+use super::args::parse_exposure;
 use super::{CliError, Failure};
 use crate::diff::{
     self, BiasTest, Bounds, DiffReport, FlipHint, ImageInfo, MaskInfo, MetricEntry, NoiseEstimate, Verdict,
@@ -98,7 +99,8 @@ pub struct DiffArgs {
         long,
         value_name = "STOPS",
         default_value_t = 0.0,
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        value_parser = parse_exposure
     )]
     pub exposure: f32,
     /// Reverse the test image's rows (a framebuffer read back bottom-up).
@@ -193,12 +195,6 @@ fn check_bounds(args: &DiffArgs, criterion: Metric) -> Result<(), CliError> {
         metric_range("--warn", t)?;
     }
     fail_bias(args)?;
-    if !args.exposure.is_finite() {
-        return Err(CliError::input(format!(
-            "--exposure {}: the exposure must be a finite number of stops",
-            args.exposure
-        )));
-    }
     Ok(())
 }
 
