@@ -206,7 +206,7 @@ impl BiasTest {
         };
         let failed = self
             .fail_bias
-            .is_some_and(|f| (0..4).any(|k| beyond(&entry, k, f)));
+            .is_some_and(|f| (0..4).any(|k| beyond(&entry, k, f) || unbounded(&entry, k)));
         BiasEntry {
             verdict: if failed { Verdict::Fail } else { Verdict::Pass },
             ..entry
@@ -230,6 +230,15 @@ impl BiasTest {
         for (what, entry) in groups {
             if entry.verdict == Verdict::Fail {
                 let ratio = entry.ratio.values();
+                self.verdict = Verdict::Fail;
+                if let Some(k) = (0..4).rev().find(|&k| unbounded(entry, k)) {
+                    self.reason = format!(
+                        "bias {what}: {} the reference sums to 0 and the test image does not (mean signed error {:+.3e}): no ratio bounds it",
+                        Rgby::NAMES[k],
+                        entry.mean_signed_error.values()[k]
+                    );
+                    return;
+                }
                 // Luminance when it is beyond the bound, else the colour channel furthest off.
                 let k = if beyond(entry, 3, f) {
                     3
@@ -239,7 +248,6 @@ impl BiasTest {
                         .max_by(|&a, &b| (ratio[a] - 1.0).abs().total_cmp(&(ratio[b] - 1.0).abs()))
                         .expect("a failed entry has a channel beyond the bound")
                 };
-                self.verdict = Verdict::Fail;
                 self.reason = format!(
                     "bias {what}: {} test/reference {:.4}, {}, is beyond {bound}",
                     Rgby::NAMES[k],
@@ -268,9 +276,16 @@ impl BiasTest {
 }
 
 /// Whether channel `k`'s interval of `entry` lies wholly outside 1 ± `fail_bias` (a NaN
-/// interval, of a black reference channel, is beyond nothing).
+/// interval, of a black reference channel, is beyond nothing: [`unbounded`] judges it).
 fn beyond(entry: &BiasEntry, k: usize, fail_bias: f64) -> bool {
     entry.ratio_ci_low.values()[k] > 1.0 + fail_bias || entry.ratio_ci_high.values()[k] < 1.0 - fail_bias
+}
+
+/// Whether channel `k` of the reference sums to 0 over the group (no ratio) while the test
+/// image's does not: a bias no ratio bound can hold, so it fails (black against white passed
+/// as "no significant bias", issue 43). A test image that is black there too passes.
+fn unbounded(entry: &BiasEntry, k: usize) -> bool {
+    entry.ratio.values()[k].is_nan() && entry.mean_signed_error.values()[k] != 0.0
 }
 
 /// Whether each image carries a noise estimate (its variance of the pixel mean).

@@ -114,6 +114,17 @@ fn a_flipped_or_black_image_fails_by_default_and_the_render_itself_passes() {
         diff(&[a, black.to_str().unwrap(), "--fail", "2", "--fail-bias", "none"]).0,
         0
     );
+    // Against a black reference no ratio exists: a dim test image fails the bias test (it
+    // passed as "no significant bias" with a NaN interval, issue 43); black passes black.
+    let dim = derived_exr("dim.exr", |_, _, _| 1e-3);
+    let b = black.to_str().unwrap();
+    let (code, text) = diff(&[b, dim.to_str().unwrap(), "--fail", "2"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(
+        text.contains("FAIL: bias over `all`: Y the reference sums to 0 and the test image does not"),
+        "{text}"
+    );
+    assert_eq!(diff(&[b, b]).0, 0);
 }
 
 #[test]
