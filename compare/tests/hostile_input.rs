@@ -319,3 +319,41 @@ fn hostile_mutations_part() {
     };
     family::run(&family, &originals, &family::file_names(&dir), &merge, &no_extra);
 }
+
+/// The default memory budget is half the smallest limit on the process, not only half the
+/// machine's memory (issue 43): under `ulimit -v` of 2 GB a 4096² film (3.9 GiB of
+/// accumulators, within half of any machine of 8 GB or more) is one error line naming the
+/// address-space limit, where it was an allocation failure (a panic) before.
+#[test]
+fn the_default_budget_follows_the_address_space_limit() {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell-box.toml");
+    let out = std::env::temp_dir().join(format!("verity-rlimit-{}.exr", std::process::id()));
+    let run = std::process::Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -v 2000000 && exec \"$0\" \"$@\"")
+        .arg(env!("CARGO_BIN_EXE_verity"))
+        .args(["render", scene.to_str().unwrap()])
+        .args([
+            "--resolution",
+            "4096x4096",
+            "--spp",
+            "1",
+            "--checkpoint-every",
+            "0",
+            "-q",
+            "--out",
+        ])
+        .arg(&out)
+        .env_remove("VERITY_MEMORY_LIMIT")
+        .output()
+        .unwrap_or_else(|e| panic!("sh: {e}"));
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.starts_with("error: --resolution:")
+            && stderr.contains("50 % of this process's address-space limit (ulimit -v) of 1.9 GiB"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "nothing is written");
+}

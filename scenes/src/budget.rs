@@ -3,8 +3,11 @@
 //! or a `--resolution 16384x16384`, is one error line naming the file and field and the bytes
 //! needed — never an abort of the process by the allocator.
 //!
-//! The limit is process-wide ([`limit`]): by default [`DEFAULT_FRACTION`] of the machine's
-//! physical memory (Linux's `MemTotal`; [`FALLBACK_BYTES`] where it cannot be read), changed by
+//! The limit is process-wide ([`limit`]): by default [`DEFAULT_FRACTION`] of the smallest of
+//! the machine's physical memory (Linux's `MemTotal`; [`FALLBACK_BYTES`] where it cannot be
+//! read), the process's address-space limit (`ulimit -v`, `RLIMIT_AS`) and its cgroup's memory
+//! limit (v2 `memory.max`, v1 `memory.limit_in_bytes`), so that a job under a tighter limit
+//! than the machine's gets one error line and not an allocation failure; changed by
 //! `verity --memory-limit` ([`set_limit`]) or the environment variable `VERITY_MEMORY_LIMIT`
 //! (parsed by [`parse_limit`]: bytes, `512M`, `8G`, `1.5GiB`, or `40%` of physical memory).
 //!
@@ -39,6 +42,13 @@ pub enum Source {
         /// The machine's physical memory in bytes.
         physical: u64,
     },
+    /// [`DEFAULT_FRACTION`] of a limit on this process below physical memory.
+    Process {
+        /// That limit in bytes.
+        bytes: u64,
+        /// Which: `address-space limit (ulimit -v)` or `cgroup memory limit`.
+        what: &'static str,
+    },
     /// [`FALLBACK_BYTES`]: physical memory unknown.
     Fallback,
 }
@@ -63,6 +73,12 @@ impl fmt::Display for Limit {
                 " ({:.0} % of this machine's {}; raise it with --memory-limit)",
                 DEFAULT_FRACTION * 100.0,
                 human(physical)
+            ),
+            Source::Process { bytes, what } => write!(
+                f,
+                " ({:.0} % of this process's {what} of {})",
+                DEFAULT_FRACTION * 100.0,
+                human(bytes)
             ),
             Source::Fallback => write!(f, " (default; raise it with --memory-limit)"),
         }
@@ -93,16 +109,77 @@ pub fn limit() -> Limit {
             source: Source::Environment,
         };
     }
-    match physical_memory() {
-        Some(physical) => Limit {
-            bytes: (physical as f64 * DEFAULT_FRACTION) as u64,
+    let process = [
+        (address_space_limit(), "address-space limit (ulimit -v)"),
+        (cgroup_memory_limit(), "cgroup memory limit"),
+    ]
+    .into_iter()
+    .filter_map(|(bytes, what)| Some((bytes?, what)))
+    .min_by_key(|&(bytes, _)| bytes);
+    let fraction = |bytes: u64| (bytes as f64 * DEFAULT_FRACTION) as u64;
+    match (physical_memory(), process) {
+        (physical, Some((bytes, what))) if physical.is_none_or(|p| bytes < p) => Limit {
+            bytes: fraction(bytes),
+            source: Source::Process { bytes, what },
+        },
+        (Some(physical), _) => Limit {
+            bytes: fraction(physical),
             source: Source::Default { physical },
         },
-        None => Limit {
+        (None, _) => Limit {
             bytes: FALLBACK_BYTES,
             source: Source::Fallback,
         },
     }
+}
+
+/// The soft address-space limit of this process (`RLIMIT_AS`, from `/proc/self/limits`), if
+/// it has one.
+fn address_space_limit() -> Option<u64> {
+    parse_address_space_limit(&std::fs::read_to_string("/proc/self/limits").ok()?)
+}
+
+/// The soft limit of the `Max address space` row of a `/proc/PID/limits` text; `None` when
+/// it is `unlimited` or absent.
+fn parse_address_space_limit(limits: &str) -> Option<u64> {
+    let row = limits.lines().find(|l| l.starts_with("Max address space"))?;
+    row["Max address space".len()..]
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()
+}
+
+/// The memory limit of this process's cgroup, if it has one (below 2⁶²: cgroup v1 writes
+/// "no limit" as a number near 2⁶³).
+fn cgroup_memory_limit() -> Option<u64> {
+    let file = cgroup_limit_file(&std::fs::read_to_string("/proc/self/cgroup").ok()?)?;
+    let bytes: u64 = std::fs::read_to_string(file).ok()?.trim().parse().ok()?;
+    (bytes < 1 << 62).then_some(bytes)
+}
+
+/// The file holding the memory limit of the cgroup a `/proc/PID/cgroup` text names: v2's
+/// `memory.max` (the `0::PATH` line) where the unified hierarchy has one, else v1's
+/// `memory.limit_in_bytes` of the `memory` controller's line.
+fn cgroup_limit_file(cgroup: &str) -> Option<std::path::PathBuf> {
+    let root = std::path::Path::new("/sys/fs/cgroup");
+    let mut v1 = None;
+    for line in cgroup.lines() {
+        let mut fields = line.splitn(3, ':');
+        let (Some(id), Some(controllers), Some(path)) = (fields.next(), fields.next(), fields.next()) else {
+            continue;
+        };
+        let path = path.trim_start_matches('/');
+        if id == "0" && controllers.is_empty() {
+            let file = root.join(path).join("memory.max");
+            if file.exists() {
+                return Some(file);
+            }
+        } else if controllers.split(',').any(|c| c == "memory") {
+            v1 = Some(root.join("memory").join(path).join("memory.limit_in_bytes"));
+        }
+    }
+    v1
 }
 
 /// The machine's physical memory in bytes (`MemTotal` of `/proc/meminfo`), if known.
@@ -286,6 +363,27 @@ pub fn check(bytes: u64, what: impl Into<String>) -> Result<(), Exceeded> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_address_space_and_cgroup_limits_are_read_from_procfs_text() {
+        let limits = "Limit                     Soft Limit           Hard Limit           Units     \n\
+                      Max stack size            8388608              unlimited            bytes     \n\
+                      Max address space         8192000000           unlimited            bytes     \n";
+        assert_eq!(parse_address_space_limit(limits), Some(8_192_000_000));
+        let unlimited = limits.replace("8192000000", "unlimited");
+        assert_eq!(parse_address_space_limit(&unlimited), None);
+        assert_eq!(
+            cgroup_limit_file("4:memory:/job/7\n0::/\n"),
+            // No unified memory.max under the test's own root: v1's file.
+            std::path::Path::new("/sys/fs/cgroup/memory.max")
+                .exists()
+                .then(|| std::path::PathBuf::from("/sys/fs/cgroup/memory.max"))
+                .or(Some(std::path::PathBuf::from(
+                    "/sys/fs/cgroup/memory/job/7/memory.limit_in_bytes"
+                )))
+        );
+        assert_eq!(cgroup_limit_file("1:cpu:/\n"), None);
+    }
 
     fn fixed(bytes: u64) -> Limit {
         Limit {

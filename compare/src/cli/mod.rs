@@ -43,7 +43,8 @@ pub struct Cli {
 
     /// Memory budget for what files and flags declare (images, meshes, displacement grids,
     /// films, study sizes), checked before allocating: bytes, 512M, 8G, or 40% of physical
-    /// memory [default: 50% of physical memory, or $VERITY_MEMORY_LIMIT].
+    /// memory [default: $VERITY_MEMORY_LIMIT, or 50% of the smallest of physical memory,
+    /// `ulimit -v` and the cgroup memory limit].
     #[arg(long, global = true, value_name = "SIZE", value_parser = scenes::budget::parse_limit)]
     pub memory_limit: Option<u64>,
 
