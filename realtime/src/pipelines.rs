@@ -620,17 +620,11 @@ impl Pipelines {
         }
     }
 
-    /// The pipelines one frame of `method` draws with under `pipeline`, in pass order: the
-    /// shadow pass's (under a shadow method), then the forward or the deferred ones, the
-    /// geometry pass's drawing `samples` samples per pixel.
-    pub(crate) fn stages(
-        &self,
-        device: &wgpu::Device,
-        method: &Method,
-        pipeline: PipelineKind,
-        counters: bool,
-        samples: u32,
-    ) -> Vec<(Stage, Arc<wgpu::RenderPipeline>)> {
+    /// The stages one frame of `method` draws under `pipeline`, in pass order, each with the
+    /// samples per pixel its pipeline draws: the shadow pass's (under a shadow method), then
+    /// the forward or the deferred ones, the geometry pass's drawing `samples` samples per
+    /// pixel.
+    pub(crate) fn frame_stages(method: &Method, pipeline: PipelineKind, samples: u32) -> Vec<(Stage, u32)> {
         let shadow: &[Stage] = if method.shadow.is_some() {
             &[Stage::ShadowMesh, Stage::ShadowAnalytic]
         } else {
@@ -650,11 +644,61 @@ impl Pipelines {
         shadow
             .iter()
             .chain(list)
-            .map(|&s| {
-                let n = if s.is_shadow() { 1 } else { samples };
-                (s, self.get_multisampled(device, s, method, counters, n))
-            })
+            .map(|&s| (s, if s.is_shadow() { 1 } else { samples }))
             .collect()
+    }
+
+    /// The pipelines one frame of `method` draws with under `pipeline`, in pass order
+    /// ([`Pipelines::frame_stages`]).
+    pub(crate) fn stages(
+        &self,
+        device: &wgpu::Device,
+        method: &Method,
+        pipeline: PipelineKind,
+        counters: bool,
+        samples: u32,
+    ) -> Vec<(Stage, Arc<wgpu::RenderPipeline>)> {
+        Self::frame_stages(method, pipeline, samples)
+            .into_iter()
+            .map(|(s, n)| (s, self.get_multisampled(device, s, method, counters, n)))
+            .collect()
+    }
+
+    /// Builds the pipelines of `requests` (stage, counting variant, samples per pixel) for
+    /// `method` that are not built yet, at once on as many threads as there are cores, so
+    /// that a render's later [`Pipelines::get`] calls find them. A driver compiles a
+    /// pipeline on the thread that creates it (lavapipe: one LLVM compilation each), and a
+    /// render of a new method needs several: its shading passes, the counting frame's
+    /// lighting, the G-buffer of its AOV passes.
+    pub(crate) fn prepare(&self, device: &wgpu::Device, method: &Method, requests: &[(Stage, bool, u32)]) {
+        let mut missing: Vec<Key> = Vec::new();
+        {
+            let cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
+            for &(stage, counters, samples) in requests {
+                let key = Self::key(stage, method, counters, samples);
+                if !cache.contains_key(&key) && !missing.contains(&key) {
+                    missing.push(key);
+                }
+            }
+        }
+        let workers = std::thread::available_parallelism()
+            .map_or(1, |n| n.get())
+            .min(missing.len());
+        if workers <= 1 {
+            return;
+        }
+        let next = std::sync::atomic::AtomicUsize::new(0);
+        std::thread::scope(|scope| {
+            for _ in 0..workers {
+                scope.spawn(|| {
+                    while let Some(&key) =
+                        missing.get(next.fetch_add(1, std::sync::atomic::Ordering::Relaxed))
+                    {
+                        self.get_key(device, key);
+                    }
+                });
+            }
+        });
     }
 
     /// The pipeline for `stage` with `method`, the counting variant or not, built on first use.
@@ -679,8 +723,13 @@ impl Pipelines {
         counters: bool,
         samples: u32,
     ) -> Arc<wgpu::RenderPipeline> {
+        self.get_key(device, Self::key(stage, method, counters, samples))
+    }
+
+    /// The pipeline cache's key of `stage` with `method`.
+    fn key(stage: Stage, method: &Method, counters: bool, samples: u32) -> Key {
         let texture = method.texture_filter().pipeline_code();
-        let key = if stage.is_shadow() {
+        if stage.is_shadow() {
             (stage, AreaMethod::Quadrature, 0, 0, 0, 0, false, 1, 0, 0, 0, 0)
         } else if stage.shades() {
             (
@@ -712,11 +761,22 @@ impl Pipelines {
                 0,
                 0,
             )
-        };
-        let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
-        cache
+        }
+    }
+
+    /// The pipeline of `key`, built on first use. The cache is not locked while the driver
+    /// compiles, so that [`Pipelines::prepare`]'s threads compile side by side; two threads
+    /// after the same key both build it and the first one stored is kept.
+    fn get_key(&self, device: &wgpu::Device, key: Key) -> Arc<wgpu::RenderPipeline> {
+        if let Some(p) = self.cache.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
+            return p.clone();
+        }
+        let built = self.build(device, key);
+        self.cache
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
             .entry(key)
-            .or_insert_with(|| self.build(device, key))
+            .or_insert(built)
             .clone()
     }
 
@@ -790,8 +850,12 @@ impl Pipelines {
         // The module's debug form is its whole content (types, globals, functions, entry
         // points), so equal strings are equal code.
         let code_key = (stage, samples, format!("{specialised:?}"));
-        let mut by_code = self.by_code.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some(pipeline) = by_code.get(&code_key) {
+        if let Some(pipeline) = self
+            .by_code
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&code_key)
+        {
             return pipeline.clone();
         }
         let module = &device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -871,8 +935,12 @@ impl Pipelines {
             multiview: None,
             cache: None,
         }));
-        by_code.insert(code_key, pipeline.clone());
-        pipeline
+        self.by_code
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .entry(code_key)
+            .or_insert(pipeline)
+            .clone()
     }
 }
 

@@ -142,6 +142,11 @@ impl Renderer {
             envmap: &envmap.bind_group,
             ssao: ssao_passes.as_ref(),
         };
+        self.pipelines.prepare(
+            device,
+            &settings.method,
+            &self.pipeline_requests(settings, &scene_gpu, samples, k),
+        );
         let stages = self
             .pipelines
             .stages(device, &settings.method, settings.pipeline, false, samples);
@@ -457,6 +462,34 @@ impl Renderer {
             targets.height,
             &self.pipelines.gbuffer_layout,
         ))
+    }
+
+    /// Every pipeline a render with `settings` draws with (stage, counting variant, samples
+    /// per pixel), for [`Pipelines::prepare`]: the frame's stages, the counting frame's
+    /// (`counting_frame`), the single-sampled frame of the object ids under an even
+    /// supersampling factor `k`, and the visibility AOV frame's (`visibility_frame`).
+    fn pipeline_requests(
+        &self,
+        settings: &RasterSettings,
+        scene_gpu: &SceneGpu,
+        samples: u32,
+        k: u32,
+    ) -> Vec<(Stage, bool, u32)> {
+        let frame = |n| Pipelines::frame_stages(&settings.method, settings.pipeline, n);
+        let mut out: Vec<(Stage, bool, u32)> =
+            frame(samples).into_iter().map(|(s, n)| (s, false, n)).collect();
+        if settings.counters {
+            out.extend([Stage::GBufferMesh, Stage::GBufferAnalytic, Stage::Lighting].map(|s| (s, true, 1)));
+        }
+        if k.is_multiple_of(2) {
+            out.extend(frame(1).into_iter().map(|(s, n)| (s, false, n)));
+        }
+        if scene_gpu.emitter_count + scene_gpu.light_count > 0 {
+            out.extend(
+                [Stage::GBufferMesh, Stage::GBufferAnalytic, Stage::VisibilityAov].map(|s| (s, false, 1)),
+            );
+        }
+        out
     }
 
     /// The G-buffer stages of `settings`' method.

@@ -76,15 +76,32 @@ fn every_study_holds_its_declared_bounds_in_quick_mode() {
     let jobs = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .clamp(1, MAX_CHILDREN);
-    let next = std::sync::atomic::AtomicUsize::new(0);
+    // Even workers take studies from the front of the sorted list, odd ones from its back, so
+    // that two children seldom run studies of one family at once: those build the same
+    // pipelines, and lavapipe gets a pipeline's machine code from Mesa's shader cache only
+    // once another process has finished compiling it (cold in CI).
+    let queue = std::sync::Mutex::new(
+        paths
+            .iter()
+            .enumerate()
+            .collect::<std::collections::VecDeque<_>>(),
+    );
     let mut results: Vec<(usize, Result<Vec<String>, String>)> = std::thread::scope(|scope| {
+        let queue = &queue;
         let workers: Vec<_> = (0..jobs)
-            .map(|_| {
-                scope.spawn(|| {
+            .map(|w| {
+                scope.spawn(move || {
                     let mut done = Vec::new();
                     loop {
-                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        let Some(path) = paths.get(i) else { break done };
+                        let next = {
+                            let mut q = queue.lock().unwrap_or_else(|p| p.into_inner());
+                            if w % 2 == 0 {
+                                q.pop_front()
+                            } else {
+                                q.pop_back()
+                            }
+                        };
+                        let Some((i, path)) = next else { break done };
                         done.push((i, run_quick_in_child(path)));
                     }
                 })

@@ -2,15 +2,10 @@
 //! some of them, hence `dead_code` allowed).
 #![allow(dead_code)]
 
-use std::sync::OnceLock;
+mod lease;
 
-use realtime::{Method, RasterOutput, Renderer};
-
-/// One renderer per test binary (pipelines are compiled once); no adapter is a failure.
-pub fn renderer() -> &'static Renderer {
-    static R: OnceLock<Renderer> = OnceLock::new();
-    R.get_or_init(|| Renderer::new().unwrap_or_else(|e| panic!("these tests need a GPU adapter: {e}")))
-}
+pub use lease::renderer;
+use realtime::{Method, RasterOutput};
 
 /// The method `name` with `params` over its defaults; a bad name or value panics with the
 /// parser's message.

@@ -5,22 +5,18 @@
 #![allow(dead_code)] // each parity_*.rs test binary uses its own subset
 
 use std::path::PathBuf;
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
-use realtime::{RasterOutput, RasterSettings, Renderer};
+use realtime::{RasterOutput, RasterSettings};
 use scenes::layered::LayeredImage;
 use scenes::texture::Texture;
 use scenes::*;
 use verity_tests::{add_shape, diffuse, empty_scene, render, settings, square};
 
-/// The process's renderer. No adapter is a test failure whose message says what to install.
-pub fn renderer() -> &'static Renderer {
-    static RENDERER: OnceLock<Renderer> = OnceLock::new();
-    RENDERER.get_or_init(|| {
-        Renderer::new().unwrap_or_else(|e| panic!("the realtime parity tests need a GPU adapter: {e}"))
-    })
-}
+#[path = "../../../realtime/tests/support/lease.rs"]
+mod lease;
+pub use lease::renderer;
 
 /// Renders `scene` with the realtime renderer (1 warm-up + 1 timed frame: tests check images).
 pub fn raster(scene: &Scene, s: RasterSettings) -> RasterOutput {
