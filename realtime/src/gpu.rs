@@ -21,7 +21,35 @@ use crate::error::{RasterError, INSTALL_HINT};
 
 /// How long one wait for the queue may take in all before it is an error: ten minutes, far
 /// above what a frame takes even on lavapipe, yet bounded, so a lost device cannot hang a run.
+/// [`WAIT_LIMIT_VARIABLE`] sets another.
 pub(crate) const GPU_WAIT_LIMIT: std::time::Duration = std::time::Duration::from_secs(600);
+
+/// The environment variable that sets the wait limit in seconds (a positive number): shorter
+/// to give up on a stuck device sooner, longer for frames that take more than ten minutes,
+/// and how the tests make a frame outlast the wait.
+pub const WAIT_LIMIT_VARIABLE: &str = "VERITY_GPU_WAIT_LIMIT_S";
+
+/// How long wgpu-core's `PollType::Wait` blocks before it reports a timeout
+/// (`CLEANUP_WAIT_MS`, wgpu-core 26).
+const WGPU_BLOCKING_WAIT: std::time::Duration = std::time::Duration::from_secs(60);
+
+/// The wait limit: [`WAIT_LIMIT_VARIABLE`]'s value, or [`GPU_WAIT_LIMIT`] when it is unset.
+fn wait_limit() -> Result<std::time::Duration, RasterError> {
+    let Some(value) = std::env::var_os(WAIT_LIMIT_VARIABLE) else {
+        return Ok(GPU_WAIT_LIMIT);
+    };
+    let text = value.to_string_lossy();
+    text.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|s| s.is_finite() && *s > 0.0 && *s <= 1e9)
+        .map(std::time::Duration::from_secs_f64)
+        .ok_or_else(|| {
+            RasterError::Settings(format!(
+                "{WAIT_LIMIT_VARIABLE}={text:?}: expected a positive number of seconds"
+            ))
+        })
+}
 
 /// Colour-attachment bytes per sample the passes write (three Rgba32Float targets).
 pub const COLOR_BYTES_PER_SAMPLE: u32 = 48;
@@ -64,12 +92,35 @@ pub struct Gpu {
     limits: wgpu::Limits,
     /// wgpu's uncaptured errors since the last [`Gpu::check_errors`].
     errors: Arc<Mutex<Vec<String>>>,
+    /// How long a wait for the queue may take ([`wait_limit`]).
+    wait_limit: std::time::Duration,
+    /// Set when a wait gave up with work still in flight: the device is then never destroyed
+    /// (see `Drop`).
+    abandoned: std::sync::atomic::AtomicBool,
+}
+
+impl Drop for Gpu {
+    /// wgpu-core's queue, when destroyed, waits about 6 s in all for the last submission and
+    /// panics if it has not finished ("We timed out while waiting on the last successful
+    /// submission to complete!"): a frame on a slow adapter outlasts that, and the panic in a
+    /// destructor ended runs in a segmentation fault. So the queue is first waited for as any
+    /// wait is; if that gives up, or an earlier wait did, the device and queue are leaked (the
+    /// process keeps them until it exits) rather than destroyed under running work.
+    fn drop(&mut self) {
+        let idle = !self.abandoned.load(std::sync::atomic::Ordering::Relaxed)
+            && self.wait_for("releasing the device").is_ok();
+        if !idle {
+            std::mem::forget(self.queue.clone());
+            std::mem::forget(self.device.clone());
+        }
+    }
 }
 
 impl Gpu {
     /// Picks the adapter (see the module documentation) and creates the device. Without any
     /// adapter the error says what to install.
     pub fn new() -> Result<Gpu, RasterError> {
+        let wait_limit = wait_limit()?;
         let instance = wgpu::Instance::new(&wgpu::InstanceDescriptor::from_env_or_default());
         let adapter = pick_adapter(&instance)?;
         let info = adapter.get_info();
@@ -150,6 +201,8 @@ impl Gpu {
             msaa_counts,
             limits,
             errors,
+            wait_limit,
+            abandoned: std::sync::atomic::AtomicBool::new(false),
         })
     }
 
@@ -172,19 +225,37 @@ impl Gpu {
     /// wgpu-core gives up a `PollType::Wait` after a fixed 60 s (`CLEANUP_WAIT_MS`). A
     /// software rasteriser (lavapipe) on a loaded two-core machine can take longer than that
     /// for one submission without anything being wrong, so a timed-out wait is retried until
-    /// [`GPU_WAIT_LIMIT`] has passed; only then is it an error.
+    /// the wait limit ([`GPU_WAIT_LIMIT`], or [`WAIT_LIMIT_VARIABLE`]) has passed; within the
+    /// last 60 s of the limit the queue is polled every few milliseconds instead, so that the
+    /// limit holds to the millisecond. Only then is it an error, and the device is abandoned
+    /// (never destroyed: `Drop`).
     pub(crate) fn wait_for(&self, context: &str) -> Result<(), RasterError> {
         let start = std::time::Instant::now();
+        let give_up = |e: String| {
+            self.abandoned.store(true, std::sync::atomic::Ordering::Relaxed);
+            RasterError::Gpu {
+                context: context.to_string(),
+                message: format!(
+                    "{e} after {:.1} s, the limit ({WAIT_LIMIT_VARIABLE} sets another); the device is abandoned",
+                    start.elapsed().as_secs_f64()
+                ),
+            }
+        };
         loop {
-            match self.device.poll(wgpu::PollType::Wait) {
-                Ok(_) => return Ok(()),
-                Err(wgpu::PollError::Timeout) if start.elapsed() < GPU_WAIT_LIMIT => continue,
-                Err(e) => {
-                    return Err(RasterError::Gpu {
-                        context: context.to_string(),
-                        message: format!("{e} (waited {:.0} s)", start.elapsed().as_secs_f64()),
-                    })
+            let left = self.wait_limit.saturating_sub(start.elapsed());
+            if left > WGPU_BLOCKING_WAIT {
+                match self.device.poll(wgpu::PollType::Wait) {
+                    Ok(_) => return Ok(()),
+                    Err(wgpu::PollError::Timeout) => continue,
                 }
+            }
+            match self.device.poll(wgpu::PollType::Poll) {
+                Ok(status) if status.is_queue_empty() => return Ok(()),
+                Ok(_) if left > std::time::Duration::ZERO => {
+                    std::thread::sleep(left.min(std::time::Duration::from_millis(2)));
+                }
+                Ok(_) => return Err(give_up("the queue did not finish".into())),
+                Err(e) => return Err(give_up(e.to_string())),
             }
         }
     }

@@ -127,6 +127,21 @@ fn every_study_holds_its_declared_bounds_in_quick_mode() {
         "declared bounds fail:\n{}",
         failures.join("\n")
     );
+    // The quick study of issue 43's memory report: 1.50 GB then (every pipeline carried the
+    // whole shading module), 0.51 GB since. The child runs the study as `verity report
+    // --quick` does, and its report records the process's peak (Linux VmHWM).
+    let metrics = workspace().join("target/study-tests/shadow-light-size/metrics.json");
+    let text = std::fs::read_to_string(&metrics).unwrap_or_else(|e| panic!("{}: {e}", metrics.display()));
+    let json: serde_json::Value =
+        serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", metrics.display()));
+    let peak = json["run"]["peak_memory_bytes"]
+        .as_u64()
+        .expect("the report measures its peak memory (Linux VmHWM)");
+    assert!(
+        peak < 700 << 20,
+        "the quick shadow-light-size study peaked at {} MB",
+        peak >> 20
+    );
 }
 
 /// The most study processes run at once.

@@ -117,6 +117,9 @@ pub fn run(args: &RasterArgs, command_line: &str) -> Result<(), CliError> {
         .image
         .set_attribute("software", format!("verity {}", env!("CARGO_PKG_VERSION")));
     result.image.set_attribute("command_line", command_line);
+    if let Some(peak) = scenes::budget::peak_resident_bytes() {
+        result.image.set_attribute("peak_memory_bytes", peak.to_string());
+    }
     result
         .image
         .write_exr(&out)

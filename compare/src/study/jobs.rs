@@ -327,7 +327,106 @@ pub fn read_plan(path: &Path) -> Result<JobPlan, StudyError> {
             plan.schema_version
         )));
     }
+    check_plan(&plan, path).map_err(|why| StudyError::Input(format!("{}: {why}", path.display())))?;
     Ok(plan)
+}
+
+/// Checks what a plan makes Verity write before any of its jobs runs. Plans travel between
+/// machines, so like a glTF asset's URIs ([`scenes::access`]) the folders a plan names are
+/// not trusted: its report folder `out` and its cache `cache` must lie inside the plan's
+/// own folder or the current one (the folder the user runs it from), lexically and with
+/// symbolic links resolved, unless `--allow-paths-outside` is given. Each job's `outputs`
+/// must be exactly the files the job writes there (a ground truth's cache entry and its
+/// checksum, a part's file, a raster job's recorded renders, the report's metrics.json), and
+/// a ground truth's `hash`, which names its files, a SHA-256 hex digest. `inputs` are for
+/// schedulers: Verity reads what a job needs through the study and the plan's folders, never
+/// through them. `Err` names the field.
+fn check_plan(plan: &JobPlan, file: &Path) -> Result<(), String> {
+    let folder = match file.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let here = Path::new(".");
+    let roots = if scenes::access::outside_allowed() {
+        scenes::access::Confinement::anywhere()
+    } else if scenes::access::absolute(folder) == scenes::access::absolute(here) {
+        scenes::access::Confinement::within(folder)
+    } else {
+        scenes::access::Confinement::within(folder).and(here)
+    };
+    for (field, dir) in [("out", &plan.out), ("cache", &plan.cache)] {
+        roots.check(dir).map_err(|why| {
+            format!(
+                "field `{field}` ({}): {why}; a plan writes only below its own folder or the current one \
+                 (run it from a folder above its `{field}`, or pass --allow-paths-outside)",
+                dir.display()
+            )
+        })?;
+    }
+    for (i, job) in plan.jobs.iter().enumerate() {
+        let at = |field: &str| format!("field `jobs[{i}].{field}` (job `{}`)", job.id);
+        if let Some(hash) = &job.hash {
+            if hash.len() != 64
+                || !hash
+                    .bytes()
+                    .all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b))
+            {
+                return Err(format!("{}: `{hash}` is not a SHA-256 hex digest", at("hash")));
+            }
+        }
+        let hash = || {
+            job.hash
+                .as_deref()
+                .ok_or_else(|| format!("{}: a {} job needs one", at("hash"), job.kind))
+        };
+        let expected: Vec<PathBuf> = match job.kind.as_str() {
+            GROUND_TRUTH_PART => {
+                let share = RowShare::parse(job.part.as_deref().unwrap_or_default())
+                    .map_err(|e| format!("{}: {e}", at("part")))?;
+                vec![part_path(&plan.cache, hash()?, share)]
+            }
+            GROUND_TRUTH => {
+                let entry = cache::Entry::new(&plan.cache, hash()?);
+                vec![entry.path().to_path_buf(), entry.checksum_path().to_path_buf()]
+            }
+            REPORT => vec![plan.out.join("metrics.json")],
+            // A raster job's files are named by its variants' keys (from the study): each
+            // must be a recorded render or its checksum in the plan's raster folder.
+            _ => {
+                let dir = raster_dir(plan);
+                let recorded = |p: &Path| {
+                    p.parent() == Some(dir.as_path())
+                        && p.file_name().and_then(|n| n.to_str()).is_some_and(|n| {
+                            !n.starts_with('.') && (n.ends_with(".exr") || n.ends_with(".exr.sha256"))
+                        })
+                };
+                if let Some(p) = job.outputs.iter().find(|p| !recorded(p)) {
+                    return Err(format!(
+                        "{}: {} is not a recorded render in {}",
+                        at("outputs"),
+                        p.display(),
+                        dir.display()
+                    ));
+                }
+                continue;
+            }
+        };
+        if job.outputs != expected {
+            let list = |v: &[PathBuf]| {
+                v.iter()
+                    .map(|p| p.display().to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            return Err(format!(
+                "{}: [{}] are not the files this job writes ([{}])",
+                at("outputs"),
+                list(&job.outputs),
+                list(&expected)
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The options a plan was written with.

@@ -67,6 +67,47 @@ macro_rules! bad_name {
     };
 }
 
+/// A SHA-256 hex digest no study has.
+macro_rules! zeros {
+    () => {
+        "0000000000000000000000000000000000000000000000000000000000000000"
+    };
+}
+
+/// `verity run-job plan.json ground_truth` on a plan of study-control.toml whose `cache`,
+/// `out`, ground-truth `hash` and `outputs` (JSON list items) are given; `study = …` first
+/// names another study file.
+macro_rules! plan {
+    (study = $study:expr, $name:expr, $cache:expr, $out:expr, $hash:expr, $outputs:expr, $error:expr) => {
+        Case {
+            name: $name,
+            files: &["plan.json", "study-control.toml"],
+            builtins: &["soft-shadow.toml"],
+            subst: &[
+                ("@STUDY@", $study),
+                ("@CACHE@", $cache),
+                ("@OUT@", $out),
+                ("@HASH@", $hash),
+                ("@OUTPUTS@", $outputs),
+            ],
+            args: &["run-job", "plan.json", "ground_truth", "-q"],
+            error: $error,
+            ..BASE
+        }
+    };
+    ($name:expr, $cache:expr, $out:expr, $hash:expr, $outputs:expr, $error:expr) => {
+        plan!(
+            study = "study-control.toml",
+            $name,
+            $cache,
+            $out,
+            $hash,
+            $outputs,
+            $error
+        )
+    };
+}
+
 /// The corrupted checkpoint cases: `--resume` must refuse them (exit 1, naming the file).
 macro_rules! checkpoint {
     ($name:expr, $corrupt:expr) => {
@@ -422,6 +463,77 @@ pub const CASES: &[Case] = &[
         error: &["/dev/zero", "plan", "device"],
         ..BASE
     },
+    // A plan decides nothing about where files go (issue 43): its `cache` and `out` stay
+    // below its folder or the current one, a ground truth's hash is a hex digest (it names
+    // the cache files) and a job's outputs are the files it writes. The control passes the
+    // check and fails later, on the hash its study does not have.
+    plan!(
+        "plan-cache-root",
+        "/",
+        "out",
+        zeros!(),
+        concat!("\"/", zeros!(), ".exr\", \"/", zeros!(), ".exr.sha256\""),
+        &["plan.json", "field `cache` (/)", "outside"]
+    ),
+    plan!(
+        "plan-out-up",
+        "cache",
+        "{UP}verity-hostile-out",
+        zeros!(),
+        concat!(
+            "\"cache/",
+            zeros!(),
+            ".exr\", \"cache/",
+            zeros!(),
+            ".exr.sha256\""
+        ),
+        &["plan.json", "field `out`", "outside"]
+    ),
+    plan!(
+        "plan-hash-path",
+        "cache",
+        "out",
+        "../../../x",
+        "",
+        &["plan.json", "jobs[0].hash", "SHA-256"]
+    ),
+    plan!(
+        "plan-outputs-elsewhere",
+        "cache",
+        "out",
+        zeros!(),
+        "\"/tmp/verity-hostile.exr\"",
+        &["plan.json", "jobs[0].outputs", "not the files this job writes"]
+    ),
+    plan!(
+        study = "/dev/zero",
+        "plan-study-dev-zero",
+        "cache",
+        "out",
+        zeros!(),
+        concat!(
+            "\"cache/",
+            zeros!(),
+            ".exr\", \"cache/",
+            zeros!(),
+            ".exr.sha256\""
+        ),
+        &["/dev/zero", "study file", "device"]
+    ),
+    plan!(
+        "plan-control",
+        "cache",
+        "out",
+        zeros!(),
+        concat!(
+            "\"cache/",
+            zeros!(),
+            ".exr\", \"cache/",
+            zeros!(),
+            ".exr.sha256\""
+        ),
+        &["no ground truth", "hash the plan recorded"]
+    ),
     Case {
         name: "report-from-plan-fifo",
         make: &[Make::Fifo],
