@@ -74,6 +74,19 @@ macro_rules! zeros {
     };
 }
 
+/// The `outputs` of the ground truth [`zeros!`] in the cache folder `cache`, as JSON list items.
+macro_rules! cached_zeros {
+    () => {
+        concat!(
+            "\"cache/",
+            zeros!(),
+            ".exr\", \"cache/",
+            zeros!(),
+            ".exr.sha256\""
+        )
+    };
+}
+
 /// `verity run-job plan.json ground_truth` on a plan of study-control.toml whose `cache`,
 /// `out`, ground-truth `hash` and `outputs` (JSON list items) are given; `study = …` first
 /// names another study file.
@@ -480,13 +493,7 @@ pub const CASES: &[Case] = &[
         "cache",
         "{UP}verity-hostile-out",
         zeros!(),
-        concat!(
-            "\"cache/",
-            zeros!(),
-            ".exr\", \"cache/",
-            zeros!(),
-            ".exr.sha256\""
-        ),
+        cached_zeros!(),
         &["plan.json", "field `out`", "outside"]
     ),
     plan!(
@@ -511,13 +518,7 @@ pub const CASES: &[Case] = &[
         "cache",
         "out",
         zeros!(),
-        concat!(
-            "\"cache/",
-            zeros!(),
-            ".exr\", \"cache/",
-            zeros!(),
-            ".exr.sha256\""
-        ),
+        cached_zeros!(),
         &["/dev/zero", "study file", "device"]
     ),
     plan!(
@@ -525,13 +526,7 @@ pub const CASES: &[Case] = &[
         "cache",
         "out",
         zeros!(),
-        concat!(
-            "\"cache/",
-            zeros!(),
-            ".exr\", \"cache/",
-            zeros!(),
-            ".exr.sha256\""
-        ),
+        cached_zeros!(),
         &["no ground truth", "hash the plan recorded"]
     ),
     Case {
