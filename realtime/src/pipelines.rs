@@ -666,10 +666,11 @@ impl Pipelines {
 
     /// Builds the pipelines of `requests` (stage, counting variant, samples per pixel) for
     /// `method` that are not built yet, at once on as many threads as there are cores, so
-    /// that a render's later [`Pipelines::get`] calls find them. A driver compiles a
-    /// pipeline on the thread that creates it (lavapipe: one LLVM compilation each), and a
-    /// render of a new method needs several: its shading passes, the counting frame's
-    /// lighting, the G-buffer of its AOV passes.
+    /// that a render's later [`Pipelines::get`] calls find them. A GPU driver compiles a
+    /// pipeline on the thread that creates it (lavapipe only translates SPIR-V to NIR there;
+    /// LLVM compiles on its queue thread at the first draw), and a render of a new method
+    /// needs several: its shading passes, the counting frame's lighting, the G-buffer of its
+    /// AOV passes.
     pub(crate) fn prepare(&self, device: &wgpu::Device, method: &Method, requests: &[(Stage, bool, u32)]) {
         let mut missing: Vec<Key> = Vec::new();
         {
