@@ -1280,3 +1280,97 @@ fn a_bias_threshold_bounds_the_mean_ratio() {
         "{text}"
     );
 }
+
+/// `verity report --only-bounded` renders the variants a bound of the mode applies to and no
+/// others: a scene point none of whose variants is bounded gets no ground truth, no sweep is
+/// drawn, flicker is measured only where a flicker bound asks; every bound gets the value,
+/// bit for bit, of the complete run, and metrics.json and the report say what was left out.
+#[test]
+fn only_bounded_renders_what_the_bounds_check_with_the_same_verdicts() {
+    let dir = tmp("only-bounded");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let study = dir.join("only-bounded.toml");
+    let text = SWEPT
+        .replace("\"../soft-shadow.toml\"", &format!("\"{}\"", scenes.join("soft-shadow.toml").display()))
+        .replace(
+            "[[method]]",
+            "[quick]\nspp = 4\nresolution = [16, 16]\n[stability]\nflicker = { frames = 2, orbit_degrees = 0.5, orbit_distance = 1.0 }\n[[method]]",
+        )
+        .replace("scene = { light_size = 1.0 }", "scene = { light_size = 1.0 }\nparams = { map = 256 }")
+        + "[[threshold]]\nmethod = \"shadow_hard\"\nscene = { light_size = 0.25 }\nparams = { map = 512 }\nmode = \"full\"\nmetric = \"relmse\"\nmax = 1.0\nreason = \"full mode only\"\n";
+    std::fs::write(&study, text).unwrap();
+    let cache = dir.join("cache");
+    let run = |name: &str, only: bool| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "report",
+            study.to_str().unwrap(),
+            "--quick",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+            "--cache",
+            cache.to_str().unwrap(),
+        ];
+        if only {
+            args.push("--only-bounded");
+        }
+        let (code, stdout, stderr) = report(&args);
+        assert_eq!(code, 0, "{stdout}{stderr}");
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).unwrap()).unwrap();
+        (json, out, stdout)
+    };
+    let (whole, _, _) = run("whole", false);
+    let (only, out, stdout) = run("only", true);
+    let labels = |j: &serde_json::Value| -> Vec<String> {
+        j["variants"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v["label"].as_str().unwrap().to_string())
+            .collect()
+    };
+    assert_eq!(labels(&whole).len(), 4);
+    assert_eq!(labels(&only), ["shadow_hard(map=256) @ light_size=1"], "{stdout}");
+    assert!(
+        stdout.contains("1 variants on") && stdout.contains("1 of 1 bounds hold"),
+        "{stdout}"
+    );
+    assert_eq!(only["thresholds"], whole["thresholds"]);
+    assert_eq!(
+        (
+            only["run"]["only_bounded"].as_bool(),
+            only["run"]["variants_declared"].as_u64()
+        ),
+        (Some(true), Some(4))
+    );
+    assert_eq!(whole["run"]["only_bounded"].as_bool(), Some(false));
+    assert_eq!(whole["flicker"].as_array().unwrap().len(), 2);
+    assert!(!whole["sweeps"].as_array().unwrap().is_empty() && whole["scene_sweep"].is_object());
+    assert!(only["flicker"].as_array().unwrap().is_empty());
+    assert!(only["sweeps"].as_array().unwrap().is_empty() && only["scene_sweep"].is_null());
+    // The first scene point's ground truth sizes the run; the second's variant is the one rendered.
+    assert!(out.join("ground_truth--light_size-1.exr").exists());
+    let html = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(
+        html.contains("Bounded variants only") && html.contains("1 of the 4 variants"),
+        "{html}"
+    );
+    // A record is of the whole study: the flag refuses --record (and plans, which run every variant).
+    for extra in [&["--all", "--record"][..], &["--plan", "p.json"][..]] {
+        let mut args = vec!["report", "--only-bounded"];
+        if extra[0] == "--plan" {
+            args.push(study.to_str().unwrap());
+        }
+        args.extend_from_slice(extra);
+        let (code, _, stderr) = report(&args);
+        assert_eq!(code, 2, "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("--only-bounded") && stderr.contains("cannot be used with"),
+            "{stderr}"
+        );
+    }
+}

@@ -36,6 +36,7 @@ fn options(dir: &Path) -> RunOptions {
         out_dir: dir.join("report"),
         cache_dir: dir.join("cache"),
         progress: ProgressMode::Quiet,
+        only_bounded: false,
     }
 }
 

@@ -26,6 +26,7 @@ fn the_example_notebook_runs_on_a_quick_report() {
         out_dir: out.clone(),
         cache_dir: ws.join("target/notebook-test/cache"),
         progress: ProgressMode::Quiet,
+        only_bounded: false,
     };
     let r = run_study(&study, &Rasters::Live(&renderer), &opts).unwrap_or_else(|e| panic!("{e}"));
     compare::report::write(&r, &out).unwrap();

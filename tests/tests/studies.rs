@@ -32,6 +32,7 @@ fn run_quick(study: &Study, tag: &str) -> StudyResult {
         out_dir: out.clone(),
         cache_dir: workspace().join("target/study-tests/cache"),
         progress: ProgressMode::Quiet,
+        only_bounded: true,
     };
     let r = run_study(study, &Rasters::Live(&renderer()), &opts)
         .unwrap_or_else(|e| panic!("{}: {e}", study.path.display()));

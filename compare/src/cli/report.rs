@@ -1,4 +1,4 @@
-//! `verity report [STUDY] [--out DIR] [--quick] [--dry-run]`: run a study and write its report
+//! `verity report [STUDY] [--out DIR] [--quick] [--only-bounded] [--dry-run]`: run a study and write its report
 //! (compare/src/report, compare/src/study). With no STUDY, the built-in default study
 //! ([`DEFAULT_STUDY`]). `--dry-run` checks the study whole (every reference, the scene at
 //! every scene point, the size and memory against the budget) and prints its plan without
@@ -33,6 +33,12 @@ pub struct ReportArgs {
     /// Quick mode: the study's [quick] resolution and sample count (what the tests run).
     #[arg(long)]
     pub quick: bool,
+
+    /// Render only the variants a bound of the run's mode applies to: the regression check
+    /// of the study's bounds (what the studies test runs), without the sweeps and the
+    /// flicker of the variants no bound holds. The report says how many variants it left out.
+    #[arg(long, conflicts_with_all = ["record", "plan", "from", "dry_run"])]
+    pub only_bounded: bool,
 
     /// Ground-truth cache folder [default: out/cache].
     #[arg(long, value_name = "DIR")]
@@ -118,6 +124,7 @@ pub fn run(args: &ReportArgs) -> Result<u8, CliError> {
             quick: args.quick,
             record: args.record,
             stale: args.stale,
+            only_bounded: args.only_bounded,
             out: args.out.clone(),
             cache: args.cache.clone(),
         };
@@ -147,6 +154,7 @@ pub fn run(args: &ReportArgs) -> Result<u8, CliError> {
         out_dir: out_dir.clone(),
         cache_dir: args.cache.clone().unwrap_or_else(|| PathBuf::from("out/cache")),
         progress: ProgressMode::detect(args.quiet),
+        only_bounded: args.only_bounded,
     };
     if let Some(file) = &args.plan {
         return write_plan(&study, &opts, file, args.parts);

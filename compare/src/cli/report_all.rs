@@ -26,6 +26,8 @@ pub struct AllOptions {
     pub record: bool,
     /// `--stale`.
     pub stale: bool,
+    /// `--only-bounded`.
+    pub only_bounded: bool,
     /// `--out DIR`.
     pub out: Option<PathBuf>,
     /// `--cache DIR`.
@@ -115,7 +117,7 @@ pub fn run(args: &AllOptions, dir: &Path) -> Result<u8, CliError> {
         }
         rows.push(row);
     }
-    write_summary(&out, args.quick, &rows)?;
+    write_summary(&out, args, &rows)?;
     let worst = rows.iter().map(|r| r.status).max().unwrap_or(0);
     Ok(worst)
 }
@@ -133,6 +135,9 @@ fn child(exe: &Path, args: &AllOptions, study: &Path, folder: &Path) -> Result<u
     c.arg("report").arg(study).arg("--out").arg(folder).arg("--quiet");
     if args.quick {
         c.arg("--quick");
+    }
+    if args.only_bounded {
+        c.arg("--only-bounded");
     }
     if let Some(cache) = &args.cache {
         c.arg("--cache").arg(cache);
@@ -176,10 +181,15 @@ fn write_record(s: &study::Study, json: &Value) -> Result<bool, CliError> {
 }
 
 /// `DIR/summary.md` and `DIR/summary.json`, and the table on standard output.
-fn write_summary(out: &Path, quick: bool, rows: &[Row]) -> Result<(), CliError> {
-    let mode = if quick { "quick" } else { "full" };
+fn write_summary(out: &Path, args: &AllOptions, rows: &[Row]) -> Result<(), CliError> {
+    let mode = if args.quick { "quick" } else { "full" };
+    let only = if args.only_bounded {
+        ", bounded variants only (--only-bounded)"
+    } else {
+        ""
+    };
     let mut md = format!(
-        "# All studies, {mode} mode\n\n| study | mode | exit | bounds held | wall time | peak memory | record |\n|---|---|---|---|---|---|---|\n"
+        "# All studies, {mode} mode{only}\n\n| study | mode | exit | bounds held | wall time | peak memory | record |\n|---|---|---|---|---|---|---|\n"
     );
     let mut json = Vec::new();
     for r in rows {

@@ -125,6 +125,15 @@ fn header(h: &mut String, r: &StudyResult) {
             .map(|b| format!(", peak memory {}", scenes::budget::human(b)))
             .unwrap_or_default()
     );
+    if run.only_bounded {
+        let _ = writeln!(
+            h,
+            "<p class=\"mode\"><b>Bounded variants only</b> (<code>--only-bounded</code>): {} of the {} variants the study declares, those a bound of {} mode applies to; no sweeps, and flicker only where a bound holds it. Run without the flag for the whole study.</p>",
+            r.variants.len(),
+            run.variants_declared,
+            run.mode
+        );
+    }
     if let Some(s) = &r.scene_sweep {
         let values: Vec<String> = s
             .values

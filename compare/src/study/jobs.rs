@@ -436,6 +436,7 @@ pub fn options(plan: &JobPlan, progress: crate::progress::ProgressMode) -> RunOp
         out_dir: plan.out.clone(),
         cache_dir: plan.cache.clone(),
         progress,
+        only_bounded: false,
     }
 }
 

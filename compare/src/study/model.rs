@@ -209,6 +209,14 @@ impl Study {
             .flat_map(|p| self.variants_at(p))
             .collect()
     }
+
+    /// Does a bound checked in `mode` apply to `variant` (a flicker bound only when
+    /// `flicker`, any other bound only when not)?
+    pub fn bounds(&self, variant: &Variant, mode: RunMode, flicker: bool) -> bool {
+        self.thresholds
+            .iter()
+            .any(|th| th.checked_in(mode) && (th.on == Target::Flicker) == flicker && th.applies_to(variant))
+    }
 }
 
 /// The oracle's settings for the ground truth.

@@ -100,6 +100,12 @@ pub struct RunInfo {
     pub bounds_of_mode: usize,
     /// Bounds declared in the study file.
     pub bounds_declared: usize,
+    /// Variants the study declares (every method × parameter point at every scene point).
+    pub variants_declared: usize,
+    /// Whether only the variants a bound of this mode applies to were rendered
+    /// (`--only-bounded`): then `variants` holds those, and there are no sweeps, no scene
+    /// sweep and flicker only where a flicker bound asks for it.
+    pub only_bounded: bool,
     /// Wall time of the whole run, seconds.
     pub wall_seconds: f64,
     /// Peak resident memory of the process, bytes (Linux `VmHWM`; null where unknown).

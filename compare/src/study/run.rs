@@ -30,7 +30,13 @@ pub fn run_study(study: &Study, rasters: &Rasters, opts: &RunOptions) -> Result<
         fs::create_dir_all(&d).map_err(io_err(&d))?;
     }
     let points = study.scene_points();
-    let total = study.variants().len();
+    let mode = super::RunMode::of(opts.quick);
+    // With `only_bounded`, the variants a bound of this mode holds (a flicker bound's
+    // variant is measured for its image too, as the report shows it).
+    let rendered =
+        |v: &Variant| !opts.only_bounded || study.bounds(v, mode, false) || study.bounds(v, mode, true);
+    let declared = study.variants().len();
+    let total = study.variants().iter().filter(|v| rendered(v)).count();
     let mut results = Vec::new();
     let mut ground_truths = Vec::new();
     let mut second: Option<RgbImage> = None;
@@ -38,7 +44,17 @@ pub fn run_study(study: &Study, rasters: &Rasters, opts: &RunOptions) -> Result<
     let mut first: Option<(Scene, RenderSettings, Vec<MaskInfo>)> = None;
     let mut adapter = None;
     let steps = StepProgress::new(opts.progress, total);
-    for point in &points {
+    for (k, point) in points.iter().enumerate() {
+        let variants: Vec<Variant> = study
+            .variants_at(point)
+            .into_iter()
+            .filter(|v| rendered(v))
+            .collect();
+        // A scene point none of whose variants is rendered needs no ground truth (the first
+        // is kept: the run's size, masks and flicker are its).
+        if k > 0 && variants.is_empty() {
+            continue;
+        }
         let (scene, settings) = prepare(study, opts.quick, &point.overrides)?;
         let (gt, gt_info) = ground_truth(&scene, settings, opts, &format!("ground_truth{}", point.suffix()))?;
         gt.write_png_preview(opts.out_dir.join(&gt_info.png), 0.0)
@@ -56,7 +72,7 @@ pub fn run_study(study: &Study, rasters: &Rasters, opts: &RunOptions) -> Result<
                 second_images.push(info);
             }
         }
-        for variant in study.variants_at(point) {
+        for variant in variants {
             let line = format!("[{}/{total}] {}", results.len() + 1, variant.label());
             steps.start(&variant.label());
             let (result, timing) = measure_variant(
@@ -94,7 +110,7 @@ pub fn run_study(study: &Study, rasters: &Rasters, opts: &RunOptions) -> Result<
         study_file: study.path.display().to_string(),
         scene: study.scene.display().to_string(),
         mode: super::RunMode::of(opts.quick).name().into(),
-        run: run_info(study, opts.quick, (w, h), settings.spp),
+        run: run_info(study, opts, (w, h), settings.spp, declared),
         width: w,
         height: h,
         ground_truth: ground_truths[0].clone(),
@@ -118,11 +134,25 @@ pub fn run_study(study: &Study, rasters: &Rasters, opts: &RunOptions) -> Result<
         variants: results,
     };
     let at_first = study.variants_at(&points[0]);
-    out.sweeps = stability::sweeps(study, &at_first, &out);
-    out.scene_sweep = stability::scene_sweep(study, &at_first, ground_truths, &out);
-    if let Some(f) = &study.stability.flicker {
+    let flickering: Vec<Variant> = if opts.only_bounded {
+        at_first
+            .iter()
+            .filter(|v| study.bounds(v, mode, true))
+            .cloned()
+            .collect()
+    } else {
+        out.sweeps = stability::sweeps(study, &at_first, &out);
+        out.scene_sweep = stability::scene_sweep(study, &at_first, ground_truths, &out);
+        at_first.clone()
+    };
+    if let Some(f) = study
+        .stability
+        .flicker
+        .as_ref()
+        .filter(|_| !flickering.is_empty())
+    {
         let base = (&scene, settings, &points[0]);
-        out.flicker = stability::flicker(study, rasters, base, &at_first, f, opts)?;
+        out.flicker = stability::flicker(study, rasters, base, &flickering, f, opts)?;
     }
     out.thresholds = check_thresholds(study, &study.variants(), &at_first, &out);
     out.run.wall_seconds = started.elapsed().as_secs_f64();
@@ -186,7 +216,14 @@ fn adapter_info(timing: realtime::Timing) -> AdapterInfo {
 }
 
 /// The run's settings for metrics.json (`run`); time and memory are filled in at the end.
-fn run_info(study: &Study, quick: bool, (w, h): (u32, u32), spp: u32) -> RunInfo {
+fn run_info(
+    study: &Study,
+    opts: &RunOptions,
+    (w, h): (u32, u32),
+    spp: u32,
+    variants_declared: usize,
+) -> RunInfo {
+    let quick = opts.quick;
     let mode = super::RunMode::of(quick);
     let r = study.raster;
     let (warmup, timed) = study
@@ -202,6 +239,8 @@ fn run_info(study: &Study, quick: bool, (w, h): (u32, u32), spp: u32) -> RunInfo
         frames: [warmup, timed],
         bounds_of_mode: study.thresholds.iter().filter(|t| t.checked_in(mode)).count(),
         bounds_declared: study.thresholds.len(),
+        variants_declared,
+        only_bounded: opts.only_bounded,
         wall_seconds: 0.0,
         peak_memory_bytes: None,
     }

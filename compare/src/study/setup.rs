@@ -28,6 +28,11 @@ pub struct RunOptions {
     pub cache_dir: PathBuf,
     /// Progress display.
     pub progress: ProgressMode,
+    /// Render only the variants a bound of the run's mode applies to (`verity report
+    /// --only-bounded`; what the studies test runs): the regression check of the bounds,
+    /// without the sweeps, the scene sweep's series or the flicker of the variants no bound
+    /// holds (docs/ARCHITECTURE.md, "The studies test renders what its bounds check").
+    pub only_bounded: bool,
 }
 
 /// Why a study could not run; decides the CLI's exit status.
