@@ -104,7 +104,7 @@ fn fxaa_that_finds_no_edge_and_taa_without_jitter_do_not_anti_alias() {
 }
 
 #[test]
-fn taa_history_ghosts_under_motion_unless_clipped() {
+fn taa_history_ghosts_under_motion_unless_clipped_or_clamped() {
     let reference = render("aa_ssaa", &[("k", "8")]);
     let moving = |clamp: &str| {
         mse(
@@ -115,13 +115,13 @@ fn taa_history_ghosts_under_motion_unless_clipped() {
             &reference,
         )
     };
-    let (ghosting, clipped) = (moving("none"), moving("clip"));
+    let (ghosting, clipped, clamped) = (moving("none"), moving("clip"), moving("aabb"));
     let still = mse(
         &render("aa_taa", &[("clamp", "none"), ("frames", "16")]),
         &reference,
     );
     eprintln!(
-        "TAA under a 1°/frame orbit: clamp none {ghosting:.3e}, clip {clipped:.3e}; still view {still:.3e}"
+        "TAA under a 1°/frame orbit: clamp none {ghosting:.3e}, clip {clipped:.3e}, aabb {clamped:.3e}; still view {still:.3e}"
     );
     assert!(
         ghosting > 3.0 * still,
@@ -130,6 +130,12 @@ fn taa_history_ghosts_under_motion_unless_clipped() {
     assert!(
         clipped < 0.8 * ghosting,
         "clipping did not limit the ghosts: {clipped:.3e} vs {ghosting:.3e}"
+    );
+    // Clamping to the neighbourhood's box (Karis 2014) limits them too, if less tightly than
+    // clipping towards its centre can.
+    assert!(
+        clamped < 0.8 * ghosting,
+        "clamping did not limit the ghosts: {clamped:.3e} vs {ghosting:.3e}"
     );
 }
 

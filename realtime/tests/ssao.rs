@@ -108,6 +108,7 @@ fn the_radius_bounds_what_occludes() {
         };
         let (cut, ids) = with_falloff("cutoff");
         let (none, _) = with_falloff("none");
+        let (quadratic, _) = with_falloff("quadratic");
         let floor: Vec<usize> = (0..ids.len()).filter(|i| ids[*i] == 1.0).collect();
         // The floor pixels the cut-off leaves unoccluded lie further than r from the wall: the
         // same pixels without the distance test are darker (the wall is higher on screen).
@@ -123,9 +124,22 @@ fn the_radius_bounds_what_occludes() {
             "{name}: without the distance test the wall darkens the far floor ({darker} of {})",
             open.len()
         );
-        // The floor at the wall's foot is occluded under both.
+        // The quadratic attenuation 1 − d²/r² is zero from r on, as the cut-off is.
+        let beyond = open.iter().filter(|i| quadratic[**i] < 0.999).count();
+        assert!(
+            beyond == 0,
+            "{name}: the quadratic falloff darkens {beyond} floor pixels further than r"
+        );
+        // The floor at the wall's foot is occluded under both, less under the attenuation
+        // (its weights are at most the cut-off's 1).
         let foot: Vec<usize> = floor.iter().cloned().filter(|i| cut[*i] < 0.8).collect();
         assert!(!foot.is_empty(), "{name}: the wall's foot is occluded");
+        let lighter = foot.iter().filter(|i| quadratic[**i] > cut[**i] + 1e-3).count();
+        assert!(
+            lighter * 2 > foot.len(),
+            "{name}: the quadratic falloff occludes the foot as much as the cut-off ({lighter} of {} lighter)",
+            foot.len()
+        );
     }
 }
 
