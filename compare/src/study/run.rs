@@ -35,8 +35,8 @@ pub fn run_study(study: &Study, rasters: &Rasters, opts: &RunOptions) -> Result<
     // variant is measured for its image too, as the report shows it).
     let rendered =
         |v: &Variant| !opts.only_bounded || study.bounds(v, mode, false) || study.bounds(v, mode, true);
-    let declared = study.variants().len();
-    let total = study.variants().iter().filter(|v| rendered(v)).count();
+    let declared = study.variants();
+    let total = declared.iter().filter(|v| rendered(v)).count();
     let mut results = Vec::new();
     let mut ground_truths = Vec::new();
     let mut second: Option<RgbImage> = None;
@@ -110,7 +110,7 @@ pub fn run_study(study: &Study, rasters: &Rasters, opts: &RunOptions) -> Result<
         study_file: study.path.display().to_string(),
         scene: study.scene.display().to_string(),
         mode: super::RunMode::of(opts.quick).name().into(),
-        run: run_info(study, opts, (w, h), settings.spp, declared),
+        run: run_info(study, opts, (w, h), settings.spp, declared.len()),
         width: w,
         height: h,
         ground_truth: ground_truths[0].clone(),
@@ -154,7 +154,7 @@ pub fn run_study(study: &Study, rasters: &Rasters, opts: &RunOptions) -> Result<
         let base = (&scene, settings, &points[0]);
         out.flicker = stability::flicker(study, rasters, base, &flickering, f, opts)?;
     }
-    out.thresholds = check_thresholds(study, &study.variants(), &at_first, &out);
+    out.thresholds = check_thresholds(study, &declared, &at_first, &out);
     out.run.wall_seconds = started.elapsed().as_secs_f64();
     out.run.peak_memory_bytes = scenes::budget::peak_resident_bytes();
     out.write_files(&opts.out_dir).map_err(io_err(&opts.out_dir))?;
