@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 
 pub mod cli;
+pub mod colormap;
 pub mod diff;
 pub mod input;
 pub mod markup;

@@ -7,11 +7,10 @@
 //! | `metrics.json`, `metrics.csv` | every number (schema: compare/README.md) |
 //! | `ground_truth.exr/.png` | the oracle's image, variance and AOVs (`ground_truth--<parameter>-<value>.*` at each scene-sweep value) |
 //! | `methods/<id>.exr/.png` | each approximation, with `error.<metric>.Y` layers |
-//! | `methods/<id>-error-<metric>.png` | false-colour error maps with their colour bar ([`colormap`]) |
+//! | `methods/<id>-error-<metric>.png` | false-colour error maps with their colour bar ([`crate::colormap`]) |
 //! | `charts/error-vs-cost.svg`, `charts/error-vs-fetches.svg` (when counted), `charts/sweep-<method>-<parameter>.svg`, `charts/scene-<parameter>-<image\|visibility\|second_ground_truth>.svg` | the charts ([`chart`]) |
 
 pub mod chart;
-pub mod colormap;
 pub mod html;
 
 use std::io;
