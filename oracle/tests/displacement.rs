@@ -1,4 +1,4 @@
-//! True displacement in the oracle (docs/ARCHITECTURE.md "Ground truth": surface detail): a displaced
+//! True displacement in the oracle (docs/ARCHITECTURE.md "Ground truth is defined per effect", surface detail): a displaced
 //! patch renders as the same surface given as an explicit triangle mesh (and measurably
 //! unlike a wrong scale or missing self-shadows), bumps shadow their neighbours under a
 //! grazing light, a patch seen edge-on has a silhouette, and a displaced mesh is the same

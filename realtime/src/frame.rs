@@ -16,9 +16,12 @@ use crate::pipelines::Stage;
 use crate::settings::RasterSettings;
 use crate::targets::{cleared_attachments, Targets};
 use crate::technique::antialias::post::AntiAliasPasses;
+use crate::technique::antialias::AntiAliasing;
+use crate::technique::detail::Detail;
 use crate::technique::shadow::maps::ShadowMaps;
 use crate::technique::ssao::passes::SsaoPasses;
-use crate::technique::ssao::SsaoOutput;
+use crate::technique::ssao::{AmbientOcclusion, SsaoOutput};
+use crate::technique::{energy, texture};
 use crate::timestamps::Timestamps;
 use crate::upload::SceneGpu;
 
@@ -132,7 +135,7 @@ fn frame_uniforms(
     let (env_kind, env_tex, env_radiance) = sg.env;
     let (detail, detail_steps) = settings
         .method
-        .detail
+        .get::<Detail>()
         .map_or(([1.0, 0.0, 1.0, 0.0], [0; 4]), |d| d.uniforms());
     FrameUniforms {
         view_proj: view_proj(cam, w, h, near, jitter).to_cols_array_2d(),
@@ -148,8 +151,11 @@ fn frame_uniforms(
         counts: [sg.light_count, sg.emitter_count, settings.method.area_n, 0],
         detail,
         detail_steps,
-        texture: settings.method.texture_filter().uniforms(),
-        antialias: settings.method.antialias.map_or([0.0; 4], |a| a.uniforms()),
+        texture: texture::of(&settings.method).uniforms(),
+        antialias: settings
+            .method
+            .get::<AntiAliasing>()
+            .map_or([0.0; 4], |a| a.uniforms()),
         mesh_lights: match settings.method.mesh_n {
             0 => [NONE, 0, 0, 0],
             n => [sg.emissive_triangles, n, 0, 0],
@@ -158,14 +164,14 @@ fn frame_uniforms(
             u32::from(
                 settings
                     .method
-                    .ssao
+                    .get::<AmbientOcclusion>()
                     .is_some_and(|a| a.output == SsaoOutput::AoFactor),
             ),
             0,
             0,
             0,
         ],
-        energy: [settings.method.energy_code(), sg.energy_table, 0, 0],
+        energy: [energy::code(&settings.method), sg.energy_table, 0, 0],
     }
 }
 

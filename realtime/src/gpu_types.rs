@@ -1,7 +1,7 @@
 //! The data the shaders read: `#[repr(C)]` Pod structs in the field order of their WGSL
 //! counterparts in `shaders/common.wgsl` (and `passes.wgsl` for the vertex layouts), each with a
 //! size assertion, and the kind codes the shaders switch on. The shadow maps' structs live with
-//! their technique in shadow/maps.rs (`shaders/shadow/map_common.wgsl`), the visibility AOV's in
+//! their technique in shadow/maps.rs (`technique/shadow/map_common.wgsl`), the visibility AOV's in
 //! visibility.rs.
 //!
 //! Layout rules: storage and uniform structs follow WGSL's host-shareable layout (vec4 and

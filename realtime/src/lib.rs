@@ -19,7 +19,7 @@
 //!
 //! | module | what |
 //! |---|---|
-//! | [`technique`] | the techniques, one module per family ([`technique::area`], [`technique::shadow`], [`technique::detail`], [`technique::envmap`], [`technique::distance_impostor`]): parameters and their tables, GPU resources; [`Method`] |
+//! | [`technique`] | the techniques, one module per family (the registry [`technique::FAMILIES`] lists all eleven): parameters and their tables, GPU resources; [`Method`] and the `Family` and `Settings` traits a family plugs in by |
 //! | [`settings`] | what to render: method, pipeline, resolution, supersampling, frames |
 //! | [`render`] | the renderer: the frame loop, timing, read-back |
 //! | `frame` | one frame: uniforms, render passes, timestamp queries |
@@ -38,6 +38,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+mod built_once;
 mod camera;
 pub mod error;
 mod frame;

@@ -1,5 +1,5 @@
 //! The shader module, its bind group layouts and the render pipelines, created lazily and
-//! cached per [`Key`] (the stage and every family's method code) — lavapipe compiles each with
+//! cached per `Key` (the stage and the method's named override constants) — lavapipe compiles each with
 //! LLVM, so a pipeline is built once per process, not once per frame or render. Each pipeline's module
 //! is the shading module specialised for its entry points and constants (specialize.rs), and
 //! keys whose specialised modules are equal share one pipeline.
@@ -30,14 +30,15 @@
 //! The counting variant (the module with `counters_on.wgsl`) is used for the lighting pipeline
 //! of the counting frame only: after a G-buffer pass it shades each visible sample once.
 
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
+
+use crate::built_once::BuiltOnce;
 
 use crate::gpu_types::{AnalyticVertex, MeshVertex};
 use crate::specialize::ShaderIr;
-use crate::technique::area::AreaMethod;
+use crate::technique::shadow::Shadow;
 use crate::technique::texture::{self as texture_filter, Filter};
-use crate::technique::{self, Method};
+use crate::technique::{self, Applies, Method, Override};
 
 /// Forward shading or deferred shading (G-buffer + lighting pass).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
@@ -61,127 +62,22 @@ impl PipelineKind {
 
 pub use crate::gpu::{COLOR_FORMAT, DEPTH_FORMAT};
 
-/// The WGSL sources in dependency order; WGSL has no includes, so they form one module, with
-/// `counters_on.wgsl` or `counters_off.wgsl` appended.
-const SHADER_SOURCES: [(&str, &str); 40] = [
+/// The shading module's own WGSL, shared by every method (the families' files join it,
+/// [`crate::technique::Family::shading_sources`]); WGSL has no includes, so they form one module,
+/// with `counters_on.wgsl` or `counters_off.wgsl` appended.
+const SHADER_SOURCES: &[(&str, &str)] = &[
     ("common.wgsl", include_str!("../shaders/common.wgsl")),
     ("texture.wgsl", include_str!("../shaders/texture.wgsl")),
     ("surface.wgsl", include_str!("../shaders/surface.wgsl")),
-    (
-        "detail/common.wgsl",
-        include_str!("../shaders/detail/common.wgsl"),
-    ),
-    (
-        "detail/normal.wgsl",
-        include_str!("../shaders/detail/normal.wgsl"),
-    ),
-    (
-        "detail/parallax.wgsl",
-        include_str!("../shaders/detail/parallax.wgsl"),
-    ),
-    (
-        "detail/ray_march.wgsl",
-        include_str!("../shaders/detail/ray_march.wgsl"),
-    ),
-    (
-        "detail/cone_step.wgsl",
-        include_str!("../shaders/detail/cone_step.wgsl"),
-    ),
-    (
-        "detail/horizon.wgsl",
-        include_str!("../shaders/detail/horizon.wgsl"),
-    ),
     ("bsdf.wgsl", include_str!("../shaders/bsdf.wgsl")),
-    (
-        "antialias/specular.wgsl",
-        include_str!("../shaders/antialias/specular.wgsl"),
-    ),
     (
         "lights_punctual.wgsl",
         include_str!("../shaders/lights_punctual.wgsl"),
     ),
     ("environment.wgsl", include_str!("../shaders/environment.wgsl")),
-    (
-        "area/quadrature.wgsl",
-        include_str!("../shaders/area/quadrature.wgsl"),
-    ),
-    (
-        "area/representative_point.wgsl",
-        include_str!("../shaders/area/representative_point.wgsl"),
-    ),
-    (
-        "shadow/map_common.wgsl",
-        include_str!("../shaders/shadow/map_common.wgsl"),
-    ),
-    ("shadow/hard.wgsl", include_str!("../shaders/shadow/hard.wgsl")),
-    ("shadow/pcf.wgsl", include_str!("../shaders/shadow/pcf.wgsl")),
-    ("shadow/pcss.wgsl", include_str!("../shaders/shadow/pcss.wgsl")),
-    (
-        "shadow/visibility.wgsl",
-        include_str!("../shaders/shadow/visibility.wgsl"),
-    ),
-    (
-        "envmap/envmap.wgsl",
-        include_str!("../shaders/envmap/envmap.wgsl"),
-    ),
-    (
-        "distance_impostor/lookup.wgsl",
-        include_str!("../shaders/distance_impostor/lookup.wgsl"),
-    ),
-    (
-        "texture/filter.wgsl",
-        include_str!("../shaders/texture/filter.wgsl"),
-    ),
-    (
-        "texture/nearest.wgsl",
-        include_str!("../shaders/texture/nearest.wgsl"),
-    ),
-    (
-        "texture/mip_nearest.wgsl",
-        include_str!("../shaders/texture/mip_nearest.wgsl"),
-    ),
-    (
-        "texture/trilinear.wgsl",
-        include_str!("../shaders/texture/trilinear.wgsl"),
-    ),
-    ("texture/sat.wgsl", include_str!("../shaders/texture/sat.wgsl")),
-    (
-        "texture/ripmap.wgsl",
-        include_str!("../shaders/texture/ripmap.wgsl"),
-    ),
-    (
-        "texture/footprint.wgsl",
-        include_str!("../shaders/texture/footprint.wgsl"),
-    ),
-    ("texture/ewa.wgsl", include_str!("../shaders/texture/ewa.wgsl")),
-    (
-        "texture/anisotropic.wgsl",
-        include_str!("../shaders/texture/anisotropic.wgsl"),
-    ),
     ("projection.wgsl", include_str!("../shaders/projection.wgsl")),
-    (
-        "lightmap/lookup.wgsl",
-        include_str!("../shaders/lightmap/lookup.wgsl"),
-    ),
-    ("energy/table.wgsl", include_str!("../shaders/energy/table.wgsl")),
-    (
-        "energy/kulla_conty.wgsl",
-        include_str!("../shaders/energy/kulla_conty.wgsl"),
-    ),
-    (
-        "energy/turquin.wgsl",
-        include_str!("../shaders/energy/turquin.wgsl"),
-    ),
-    (
-        "energy/fdez_aguera.wgsl",
-        include_str!("../shaders/energy/fdez_aguera.wgsl"),
-    ),
     ("shade.wgsl", include_str!("../shaders/shade.wgsl")),
     ("passes.wgsl", include_str!("../shaders/passes.wgsl")),
-    (
-        "shading/vertex.wgsl",
-        include_str!("../shaders/shading/vertex.wgsl"),
-    ),
 ];
 
 /// The whole shader module's source, with or without the cost counters, for the texture
@@ -193,8 +89,10 @@ pub fn shader_source(counters: bool, filter: Filter) -> String {
     } else {
         ("counters_off.wgsl", include_str!("../shaders/counters_off.wgsl"))
     };
+    let families = technique::FAMILIES.iter().flat_map(|f| f.shading_sources());
     let sources: String = SHADER_SOURCES
         .iter()
+        .chain(families)
         .chain([&tail])
         .map(|(name, src)| format!("// ---- {name} ----\n{src}\n"))
         .collect();
@@ -282,27 +180,19 @@ impl Stage {
     }
 }
 
-/// Cache key: the pipeline, the area method, the shadow, detail and environment-mapping
-/// methods' WGSL codes, the texture filter's
-/// ([`crate::technique::texture::TextureFilter::pipeline_code`]), whether it is the counting
-/// variant, its sample count (MSAA), its specular anti-aliasing (WGSL `SPECULAR_AA`) and its
-/// shading frequency (WGSL `SHADING_FREQUENCY`, with `VERTEX_ALBEDO` above its low byte), its
-/// light-map lookup (WGSL `LIGHTMAP_METHOD`) and its energy compensation (WGSL
-/// `ENERGY_METHOD`).
-type Key = (
-    Stage,
-    AreaMethod,
-    u32,
-    u32,
-    u32,
-    u32,
-    bool,
-    u32,
-    u32,
-    u32,
-    u32,
-    u32,
-);
+/// Cache key: the stage, whether it is the counting variant, its sample count (MSAA), the
+/// texture filter's WGSL code (the filter picks the shader module,
+/// [`crate::technique::texture::Filter::wgsl_dispatch`]) and the override constants the stage
+/// reads ([`Method::overrides`]: the geometry ones in every stage that draws the view, the
+/// shading ones where it shades; none in the shadow pass), by name.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+struct Key {
+    stage: Stage,
+    counters: bool,
+    samples: u32,
+    filter: u32,
+    overrides: Vec<Override>,
+}
 
 /// Layouts, the shader module and the pipeline cache.
 pub struct Pipelines {
@@ -325,13 +215,13 @@ pub struct Pipelines {
     shadow_pass_layout: wgpu::PipelineLayout,
     /// The shading module's IR by (counting, texture filter code), parsed when first needed
     /// and specialised per pipeline (specialize.rs).
-    modules: Mutex<HashMap<(bool, u32), Arc<ShaderIr>>>,
-    cache: Mutex<HashMap<Key, Arc<wgpu::RenderPipeline>>>,
+    modules: BuiltOnce<(bool, u32), ShaderIr>,
+    cache: BuiltOnce<Key, wgpu::RenderPipeline>,
     /// The same pipelines by what the driver compiles: (stage, samples, the specialised
     /// module). Keys that differ only in constants a pipeline never reads (the background's
     /// area method, the visibility pass's every method) specialise to one module and share
     /// one pipeline.
-    by_code: Mutex<HashMap<(Stage, u32, String), Arc<wgpu::RenderPipeline>>>,
+    by_code: BuiltOnce<(Stage, u32, String), wgpu::RenderPipeline>,
 }
 
 /// A storage buffer: read-only ones are visible to the vertex stage too (the vertex-lit
@@ -614,9 +504,9 @@ impl Pipelines {
             lighting_msaa_layout,
             aov_pipeline_layout,
             shadow_pass_layout,
-            modules: Mutex::new(HashMap::new()),
-            cache: Mutex::new(HashMap::new()),
-            by_code: Mutex::new(HashMap::new()),
+            modules: BuiltOnce::new(),
+            cache: BuiltOnce::new(),
+            by_code: BuiltOnce::new(),
         }
     }
 
@@ -625,7 +515,7 @@ impl Pipelines {
     /// the forward or the deferred ones, the geometry pass's drawing `samples` samples per
     /// pixel.
     pub(crate) fn frame_stages(method: &Method, pipeline: PipelineKind, samples: u32) -> Vec<(Stage, u32)> {
-        let shadow: &[Stage] = if method.shadow.is_some() {
+        let shadow: &[Stage] = if method.get::<Shadow>().is_some() {
             &[Stage::ShadowMesh, Stage::ShadowAnalytic]
         } else {
             &[]
@@ -673,13 +563,10 @@ impl Pipelines {
     /// AOV passes.
     pub(crate) fn prepare(&self, device: &wgpu::Device, method: &Method, requests: &[(Stage, bool, u32)]) {
         let mut missing: Vec<Key> = Vec::new();
-        {
-            let cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
-            for &(stage, counters, samples) in requests {
-                let key = Self::key(stage, method, counters, samples);
-                if !cache.contains_key(&key) && !missing.contains(&key) {
-                    missing.push(key);
-                }
+        for &(stage, counters, samples) in requests {
+            let key = Self::key(stage, method, counters, samples);
+            if !self.cache.contains(&key) && !missing.contains(&key) {
+                missing.push(key);
             }
         }
         let workers = std::thread::available_parallelism()
@@ -692,8 +579,7 @@ impl Pipelines {
         std::thread::scope(|scope| {
             for _ in 0..workers {
                 scope.spawn(|| {
-                    while let Some(&key) =
-                        missing.get(next.fetch_add(1, std::sync::atomic::Ordering::Relaxed))
+                    while let Some(key) = missing.get(next.fetch_add(1, std::sync::atomic::Ordering::Relaxed))
                     {
                         self.get_key(device, key);
                     }
@@ -724,140 +610,94 @@ impl Pipelines {
         counters: bool,
         samples: u32,
     ) -> Arc<wgpu::RenderPipeline> {
-        self.get_key(device, Self::key(stage, method, counters, samples))
+        self.get_key(device, &Self::key(stage, method, counters, samples))
     }
 
     /// The pipeline cache's key of `stage` with `method`.
     fn key(stage: Stage, method: &Method, counters: bool, samples: u32) -> Key {
-        let texture = method.texture_filter().pipeline_code();
         if stage.is_shadow() {
-            (stage, AreaMethod::Quadrature, 0, 0, 0, 0, false, 1, 0, 0, 0, 0)
-        } else if stage.shades() {
-            (
+            return Key {
                 stage,
-                method.area,
-                method.shadow_code(),
-                method.detail_code(),
-                method.envmap_code(),
-                texture,
-                counters,
-                samples,
-                method.antialias.map_or(0, |a| a.specular_code()),
-                method.shading_code(),
-                method.lightmap_code(),
-                method.energy_code(),
-            )
+                counters: false,
+                samples: 1,
+                filter: 0,
+                overrides: Vec::new(),
+            };
+        }
+        let applies = if stage.shades() {
+            Applies::Shading
         } else {
-            (
-                stage,
-                method.area,
-                0,
-                method.detail_code(),
-                0,
-                texture,
-                counters,
-                samples,
-                0,
-                0,
-                0,
-                0,
-            )
+            Applies::Geometry
+        };
+        Key {
+            stage,
+            counters,
+            samples,
+            filter: texture_filter::of(method).filter.shader_code(),
+            overrides: method.overrides(applies),
         }
     }
 
     /// The pipeline of `key`, built on first use. The cache is not locked while the driver
     /// compiles, so that [`Pipelines::prepare`]'s threads compile side by side; two threads
     /// after the same key both build it and the first one stored is kept.
-    fn get_key(&self, device: &wgpu::Device, key: Key) -> Arc<wgpu::RenderPipeline> {
-        if let Some(p) = self.cache.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
-            return p.clone();
+    fn get_key(&self, device: &wgpu::Device, key: &Key) -> Arc<wgpu::RenderPipeline> {
+        if let Some(p) = self.cache.get(key) {
+            return p;
         }
         let built = self.build(device, key);
-        self.cache
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .entry(key)
-            .or_insert(built)
-            .clone()
+        self.cache.keep_first(key.clone(), built)
     }
 
     /// The shading module's IR with or without counters for the texture filter of WGSL code
     /// `filter`.
     fn module(&self, counters: bool, filter: u32) -> Arc<ShaderIr> {
-        let mut modules = self.modules.lock().unwrap_or_else(|e| e.into_inner());
-        modules
-            .entry((counters, filter))
-            .or_insert_with(|| {
-                let f = (texture_filter::METHODS[filter as usize].default)().filter;
-                let ir = ShaderIr::parse(&shader_source(counters, f))
-                    .unwrap_or_else(|e| panic!("Verity's shading module does not validate: {e}"));
-                Arc::new(ir)
-            })
-            .clone()
+        self.modules.get_or_build(&(counters, filter), || {
+            let f = (texture_filter::METHODS[filter as usize].default)().filter;
+            ShaderIr::parse(&shader_source(counters, f))
+                .unwrap_or_else(|e| panic!("Verity's shading module does not validate: {e}"))
+        })
     }
 
-    fn build(
-        &self,
-        device: &wgpu::Device,
-        (
+    fn build(&self, device: &wgpu::Device, key: &Key) -> Arc<wgpu::RenderPipeline> {
+        let Key {
             stage,
-            method,
-            shadow,
-            detail,
-            envmap,
-            texture,
             counters,
             samples,
-            specular,
-            shading,
-            lightmap,
-            energy,
-        ): Key,
-    ) -> Arc<wgpu::RenderPipeline> {
+            filter,
+            ref overrides,
+        } = *key;
+        let value = |name: &str| overrides.iter().find(|o| o.name == name).map_or(0, |o| o.value);
         // Under deferred MSAA the lighting pass reads `samples` G-buffer samples per pixel
         // and writes one: its own pipeline is single-sampled.
         let msaa_lighting = stage == Stage::Lighting && samples > 1;
         // Vertex-lit shading frequencies light the forward pass's meshes in the vertex stage.
         let (vs, fs) = if msaa_lighting {
             ("vs_fullscreen", "fs_lighting_msaa")
-        } else if stage == Stage::ForwardMesh && shading & 0xff != 0 {
+        } else if stage == Stage::ForwardMesh && value("SHADING_FREQUENCY") != 0 {
             ("vs_mesh_vertex_lit", "fs_mesh_vertex_lit")
         } else {
             stage.entry_points()
         };
+        let named: Vec<String> = overrides
+            .iter()
+            .map(|o| format!("{}={}", o.name, o.value))
+            .collect();
         let label = format!(
-            "{vs}/{fs} ({method:?}, shadow method {shadow}, detail method {detail}, environment map {envmap}, \
-             texture filter {texture:#x}, counters {counters}, {samples} samples, specular AA {specular}, shading frequency {shading}, light map {lightmap}, energy compensation {energy})"
+            "{vs}/{fs} (texture filter {filter}, counters {counters}, {samples} samples, {})",
+            named.join(", ")
         );
-        let constants = [
-            ("AREA_METHOD", f64::from(method.shader_code())),
-            ("SHADOW_METHOD", f64::from(shadow)),
-            ("DETAIL_METHOD", f64::from(detail)),
-            ("ENVMAP_METHOD", f64::from(envmap)),
-            ("TEXTURE_FILTER", f64::from(texture & 0xff)),
-            ("TEXTURE_DERIVATIVES", f64::from(texture >> 8)),
-            ("SPECULAR_AA", f64::from(specular)),
-            ("SHADING_FREQUENCY", f64::from(shading & 0xff)),
-            ("VERTEX_ALBEDO", f64::from(shading >> 8)),
-            ("LIGHTMAP_METHOD", f64::from(lightmap & 0xff)),
-            ("LIGHTMAP_SPECULAR", f64::from(lightmap >> 8)),
-            ("ENERGY_METHOD", f64::from(energy)),
-        ];
+        let constants: Vec<(&str, f64)> = overrides.iter().map(|o| (o.name, f64::from(o.value))).collect();
         let fragment_entry = (!fs.is_empty()).then_some(fs);
         let specialised = self
-            .module(counters, texture & 0xff)
+            .module(counters, filter)
             .specialise(&[vs, fs], &constants)
             .unwrap_or_else(|e| panic!("{label}: the shading module does not specialise: {e}"));
         // The module's debug form is its whole content (types, globals, functions, entry
         // points), so equal strings are equal code.
         let code_key = (stage, samples, format!("{specialised:?}"));
-        if let Some(pipeline) = self
-            .by_code
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .get(&code_key)
-        {
-            return pipeline.clone();
+        if let Some(pipeline) = self.by_code.get(&code_key) {
+            return pipeline;
         }
         let module = &device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(&label),
@@ -936,12 +776,7 @@ impl Pipelines {
             multiview: None,
             cache: None,
         }));
-        self.by_code
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .entry(code_key)
-            .or_insert(pipeline)
-            .clone()
+        self.by_code.keep_first(code_key, pipeline)
     }
 }
 
@@ -961,7 +796,7 @@ mod tests {
     /// Both shader modules' sources in one naga module (the filters' module is the shading
     /// sources plus envmap/filter.wgsl).
     fn module() -> naga::Module {
-        let source = shader_source(false, Filter::Bilinear) + include_str!("../shaders/envmap/filter.wgsl");
+        let source = shader_source(false, Filter::Bilinear) + include_str!("technique/envmap/filter.wgsl");
         naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)))
     }
 

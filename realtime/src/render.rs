@@ -30,6 +30,7 @@ use crate::technique::detail::ConeCache;
 use crate::technique::envmap::build::EnvMapBuilder;
 use crate::technique::shadow::maps::ShadowMaps;
 use crate::technique::ssao::passes::{SsaoPasses, SsaoPipelines};
+use crate::technique::ssao::AmbientOcclusion;
 use crate::timestamps::Timestamps;
 use crate::timing::{median, Counters, PassTime, Timing, TimingSource};
 use crate::upload::SceneGpu;
@@ -118,7 +119,11 @@ impl Renderer {
         let envmap = self
             .envmaps
             .build(&self.gpu, &self.pipelines, &self.cones, scene, settings)?;
-        let aa = settings.method.antialias.unwrap_or(AntiAliasing::None);
+        let aa = settings
+            .method
+            .get::<AntiAliasing>()
+            .copied()
+            .unwrap_or(AntiAliasing::None);
         let k = settings.supersampling();
         let samples = aa.msaa_samples();
         let (tw, th) = (settings.width * k, settings.height * k);
@@ -133,8 +138,7 @@ impl Renderer {
         let aa_passes = AntiAliasPasses::new(device, &self.post, &aa, &targets);
         let ssao_passes = settings
             .method
-            .ssao
-            .as_ref()
+            .get::<AmbientOcclusion>()
             .and_then(|ao| SsaoPasses::new(device, &self.ssao, ao, &targets, scene));
         let groups = ShadingGroups {
             empty: &self.pipelines.empty_bind_group,
@@ -155,7 +159,7 @@ impl Renderer {
 
         let temporal_ssao = settings
             .method
-            .ssao
+            .get::<AmbientOcclusion>()
             .filter(|a| a.temporal > 0)
             .zip(ssao_passes.as_ref());
         let near = camera_near(scene);
@@ -792,7 +796,7 @@ fn add_header(
 /// coverage samples, times TAA's frames (one jittered sample each).
 pub fn samples_per_pixel(s: &RasterSettings) -> u32 {
     let k = s.supersampling();
-    let per_frame = match s.method.antialias {
+    let per_frame = match s.method.get::<AntiAliasing>().copied() {
         Some(AntiAliasing::Msaa { samples }) => samples,
         Some(AntiAliasing::Taa { frames, .. }) => frames,
         _ => 1,

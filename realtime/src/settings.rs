@@ -6,8 +6,8 @@ use crate::gpu::COLOR_BYTES_PER_SAMPLE;
 use crate::pipelines::PipelineKind;
 use scenes::lightmap::ChartSurface;
 
-use crate::technique::lightmap::BakedMap;
-use crate::technique::{Method, MAX_QUADRATURE_N};
+use crate::technique::lightmap::{BakedMap, LightMapMethod};
+use crate::technique::{Frame, Method};
 
 pub use crate::technique::antialias::MAX_SSAA;
 
@@ -90,8 +90,7 @@ impl RasterSettings {
 
     /// The supersampling factor of the targets: the raster's `ssaa` times `aa_ssaa`'s k.
     pub fn supersampling(&self) -> u32 {
-        self.ssaa
-            .saturating_mul(self.method.antialias.map_or(1, |a| a.ssaa()))
+        self.ssaa.saturating_mul(self.method.supersampling())
     }
 
     /// Checks the settings against the adapter's largest texture side, the MSAA sample counts
@@ -105,48 +104,13 @@ impl RasterSettings {
             return bad(format!("ssaa = {} must be in 1..={MAX_SSAA}", self.ssaa));
         }
         let m = &self.method;
-        if !(1..=MAX_QUADRATURE_N).contains(&m.area_n) || m.env_n > MAX_QUADRATURE_N {
-            return bad(format!(
-                "method {m}: n must be in 1..={MAX_QUADRATURE_N} and env_n in 0..={MAX_QUADRATURE_N}"
-            ));
-        }
-        if let Err(e) = m.validate() {
-            return bad(e);
-        }
-        if let Some(sh) = &m.shadow {
-            if sh.map > max_dimension {
-                return bad(format!(
-                    "method {m}: map = {} exceeds the adapter's {max_dimension} texels per side",
-                    sh.map
-                ));
-            }
-        }
-        if m.shading_code() != 0 && self.pipeline != PipelineKind::Forward {
-            return bad(format!(
-                "method {m}: vertex lighting runs in the forward pass's vertex stage; the deferred pipeline lights \
-                 every pixel of its G-buffer"
-            ));
-        }
-        let analytic = crate::technique::texture::Derivatives::Analytic;
-        if m.texture_filter().derivatives == analytic && self.pipeline != PipelineKind::Forward {
-            return bad(format!(
-                "method {m}: derivatives = analytic needs the forward pipeline (the G-buffer stores no ray differentials)"
-            ));
-        }
-        if let Some(ao) = m.ssao.filter(|a| a.orbit_degrees > 0.0 && a.temporal == 0) {
-            return bad(format!(
-                "method {m}: orbit_degrees = {} moves the camera between the frames of a temporal accumulation; \
-                 set temporal (frames) too",
-                ao.orbit_degrees
-            ));
-        }
-        if m.ssao.is_some() && self.pipeline != PipelineKind::Deferred {
-            return bad(format!(
-                "method {m}: screen-space ambient occlusion reads the G-buffer; use the deferred pipeline \
-                 (`--pipeline deferred`; in a study, `pipeline = \"deferred\"`)"
-            ));
-        }
-        match (&m.lightmap, &self.lightmap) {
+        m.check(&Frame {
+            deferred: self.pipeline == PipelineKind::Deferred,
+            max_texture_side: max_dimension,
+            msaa_counts,
+        })
+        .or_else(bad)?;
+        match (m.get::<LightMapMethod>(), &self.lightmap) {
             (Some(_), None) => {
                 return bad(format!(
                     "method {m} reads a baked light map and none was given (`verity bake`, then `--lightmap FILE`)"
@@ -180,19 +144,7 @@ impl RasterSettings {
                 self.ssaa
             ));
         }
-        let samples = m.antialias.map_or(1, |a| a.msaa_samples());
-        if samples > 1 && !msaa_counts.contains(&samples) {
-            let counts: Vec<String> = msaa_counts.iter().map(u32::to_string).collect();
-            let can = if counts.is_empty() {
-                "none (it lacks TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)".to_string()
-            } else {
-                counts.join(", ")
-            };
-            return bad(format!(
-                "method {m}: the adapter cannot render {samples} samples per pixel to Rgba32Float and \
-                 Depth32Float targets; it can do {can}"
-            ));
-        }
+        let samples = m.msaa_samples();
         let (w, h) = (
             u64::from(self.width) * u64::from(k),
             u64::from(self.height) * u64::from(k),
@@ -211,7 +163,7 @@ impl RasterSettings {
             .saturating_mul(h)
             .saturating_mul((u64::from(COLOR_BYTES_PER_SAMPLE) + 4) * (1 + u64::from(samples)) + 48);
         let output = u64::from(self.width) * u64::from(self.height) * (48 + 26 * 4);
-        let maps = m.shadow.as_ref().map_or(0, |sh| u64::from(sh.map).pow(2) * 4);
+        let maps = m.bytes();
         scenes::budget::check(
             targets.saturating_add(output).saturating_add(maps),
             format!(

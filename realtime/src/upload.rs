@@ -29,9 +29,9 @@ use crate::gpu::Gpu;
 use crate::gpu_types::*;
 use crate::technique::antialias::{toksvig_normal_map, AntiAliasing};
 use crate::technique::detail::{derivative_map, ConeCache, Detail};
-use crate::technique::energy;
+use crate::technique::energy::{self, EnergyCompensation};
 use crate::technique::texture::gpu_array::TextureArray;
-use crate::technique::texture::{pyramid, sat, Needs, TextureFilter};
+use crate::technique::texture::{self, pyramid, sat, Needs, TextureFilter};
 use crate::technique::Method;
 
 /// Relative enlargement of a sphere's bounding box proxy, so rasterisation never clips its
@@ -96,7 +96,7 @@ impl SceneGpu {
     ) -> Result<SceneGpu, String> {
         let (device, queue) = (&gpu.device, &gpu.queue);
         let max_binding = u64::from(gpu.limits().max_storage_buffer_binding_size);
-        let detail = method.detail.as_ref();
+        let detail = method.get::<Detail>();
         let src = scene.source.display().to_string();
         let mut a = Arrays::default();
         let textures = method_textures(scene, method);
@@ -117,12 +117,12 @@ impl SceneGpu {
                     .map_err(|e| format!("{src}: light '{}' (lights[{i}]): {e}", l.name()))?,
             );
         }
-        add_levels(&mut a, scene, &textures, &method.texture_filter());
+        add_levels(&mut a, scene, &textures, &texture::of(method));
         if let Some(map) = lightmap {
             add_lightmap(&mut a, scene, map).map_err(|e| format!("{src}: light map: {e}"))?;
         }
         a.emissive_table = add_emissive_table(&mut a).map_err(|e| format!("{src}: emissive meshes: {e}"))?;
-        a.energy_table = match method.energy {
+        a.energy_table = match method.get::<EnergyCompensation>() {
             Some(e) if e.needs_table() => {
                 let record = a.texture_infos.len() as u32;
                 add_texture(&mut a, &energy::tables::table(e.lut))
@@ -138,7 +138,7 @@ impl SceneGpu {
                 "{src}: the textures need {bytes} bytes, more than the adapter's storage binding limit of {max_binding}"
             ));
         }
-        let filter = method.texture_filter();
+        let filter = texture::of(method);
         let texture_array = if filter.filter.needs().gpu {
             let colour = colour_textures(scene);
             TextureArray::new(
@@ -345,7 +345,7 @@ fn add_levels(a: &mut Arrays, scene: &Scene, textures: &[Cow<'_, Texture>], filt
 /// The scene's textures as the method uploads them: as loaded, except the normal maps of
 /// `aa_specular_toksvig`, renormalised texel by texel ([`toksvig_normal_map`]).
 fn method_textures<'a>(scene: &'a Scene, method: &Method) -> Vec<Cow<'a, Texture>> {
-    let toksvig = method.antialias == Some(AntiAliasing::SpecularToksvig);
+    let toksvig = method.get::<AntiAliasing>() == Some(&AntiAliasing::SpecularToksvig);
     let normal_maps: Vec<usize> = scene
         .shapes
         .iter()

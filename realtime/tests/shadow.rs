@@ -9,6 +9,7 @@ mod support;
 use std::path::PathBuf;
 
 use glam::Vec3;
+use realtime::technique::shadow::Shadow;
 use realtime::{PipelineKind, RasterError, RasterSettings};
 use scenes::*;
 use support::{method, renderer};
@@ -213,9 +214,7 @@ fn bad_shadow_settings_are_errors() {
     let scene = floor_scene(true);
     let max = renderer().gpu().limits().max_texture_dimension_2d;
     let mut big = method("shadow_hard", &[]);
-    if let Some(s) = &mut big.shadow {
-        s.map = max + 1;
-    }
+    big.get_mut::<Shadow>().expect("shadow_hard maps shadows").map = max + 1;
     let mut many = scene.clone();
     for i in 0..70 {
         many.lights.push(Light::Point {

@@ -58,7 +58,7 @@ pub fn with_lightmap(
     settings: &RasterSettings,
     opts: &RunOptions,
 ) -> Result<RasterSettings, StudyError> {
-    match &settings.method.lightmap {
+    match settings.method.get::<LightMapMethod>() {
         Some(method) => Ok(settings.clone().lightmap(baked_map(
             scene,
             method,
@@ -73,7 +73,7 @@ pub fn with_lightmap(
 /// method without a light map or a bake not in `opts.cache_dir` (a report assembled from
 /// raster jobs that baked elsewhere).
 pub fn bake_info(scene: &Scene, settings: &RasterSettings, opts: &RunOptions) -> Option<BakeInfo> {
-    let bake = bake_settings(scene, settings.method.lightmap.as_ref()?);
+    let bake = bake_settings(scene, settings.method.get::<LightMapMethod>()?);
     let hash = bake_hash(scene, &bake);
     let cache::Lookup::Hit(img) = cache::Entry::new(&opts.cache_dir, &hash).read() else {
         return None;

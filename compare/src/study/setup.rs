@@ -6,6 +6,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use oracle::{RenderJob, StopRule};
+use realtime::technique::lightmap::LightMapMethod;
 use realtime::{RasterError, RasterSettings};
 use scenes::layered::LayeredImage;
 use scenes::{RenderSettings, Scene};
@@ -275,7 +276,7 @@ pub fn raster_settings(study: &Study, scene: &Scene, variant: &Variant) -> Raste
     let r = study.raster;
     let mut method = variant.raster.clone();
     // A light map is baked with the depth its ground truth is rendered with.
-    if let Some(l) = &mut method.lightmap {
+    if let Some(l) = method.get_mut::<LightMapMethod>() {
         l.max_depth = Some(study.ground_truth.max_depth.unwrap_or(scene.render.max_depth));
     }
     RasterSettings::new(scene.film.width, scene.film.height)

@@ -1,8 +1,7 @@
 //! One row of a method's parameter table: the single source of a parameter's name, accepted
 //! values, unit, one-line doc, paper, and how it is read from and written to the method.
 //!
-//! Every family (`area`, `shadow`, `detail`, `envmap`, `distance_impostor`) writes its
-//! methods as [`MethodSpec`]s, each with the table of its own parameters, plus the table of
+//! Every family ([`super::FAMILIES`]) writes its methods as [`MethodSpec`]s, each with the table of its own parameters, plus the table of
 //! the parameters its methods share. `verity raster --method NAME --param k=v`, the study
 //! files, `Method`'s printed form (`name(k=v, …)`, in headers and metrics.json), `verity
 //! raster --help` and `docs/methods.md` all come from these tables

@@ -27,7 +27,9 @@ pub mod taa;
 use glam::Vec4;
 use scenes::texture::Texture;
 
+use super::method::{Family, Frame, Method, MethodInfo, Override, Row, Settings};
 use super::param::{spec_named, Kind, MethodSpec, Param, Value};
+use super::texture::TextureFilter;
 
 /// Largest supersampling factor accepted (k×k samples per pixel): the raster's `ssaa`, `aa_ssaa`'s
 /// k, and their product.
@@ -167,7 +169,7 @@ impl AntiAliasing {
         }
     }
 
-    /// WGSL `SPECULAR_AA`: 0 none, 1 geometric, 2 Toksvig (shaders/antialias/specular.wgsl).
+    /// WGSL `SPECULAR_AA`: 0 none, 1 geometric, 2 Toksvig (technique/antialias/specular.wgsl).
     pub fn specular_code(&self) -> u32 {
         match self {
             AntiAliasing::SpecularGeometric { .. } => 1,
@@ -559,3 +561,72 @@ pub static METHODS: &[MethodSpec<AntiAliasing>] = &[
         params: &[],
     },
 ];
+
+/// The anti-aliasing family.
+pub struct AntiAliasingFamily;
+
+impl Family for AntiAliasingFamily {
+    fn title(&self) -> &'static str {
+        "Anti-aliasing"
+    }
+
+    fn methods(&self) -> Vec<MethodInfo> {
+        MethodInfo::of(METHODS)
+    }
+
+    /// Over N×N quadrature (n = 8, env_n = 8), unshadowed; `aa_specular_toksvig` with its
+    /// textures filtered trilinearly (Toksvig reads the shortening of MIP-filtered normals).
+    fn method(&self, name: &str) -> Option<Method> {
+        let aa = AntiAliasing::by_name(name)?;
+        let mut m = Method::of(aa, 8);
+        if aa == AntiAliasing::SpecularToksvig {
+            // The texture filter's rows print before the method's own, as they always have.
+            m = Method::of(TextureFilter::by_name("tex_trilinear")?, 8).with_primary(aa);
+        }
+        Some(m)
+    }
+
+    fn shading_sources(&self) -> &'static [(&'static str, &'static str)] {
+        &[("antialias/specular.wgsl", include_str!("specular.wgsl"))]
+    }
+}
+
+impl Settings for AntiAliasing {
+    fn method_name(&self) -> &'static str {
+        self.spec().name
+    }
+
+    fn rows(&self) -> Vec<Row> {
+        Row::all(AntiAliasing::rows(self))
+    }
+
+    /// `SPECULAR_AA` (the post-processes are passes of their own, render.rs).
+    fn overrides(&self) -> Vec<Override> {
+        vec![Override::shading("SPECULAR_AA", self.specular_code())]
+    }
+
+    fn check(&self, method: &Method, frame: &Frame<'_>) -> Result<(), String> {
+        let samples = self.msaa_samples();
+        if samples > 1 && !frame.msaa_counts.contains(&samples) {
+            let counts: Vec<String> = frame.msaa_counts.iter().map(u32::to_string).collect();
+            let can = if counts.is_empty() {
+                "none (it lacks TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)".to_string()
+            } else {
+                counts.join(", ")
+            };
+            return Err(format!(
+                "method {method}: the adapter cannot render {samples} samples per pixel to Rgba32Float and \
+                 Depth32Float targets; it can do {can}"
+            ));
+        }
+        Ok(())
+    }
+
+    fn supersampling(&self) -> u32 {
+        self.ssaa()
+    }
+
+    fn msaa_samples(&self) -> u32 {
+        AntiAliasing::msaa_samples(self)
+    }
+}

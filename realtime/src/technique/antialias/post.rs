@@ -1,7 +1,7 @@
 //! The anti-aliasing passes that run after the scene is lit: the MSAA resolve, and the
 //! post-processes of FXAA, MLAA and TAA over the colour target (docs/ARCHITECTURE.md "Passes of
 //! one frame", stage 5). Each technique is one shader module of its own
-//! (`shaders/antialias/<technique>.wgsl` after `common.wgsl`), built on first use.
+//! (`technique/antialias/<technique>.wgsl` after `common.wgsl`), built on first use.
 //!
 //! | pass | reads | writes |
 //! |---|---|---|
@@ -13,8 +13,7 @@
 //! A post-process renders into a target of its own, which is then copied into the colour
 //! output (and, for TAA, into the history the next frame reads).
 
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec2;
@@ -22,6 +21,7 @@ use scenes::Camera;
 use wgpu::util::DeviceExt;
 
 use super::{AntiAliasing, TaaClamp};
+use crate::built_once::BuiltOnce;
 use crate::camera::view_proj;
 use crate::gpu::COLOR_FORMAT;
 use crate::gpu_types::vec4;
@@ -31,8 +31,8 @@ const FRAGMENT: wgpu::ShaderStages = wgpu::ShaderStages::FRAGMENT;
 use crate::targets::{cleared_attachments, view_entries, Targets};
 use crate::timestamps::Timestamps;
 
-const COMMON: &str = include_str!("../../../shaders/antialias/common.wgsl");
-const POST: &str = include_str!("../../../shaders/antialias/post.wgsl");
+const COMMON: &str = include_str!("common.wgsl");
+const POST: &str = include_str!("post.wgsl");
 
 /// A post-process entry point and the technique file that holds it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -61,12 +61,12 @@ impl Entry {
     /// and the technique's file.
     fn source(self) -> String {
         let technique = match self {
-            Entry::Fxaa => include_str!("../../../shaders/antialias/fxaa.wgsl"),
+            Entry::Fxaa => include_str!("fxaa.wgsl"),
             Entry::MlaaEdges | Entry::MlaaWeights | Entry::MlaaBlend => {
-                include_str!("../../../shaders/antialias/mlaa.wgsl")
+                include_str!("mlaa.wgsl")
             }
-            Entry::Taa => include_str!("../../../shaders/antialias/taa.wgsl"),
-            Entry::MsaaResolve => include_str!("../../../shaders/antialias/msaa_resolve.wgsl"),
+            Entry::Taa => include_str!("taa.wgsl"),
+            Entry::MsaaResolve => include_str!("msaa_resolve.wgsl"),
         };
         let bindings = if self == Entry::MsaaResolve { "" } else { POST };
         format!("{COMMON}\n{bindings}\n{technique}")
@@ -82,7 +82,7 @@ impl Entry {
     }
 }
 
-/// WGSL `PostParams` (shaders/antialias/post.wgsl).
+/// WGSL `PostParams` (technique/antialias/post.wgsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub(crate) struct PostParams {
@@ -105,7 +105,7 @@ pub(crate) struct PostPipelines {
     post_pipeline_layout: wgpu::PipelineLayout,
     resolve_pipeline_layout: wgpu::PipelineLayout,
     /// By entry point and whether it counts its taps (`COUNT_TAPS`).
-    cache: Mutex<HashMap<(Entry, bool), Arc<wgpu::RenderPipeline>>>,
+    cache: BuiltOnce<(Entry, bool), wgpu::RenderPipeline>,
 }
 
 /// Binding 4 of every pass: the tap counters, one per target row.
@@ -158,37 +158,33 @@ impl PostPipelines {
             resolve_pipeline_layout: pipeline_layout("MSAA resolve pipeline layout", &resolve_layout),
             layout,
             resolve_layout,
-            cache: Mutex::new(HashMap::new()),
+            cache: BuiltOnce::new(),
         }
     }
 
     /// The pipeline of `entry`, counting its taps or not, built on first use.
     fn get(&self, device: &wgpu::Device, entry: Entry, counting: bool) -> Arc<wgpu::RenderPipeline> {
-        let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
-        cache
-            .entry((entry, counting))
-            .or_insert_with(|| {
-                let label = format!("anti-aliasing: {} (counting {counting})", entry.fragment());
-                let constants = [("COUNT_TAPS", if counting { 1.0 } else { 0.0 })];
-                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some(&label),
-                    source: wgpu::ShaderSource::Wgsl(entry.source().into()),
-                });
-                let layout = match entry {
-                    Entry::MsaaResolve => &self.resolve_pipeline_layout,
-                    _ => &self.post_pipeline_layout,
-                };
-                Arc::new(fullscreen_pipeline(
-                    device,
-                    &label,
-                    layout,
-                    &module,
-                    ("vs_post", entry.fragment()),
-                    &vec![COLOR_FORMAT; entry.targets()],
-                    &constants,
-                ))
-            })
-            .clone()
+        self.cache.get_or_build(&(entry, counting), || {
+            let label = format!("anti-aliasing: {} (counting {counting})", entry.fragment());
+            let constants = [("COUNT_TAPS", if counting { 1.0 } else { 0.0 })];
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(&label),
+                source: wgpu::ShaderSource::Wgsl(entry.source().into()),
+            });
+            let layout = match entry {
+                Entry::MsaaResolve => &self.resolve_pipeline_layout,
+                _ => &self.post_pipeline_layout,
+            };
+            fullscreen_pipeline(
+                device,
+                &label,
+                layout,
+                &module,
+                ("vs_post", entry.fragment()),
+                &vec![COLOR_FORMAT; entry.targets()],
+                &constants,
+            )
+        })
     }
 }
 

@@ -2,11 +2,11 @@
 //! its flat base, their parameters, and the maps they precompute from the height texture.
 //!
 //! Every technique reads the shape's own height texture h (the oracle traces exactly the
-//! surface p + s·h·n it defines, docs/ARCHITECTURE.md "Ground truth: surface detail"), in metres
+//! surface p + s·h·n it defines, docs/ARCHITECTURE.md "Ground truth is defined per effect", surface detail), in metres
 //! w = k·s·h with s the displacement's `scale` and k the method's `height_scale` (1: the true
 //! heights). The base surface is drawn as it is; per fragment the technique finds the point
 //! of the displaced surface the camera ray sees (or pretends to) and its normal
-//! (`shaders/detail/*.wgsl`, one file per kind of search).
+//! (`technique/detail/*.wgsl`, one file per kind of search).
 //!
 //! The methods, their papers and their parameters with ranges and defaults are [`METHODS`]
 //! and [`COMMON`], the tables `verity raster --help` and docs/methods.md are made from.
@@ -23,6 +23,7 @@ use std::sync::{Arc, Mutex};
 
 use scenes::texture::Texture;
 
+use super::method::{wgsl_method_codes, Family, Method, MethodInfo, Override, Row, Settings};
 use super::param::{spec_named, Kind, MethodSpec, Param, Value};
 use cone_map::{cone_map, ConeKind};
 use horizon_map::{horizon_maps, MAX_HORIZON_DIRECTIONS};
@@ -318,41 +319,18 @@ const PARALLAX_BIAS: Param<Detail> = Param {
 const STEPS: Kind = Kind::Whole(1, MAX_DETAIL_STEPS);
 
 /// The POM parameters, read and written by name.
-fn pom(d: &Detail, name: &str) -> Option<Value> {
-    let DetailTechnique::Pom {
-        min_steps,
-        max_steps,
-        self_shadow,
-        shadow_steps,
-    } = d.technique
-    else {
-        return None;
-    };
-    Some(match name {
-        "min_steps" => Value::Whole(min_steps),
-        "max_steps" => Value::Whole(max_steps),
-        "self_shadow" => Value::Switch(self_shadow),
-        _ => Value::Whole(shadow_steps),
-    })
-}
-
-fn set_pom(d: &mut Detail, name: &str, v: Value) -> Option<()> {
-    let DetailTechnique::Pom {
-        min_steps,
-        max_steps,
-        self_shadow,
-        shadow_steps,
-    } = &mut d.technique
-    else {
-        return None;
-    };
-    match name {
-        "min_steps" => *min_steps = v.whole()?,
-        "max_steps" => *max_steps = v.whole()?,
-        "self_shadow" => *self_shadow = v.switch()?,
-        _ => *shadow_steps = v.whole()?,
+/// `pom`'s own parameters (min_steps, max_steps, self_shadow, shadow_steps), None for another
+/// technique.
+fn pom(d: &mut Detail) -> Option<(&mut u32, &mut u32, &mut bool, &mut u32)> {
+    match &mut d.technique {
+        DetailTechnique::Pom {
+            min_steps,
+            max_steps,
+            self_shadow,
+            shadow_steps,
+        } => Some((min_steps, max_steps, self_shadow, shadow_steps)),
+        _ => None,
     }
-    Some(())
 }
 
 /// The surface-detail methods, in `DETAIL_METHOD` order (1, 2, …).
@@ -464,8 +442,11 @@ pub static METHODS: &[MethodSpec<Detail>] = &[
                 doc: "layers at normal incidence",
                 source: "",
                 unset: "",
-                get: |d| pom(d, "min_steps"),
-                set: |d, v| set_pom(d, "min_steps", v),
+                get: |d| pom(&mut d.clone()).map(|p| Value::Whole(*p.0)),
+                set: |d, v| {
+                    *pom(d)?.0 = v.whole()?;
+                    Some(())
+                },
             },
             Param {
                 name: "max_steps",
@@ -474,8 +455,11 @@ pub static METHODS: &[MethodSpec<Detail>] = &[
                 doc: "layers at grazing incidence",
                 source: "",
                 unset: "",
-                get: |d| pom(d, "max_steps"),
-                set: |d, v| set_pom(d, "max_steps", v),
+                get: |d| pom(&mut d.clone()).map(|p| Value::Whole(*p.1)),
+                set: |d, v| {
+                    *pom(d)?.1 = v.whole()?;
+                    Some(())
+                },
             },
             Param {
                 name: "self_shadow",
@@ -484,8 +468,11 @@ pub static METHODS: &[MethodSpec<Detail>] = &[
                 doc: "trace the heightfield towards each light (soft for sun disks and area lights; patches only)",
                 source: "",
                 unset: "",
-                get: |d| pom(d, "self_shadow"),
-                set: |d, v| set_pom(d, "self_shadow", v),
+                get: |d| pom(&mut d.clone()).map(|p| Value::Switch(*p.2)),
+                set: |d, v| {
+                    *pom(d)?.2 = v.switch()?;
+                    Some(())
+                },
             },
             Param {
                 name: "shadow_steps",
@@ -494,8 +481,11 @@ pub static METHODS: &[MethodSpec<Detail>] = &[
                 doc: "samples of that shadow ray",
                 source: "",
                 unset: "",
-                get: |d| pom(d, "shadow_steps"),
-                set: |d, v| set_pom(d, "shadow_steps", v),
+                get: |d| pom(&mut d.clone()).map(|p| Value::Whole(*p.3)),
+                set: |d, v| {
+                    *pom(d)?.3 = v.whole()?;
+                    Some(())
+                },
             },
         ],
     },
@@ -634,6 +624,58 @@ impl ConeCache {
         self.cached(height, channel, &arguments, || {
             horizon_maps(height, channel, scale, size, directions)
         })
+    }
+}
+
+/// The surface-detail family.
+pub struct SurfaceDetail;
+
+impl Family for SurfaceDetail {
+    fn title(&self) -> &'static str {
+        "Surface detail"
+    }
+
+    fn methods(&self) -> Vec<MethodInfo> {
+        MethodInfo::of(METHODS)
+    }
+
+    /// Over N×N quadrature (n = 8, env_n = 8), unshadowed.
+    fn method(&self, name: &str) -> Option<Method> {
+        Detail::by_name(name).map(|d| Method::of(d, 8))
+    }
+
+    fn shared_rows(&self) -> Vec<Row> {
+        Row::all(COMMON)
+    }
+
+    fn wgsl_codes(&self) -> String {
+        wgsl_method_codes("DETAIL_", Some("FLAT"), METHODS)
+    }
+
+    fn shading_sources(&self) -> &'static [(&'static str, &'static str)] {
+        &[
+            ("detail/common.wgsl", include_str!("common.wgsl")),
+            ("detail/normal.wgsl", include_str!("normal.wgsl")),
+            ("detail/parallax.wgsl", include_str!("parallax.wgsl")),
+            ("detail/ray_march.wgsl", include_str!("ray_march.wgsl")),
+            ("detail/cone_step.wgsl", include_str!("cone_step.wgsl")),
+            ("detail/horizon.wgsl", include_str!("horizon.wgsl")),
+        ]
+    }
+}
+
+impl Settings for Detail {
+    fn method_name(&self) -> &'static str {
+        self.technique.name()
+    }
+
+    fn rows(&self) -> Vec<Row> {
+        Row::all(Detail::rows(self))
+    }
+
+    /// `DETAIL_METHOD`, in every pipeline that draws the view: it moves the surface.
+    fn overrides(&self) -> Vec<Override> {
+        vec![Override::geometry("DETAIL_METHOD", self.technique.shader_code())]
     }
 }
 

@@ -1,5 +1,5 @@
 //! Energy compensation: what a GGX lobe adds back for the light that single scattering loses
-//! (shaders/energy/*.wgsl). A single-scattering microfacet BRDF lets light leave after one
+//! (technique/energy/*.wgsl). A single-scattering microfacet BRDF lets light leave after one
 //! reflection; light that meets a second microfacet is dropped, up to 69 % of it for a white
 //! conductor at α = 1 and normal incidence (1 − ln 2 is what stays; the oracle's closed form).
 //! The ground truth is the oracle's multiple-scattering random walk (Heitz, Hanika, d'Eon &
@@ -25,7 +25,8 @@
 
 pub mod tables;
 
-use super::param::{Kind, MethodSpec, Param, Value};
+use super::method::{wgsl_method_codes, Family, Method, MethodInfo, Override, Row, Settings};
+use super::param::{spec_named, Kind, MethodSpec, Param, Value};
 
 /// Which compensation (WGSL `ENERGY_*`, the pipeline constant `ENERGY_METHOD`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -135,3 +136,54 @@ pub static METHODS: &[MethodSpec<EnergyCompensation>] = &[
         params: &[LUT],
     },
 ];
+
+/// The energy-compensation family.
+pub struct EnergyCompensationFamily;
+
+impl Family for EnergyCompensationFamily {
+    fn title(&self) -> &'static str {
+        "Energy compensation"
+    }
+
+    fn methods(&self) -> Vec<MethodInfo> {
+        MethodInfo::of(METHODS)
+    }
+
+    /// Over N×N quadrature (n = 8, env_n = 8), unshadowed.
+    fn method(&self, name: &str) -> Option<Method> {
+        spec_named(METHODS, name).map(|s| Method::of((s.default)(), 8))
+    }
+
+    fn wgsl_codes(&self) -> String {
+        wgsl_method_codes("ENERGY_", None, METHODS)
+    }
+
+    fn shading_sources(&self) -> &'static [(&'static str, &'static str)] {
+        &[
+            ("energy/table.wgsl", include_str!("table.wgsl")),
+            ("energy/kulla_conty.wgsl", include_str!("kulla_conty.wgsl")),
+            ("energy/turquin.wgsl", include_str!("turquin.wgsl")),
+            ("energy/fdez_aguera.wgsl", include_str!("fdez_aguera.wgsl")),
+        ]
+    }
+}
+
+impl Settings for EnergyCompensation {
+    fn method_name(&self) -> &'static str {
+        self.spec().name
+    }
+
+    fn rows(&self) -> Vec<Row> {
+        Row::all(EnergyCompensation::rows(self))
+    }
+
+    fn overrides(&self) -> Vec<Override> {
+        vec![Override::shading("ENERGY_METHOD", self.shader_code())]
+    }
+}
+
+/// WGSL `ENERGY_METHOD` of `m` (and `frame.energy.x`): its part's, or `ENERGY_NONE`.
+pub fn code(m: &Method) -> u32 {
+    m.get::<EnergyCompensation>()
+        .map_or(0, EnergyCompensation::shader_code)
+}

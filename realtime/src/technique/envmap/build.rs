@@ -1,5 +1,5 @@
 //! Building an environment-mapping method's maps for one render (module docs of
-//! [`super`]): the capture, the filtering passes of `shaders/envmap/filter.wgsl`, and
+//! [`super`]): the capture, the filtering passes of `technique/envmap/filter.wgsl`, and
 //! the bind group (group 3) the shading pipelines read them from.
 //!
 //! Capture: six forward renders of the scene without the reflector, from the capture point,
@@ -43,7 +43,6 @@ use crate::targets::Targets;
 use crate::technique::detail::ConeCache;
 use crate::technique::shadow::maps::ShadowMaps;
 use crate::technique::texture::Filter;
-use crate::technique::Method;
 use crate::upload::SceneGpu;
 
 /// `EnvMapUniforms` of envmap/envmap.wgsl.
@@ -264,7 +263,7 @@ impl EnvMapBuilder {
             .get_or_init(|| {
                 let source = shader_source(false, Filter::Bilinear)
                     + "// ---- envmap/filter.wgsl ----\n"
-                    + include_str!("../../../shaders/envmap/filter.wgsl");
+                    + include_str!("filter.wgsl");
                 let ir = ShaderIr::parse(&source).unwrap_or_else(|e| {
                     panic!("Verity's environment-map filter module does not validate: {e}")
                 });
@@ -305,7 +304,7 @@ impl Build<'_> {
     /// The maps of `settings`' method for `scene`.
     fn environment_maps(&self, scene: &Scene, settings: &RasterSettings) -> Result<EnvMaps, RasterError> {
         let placeholder = &self.builder.placeholder;
-        let Some(e) = &settings.method.envmap else {
+        let Some(e) = settings.method.get::<EnvMapping>() else {
             return Ok(EnvMaps {
                 bind_group: placeholder.bind_group.clone(),
                 header: Vec::new(),
@@ -626,7 +625,7 @@ impl Build<'_> {
         layer_count: u32,
     ) -> Result<Option<wgpu::Texture>, RasterError> {
         let device = &self.gpu.device;
-        let size = settings.method.envmap.as_ref().map_or(1, |e| e.size);
+        let size = settings.method.get::<EnvMapping>().map_or(1, |e| e.size);
         let mut further: Vec<wgpu::Texture> = Vec::new();
         for _ in 1..layer_count {
             let previous = further.last().unwrap_or(radiance);
@@ -674,7 +673,7 @@ impl Build<'_> {
         settings: &RasterSettings,
     ) -> Result<wgpu::Texture, RasterError> {
         let device = &self.gpu.device;
-        let size = settings.method.envmap.as_ref().map_or(1, |e| e.size);
+        let size = settings.method.get::<EnvMapping>().map_or(1, |e| e.size);
         let reflector = &scene.shapes[index];
         match &reflector.geometry {
             Geometry::Sphere { radius, .. } => {
@@ -746,11 +745,8 @@ impl Build<'_> {
     ) -> Result<wgpu::Texture, RasterError> {
         let placeholder = &self.builder.placeholder;
         let device = &self.gpu.device;
-        let size = settings.method.envmap.as_ref().map_or(1, |e| e.size);
-        let capture_method = Method {
-            envmap: None,
-            ..settings.method.clone()
-        };
+        let size = settings.method.get::<EnvMapping>().map_or(1, |e| e.size);
+        let capture_method = settings.method.clone().without::<EnvMapping>();
         let face_settings = RasterSettings::new(size, size)
             .method(capture_method)
             .pipeline(PipelineKind::Forward)

@@ -1,4 +1,4 @@
-//! The filtering passes of an environment map (`shaders/envmap/filter.wgsl`, compute): the
+//! The filtering passes of an environment map (`technique/envmap/filter.wgsl`, compute): the
 //! maps' textures and views, the dispatch helper, and one encoder per product — box mips,
 //! lobe-prefiltered levels, the irradiance cube, SH9, the sphere or paraboloid warp and the
 //! split-sum BRDF table ([`super::build`] runs them after the capture).

@@ -3,10 +3,10 @@
 //!
 //! Each render captures six 90° views from the capture point with the realtime renderer
 //! itself (the reflector left out), into a radiance cube, and derives the maps the method
-//! reads ([`build`], [`filter`], `shaders/envmap/filter.wgsl`): box mips, prefiltered specular
+//! reads ([`build`], [`filter`], `technique/envmap/filter.wgsl`): box mips, prefiltered specular
 //! levels, an irradiance cube, nine spherical-harmonic coefficients, and for the sphere and
 //! paraboloid methods the same levels warped into their parameterization. The reflector is
-//! then shaded from the maps along R = 2(n·ωo)n − ωo (`shaders/envmap/envmap.wgsl`); every other
+//! then shaded from the maps along R = 2(n·ωo)n − ωo (`technique/envmap/envmap.wgsl`); every other
 //! shape as under `area_quadrature`. The ground truth (docs/ARCHITECTURE.md) is the oracle's exact
 //! reflection of the real local geometry; a scene with its local objects switched off
 //! (`enabled = false`) is the distant-only variant that measures parameterization and filtering
@@ -26,7 +26,9 @@ use std::fmt;
 
 use glam::Vec3;
 
-use super::param::{Kind, MethodSpec, Param, Value};
+use super::detail::{self, Detail};
+use super::method::{wgsl_method_codes, Family, Method, MethodInfo, Row};
+use super::param::{spec_named, Kind, MethodSpec, Param, Value};
 use localization::Localization;
 
 pub(crate) mod build;
@@ -348,6 +350,79 @@ pub static METHODS: &[MethodSpec<EnvMapping>] = &[
         }],
     },
 ];
+
+/// The values of an environment map's `detail`: `none`, then every detail method.
+const DETAIL_CHOICES: [&str; 1 + detail::METHODS.len()] = {
+    let mut names = ["none"; 1 + detail::METHODS.len()];
+    let mut i = 0;
+    while i < detail::METHODS.len() {
+        names[i + 1] = detail::METHODS[i].name;
+        i += 1;
+    }
+    names
+};
+
+/// `detail` of the environment-mapping methods: a surface-detail method, with its parameters,
+/// added to the method as its `Detail` part.
+pub static DETAIL: Param<Method> = Param {
+    name: "detail",
+    kind: Kind::Keyword(&DETAIL_CHOICES),
+    unit: "",
+    doc: "lookups along the normals a surface-detail method perturbs (environment-mapped normal mapping), \
+          with that method's parameters; none: the reflector's own normals",
+    source: "",
+    unset: "",
+    get: |m| {
+        Some(Value::Keyword(
+            m.get::<Detail>().map_or("none", |d| d.technique.name()),
+        ))
+    },
+    set: |m, v| {
+        match v.keyword()? {
+            "none" => m.remove::<Detail>(),
+            name => m.insert(Detail::by_name(name)?),
+        }
+        Some(())
+    },
+};
+
+/// The rows every environment-mapping and distance-impostor method shares: [`COMMON`] and
+/// `detail`.
+pub fn shared_rows() -> Vec<Row> {
+    let mut rows = Row::all(COMMON);
+    rows.push(Row(&DETAIL));
+    rows
+}
+
+/// The environment-mapping family.
+pub struct EnvironmentMapping;
+
+impl Family for EnvironmentMapping {
+    fn title(&self) -> &'static str {
+        "Environment mapping"
+    }
+
+    fn methods(&self) -> Vec<MethodInfo> {
+        MethodInfo::of(METHODS)
+    }
+
+    /// Over N×N quadrature (n = 8, env_n = 8), unshadowed, without surface detail.
+    fn method(&self, name: &str) -> Option<Method> {
+        spec_named(METHODS, name).map(|s| Method::of((s.default)(), 8))
+    }
+
+    fn shared_rows(&self) -> Vec<Row> {
+        shared_rows()
+    }
+
+    fn wgsl_codes(&self) -> String {
+        wgsl_method_codes("ENVMAP_", Some("NONE"), METHODS)
+    }
+
+    fn shading_sources(&self) -> &'static [(&'static str, &'static str)] {
+        &[("envmap/envmap.wgsl", include_str!("envmap.wgsl"))]
+    }
+}
 
 impl fmt::Display for Parameterization {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

@@ -1,6 +1,6 @@
 //! Shadow maps (Williams 1978): Depth32Float layers, one per light (k per directional light
 //! under `cascades = k`), rendered every frame in a depth-only pass from the light, then
-//! filtered into a visibility factor V by the method's technique (`shaders/shadow/*.wgsl`,
+//! filtered into a visibility factor V by the method's technique (`technique/shadow/*.wgsl`,
 //! `shadow/pcf.wgsl`, `shadow/pcss.wgsl`).
 //!
 //! Light slots are the realtime light order: the area emitters (spheres, rectangles, disks) in
@@ -441,7 +441,7 @@ fn gpu_light(f: &LightFrustum, side: u32) -> GpuShadowLight {
 /// refuses more); all zero when unshadowed: V = 1 everywhere.
 pub fn shadow_uniforms(method: &Method, frusta: &[Vec<LightFrustum>]) -> GpuShadowUniforms {
     let mut u = GpuShadowUniforms::zeroed();
-    let Some(s) = method.shadow else {
+    let Some(&s) = method.get::<Shadow>() else {
         return u;
     };
     let mut taps = [0u32; 4];
@@ -528,11 +528,12 @@ impl ShadowMaps {
         aspect: f32,
         limits: &wgpu::Limits,
     ) -> Result<ShadowMaps, String> {
-        let per_slot = match &method.shadow {
+        let shadow = method.get::<Shadow>();
+        let per_slot = match shadow {
             Some(s) => light_frusta(scene, s, aspect),
             None => Vec::new(),
         };
-        let side = method.shadow.map_or(1, |s| s.map);
+        let side = shadow.map_or(1, |s| s.map);
         if per_slot.len() > MAX_SHADOWED_LIGHTS {
             return Err(format!(
                 "method {method}: the scene has {} lights, at most {MAX_SHADOWED_LIGHTS} can be shadowed",
@@ -540,7 +541,7 @@ impl ShadowMaps {
             ));
         }
         let frusta: Vec<LightFrustum> = per_slot.iter().flatten().cloned().collect();
-        let cascades = method.shadow.map_or(1, |s| s.cascades);
+        let cascades = shadow.map_or(1, |s| s.cascades);
         if frusta.len() > MAX_SHADOW_LAYERS {
             return Err(format!(
                 "method {method}: the scene's {} lights need {} shadow-map layers ({cascades} per \
@@ -805,12 +806,12 @@ pub(in crate::technique::shadow) mod tests {
                 );
             }
         }
-        let u = shadow_uniforms(&Method::shadowed(shadow), &slots);
+        let u = shadow_uniforms(&Method::of(shadow, 0), &slots);
         assert_eq!(u.slots[0], [0, 6, 1, 0]);
         let single = light_frusta(&s, &hard(), 1.0);
         assert_eq!(single[0].len(), 1);
         assert_eq!(
-            shadow_uniforms(&Method::shadowed(hard()), &single).slots[0],
+            shadow_uniforms(&Method::of(hard(), 0), &single).slots[0],
             [0, 1, 0, 0]
         );
         // A sphere emitter gets a cube too, its own shape left out of every face, its
@@ -934,7 +935,7 @@ pub(in crate::technique::shadow) mod tests {
         let mut shadow = cascaded(3, 0.5);
         shadow.rotate = true;
         let frusta = light_frusta(&s, &shadow, 1.0);
-        let u = shadow_uniforms(&Method::shadowed(shadow), &frusta);
+        let u = shadow_uniforms(&Method::of(shadow, 0), &frusta);
         assert_eq!((u.slots[0], u.slots[1]), ([0, 1, 0, 0], [1, 3, 0, 0]));
         assert_eq!(u.layers[0].search[1], f32::MAX);
         assert_eq!(frusta[1].len(), 3);
@@ -947,7 +948,7 @@ pub(in crate::technique::shadow) mod tests {
             technique: ShadowTechnique::PcfPoisson { taps: 8, radius: 2.0 },
             ..shadow
         };
-        let u = shadow_uniforms(&Method::shadowed(poisson), &frusta);
+        let u = shadow_uniforms(&Method::of(poisson, 0), &frusta);
         assert_eq!(u.settings.filtering[3], 1.0);
     }
 }

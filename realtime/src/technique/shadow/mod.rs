@@ -10,7 +10,7 @@
 //! | [`frustum`] | a map layer's projection; the orthographic fit of directional lights and cascades |
 //! | [`cascades`] | cascaded maps of directional lights (Zhang et al. 2006; Dimitrov 2007) |
 //! | [`poisson`] | the Poisson-disk taps of `pcf_poisson` and `pcss` (Mitchell 1991) |
-//! | `shaders/shadow/*.wgsl` | the map lookup, one file per filter, the `SHADOW_METHOD` switch |
+//! | `technique/shadow/*.wgsl` | the map lookup, one file per filter, the `SHADOW_METHOD` switch |
 //!
 //! `cascades = k ≥ 2` splits the camera's view depth range [n, f] of a directional light into
 //! k slices by the practical split scheme of Zhang et al. 2006,
@@ -26,7 +26,8 @@ pub mod frustum;
 pub mod maps;
 pub mod poisson;
 
-use super::param::{Kind, MethodSpec, Param, Value};
+use super::method::{wgsl_method_codes, Family, Frame, Method, MethodInfo, Override, Row, Settings};
+use super::param::{spec_named, Kind, MethodSpec, Param, Value};
 
 /// Largest Poisson tap count (`taps`, `blocker_samples`, `filter_samples`): the size of the
 /// tap table ([`poisson::POISSON_TAPS`]).
@@ -79,10 +80,6 @@ pub enum ShadowTechnique {
         blocker_depth: BlockerDepth,
     },
 }
-
-/// WGSL `SHADOW_METHOD` values (generated into the shader source as `SHADOW_<NAME>`): 0 is
-/// "no shadows", then [`METHODS`] in order.
-pub const SHADOW_NONE: u32 = 0;
 
 impl ShadowTechnique {
     /// The value of the WGSL override constant `SHADOW_METHOD`: 1 + its index in [`METHODS`].
@@ -506,3 +503,68 @@ pub static METHODS: &[MethodSpec<Shadow>] = &[
         ],
     },
 ];
+
+/// The shadow-mapping family.
+pub struct ShadowMapping;
+
+impl Family for ShadowMapping {
+    fn title(&self) -> &'static str {
+        "Shadow maps"
+    }
+
+    fn methods(&self) -> Vec<MethodInfo> {
+        MethodInfo::of(METHODS)
+    }
+
+    /// Over N×N quadrature with n = 8, env_n = 0.
+    fn method(&self, name: &str) -> Option<Method> {
+        spec_named(METHODS, name).map(|s| Method::of((s.default)(), 0))
+    }
+
+    fn shared_rows(&self) -> Vec<Row> {
+        Row::all(COMMON)
+    }
+
+    fn wgsl_codes(&self) -> String {
+        wgsl_method_codes("SHADOW_", Some("NONE"), METHODS)
+    }
+
+    fn shading_sources(&self) -> &'static [(&'static str, &'static str)] {
+        &[
+            ("shadow/map_common.wgsl", include_str!("map_common.wgsl")),
+            ("shadow/hard.wgsl", include_str!("hard.wgsl")),
+            ("shadow/pcf.wgsl", include_str!("pcf.wgsl")),
+            ("shadow/pcss.wgsl", include_str!("pcss.wgsl")),
+            ("shadow/visibility.wgsl", include_str!("visibility.wgsl")),
+        ]
+    }
+}
+
+impl Settings for Shadow {
+    fn method_name(&self) -> &'static str {
+        self.technique.name()
+    }
+
+    fn rows(&self) -> Vec<Row> {
+        Row::all(Shadow::rows(self))
+    }
+
+    fn overrides(&self) -> Vec<Override> {
+        vec![Override::shading("SHADOW_METHOD", self.technique.shader_code())]
+    }
+
+    fn check(&self, method: &Method, frame: &Frame<'_>) -> Result<(), String> {
+        if self.map > frame.max_texture_side {
+            return Err(format!(
+                "method {method}: map = {} exceeds the adapter's {} texels per side",
+                self.map, frame.max_texture_side
+            ));
+        }
+        Ok(())
+    }
+
+    /// One Depth32Float layer of `map`² per light (the budget check's estimate).
+    fn bytes(&self) -> u64 {
+        u64::from(self.map).pow(2) * 4
+    }
+}

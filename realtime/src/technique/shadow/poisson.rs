@@ -1,4 +1,4 @@
-//! The Poisson-disk tap pattern of `pcf_poisson` and `pcss` (shaders/shadow/pcf.wgsl, shadow/pcss.wgsl):
+//! The Poisson-disk tap pattern of `pcf_poisson` and `pcss` (technique/shadow/pcf.wgsl, shadow/pcss.wgsl):
 //! [`POISSON_TAPS`] points in the unit disk, generated once, deterministically, on the CPU.
 
 use scenes::random::SplitMix64;

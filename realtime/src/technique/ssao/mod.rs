@@ -2,7 +2,7 @@
 //! frame", stage 3) that estimates, from depth and normals alone, how much of each visible
 //! point's hemisphere is open within a radius r, and that the deferred lighting multiplies into
 //! the environment's light (the ambient term). Passes and pipelines: [`passes`]; WGSL:
-//! shaders/ssao/, one file per technique.
+//! technique/ssao/, one file per technique.
 //!
 //! Ground truth: the oracle's `ao` integrator with the same radius, `ao_radius` = r:
 //! AO(x) = (1/π) ∫ V_r(x, ω) cos θ dω, V_r = 1 when no surface lies within r along ω — the
@@ -30,9 +30,11 @@
 
 pub mod passes;
 
-use super::param::{Kind, MethodSpec, Param, Value};
+use super::method::{Family, Frame, Method, MethodInfo, Override, Row, Settings};
+use super::param::{spec_named, Kind, MethodSpec, Param, Value};
 
-/// The estimator of an SSAO method (WGSL `SSAO_METHOD` − 1 is its index in [`METHODS`]).
+/// The estimator of an SSAO method (each a shader module of its own, passes.rs: no WGSL code
+/// selects it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SsaoTechnique {
     /// Depth-only point samples in a ball (Mittring 2007).
@@ -114,7 +116,7 @@ pub struct AmbientOcclusion {
 }
 
 impl AmbientOcclusion {
-    /// The WGSL `SSAO_METHOD`: 1 + its index in [`METHODS`].
+    /// 1 + its index in [`METHODS`].
     pub fn shader_code(&self) -> u32 {
         match self.technique {
             SsaoTechnique::Crytek => 1,
@@ -386,6 +388,60 @@ pub static METHODS: &[MethodSpec<AmbientOcclusion>] = &[
         params: &[DIRECTIONS, STEPS],
     },
 ];
+
+/// The screen-space ambient occlusion family.
+pub struct AmbientOcclusionFamily;
+
+impl Family for AmbientOcclusionFamily {
+    fn title(&self) -> &'static str {
+        "Screen-space ambient occlusion"
+    }
+
+    fn methods(&self) -> Vec<MethodInfo> {
+        MethodInfo::of(METHODS)
+    }
+
+    /// Over N×N quadrature (n = 8, env_n = 8), unshadowed.
+    fn method(&self, name: &str) -> Option<Method> {
+        spec_named(METHODS, name).map(|s| Method::of((s.default)(), 8))
+    }
+
+    fn shared_rows(&self) -> Vec<Row> {
+        Row::all(COMMON)
+    }
+}
+
+impl Settings for AmbientOcclusion {
+    fn method_name(&self) -> &'static str {
+        self.spec().name
+    }
+
+    fn rows(&self) -> Vec<Row> {
+        Row::all(AmbientOcclusion::rows(self))
+    }
+
+    /// None: its passes are compute passes of their own (passes.rs).
+    fn overrides(&self) -> Vec<Override> {
+        Vec::new()
+    }
+
+    fn check(&self, method: &Method, frame: &Frame<'_>) -> Result<(), String> {
+        if self.orbit_degrees > 0.0 && self.temporal == 0 {
+            return Err(format!(
+                "method {method}: orbit_degrees = {} moves the camera between the frames of a temporal accumulation; \
+                 set temporal (frames) too",
+                self.orbit_degrees
+            ));
+        }
+        if !frame.deferred {
+            return Err(format!(
+                "method {method}: screen-space ambient occlusion reads the G-buffer; use the deferred pipeline \
+                 (`--pipeline deferred`; in a study, `pipeline = \"deferred\"`)"
+            ));
+        }
+        Ok(())
+    }
+}
 
 #[cfg(test)]
 mod tests {

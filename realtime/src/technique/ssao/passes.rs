@@ -15,8 +15,7 @@
 //! upsampling share one (common.wgsl, filter.wgsl). The pipelines are built on first use and
 //! held by the renderer.
 
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec2;
@@ -24,6 +23,7 @@ use scenes::{Camera, Scene};
 use wgpu::util::DeviceExt;
 
 use super::{AmbientOcclusion, SsaoTechnique};
+use crate::built_once::BuiltOnce;
 use crate::camera::{camera_near, view_proj};
 use crate::gpu_types::vec4;
 use crate::pipelines::{fullscreen_pipeline, unfilterable_texture};
@@ -32,10 +32,10 @@ use crate::targets::{
 };
 use crate::timestamps::Timestamps;
 
-const COMMON: &str = include_str!("../../../shaders/ssao/common.wgsl");
-const MARCH: &str = include_str!("../../../shaders/ssao/march.wgsl");
-const AO: &str = include_str!("../../../shaders/ssao/ao.wgsl");
-const FILTER: &str = include_str!("../../../shaders/ssao/filter.wgsl");
+const COMMON: &str = include_str!("common.wgsl");
+const MARCH: &str = include_str!("march.wgsl");
+const AO: &str = include_str!("ao.wgsl");
+const FILTER: &str = include_str!("filter.wgsl");
 
 /// A pass's entry point (and the module holding it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -58,10 +58,10 @@ impl Entry {
 
     fn source(self) -> String {
         let technique = match self {
-            Entry::Ao(SsaoTechnique::Crytek) => include_str!("../../../shaders/ssao/crytek.wgsl"),
-            Entry::Ao(SsaoTechnique::Hemisphere) => include_str!("../../../shaders/ssao/hemisphere.wgsl"),
-            Entry::Ao(SsaoTechnique::Hbao) => include_str!("../../../shaders/ssao/hbao.wgsl"),
-            Entry::Ao(SsaoTechnique::Gtao) => include_str!("../../../shaders/ssao/gtao.wgsl"),
+            Entry::Ao(SsaoTechnique::Crytek) => include_str!("crytek.wgsl"),
+            Entry::Ao(SsaoTechnique::Hemisphere) => include_str!("hemisphere.wgsl"),
+            Entry::Ao(SsaoTechnique::Hbao) => include_str!("hbao.wgsl"),
+            Entry::Ao(SsaoTechnique::Gtao) => include_str!("gtao.wgsl"),
             Entry::Blur | Entry::Upsample | Entry::Temporal => return format!("{COMMON}\n{FILTER}"),
         };
         format!("{COMMON}\n{MARCH}\n{technique}\n{AO}")
@@ -101,7 +101,7 @@ pub(crate) struct SsaoPipelines {
     pass_layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     /// By entry point and whether it counts its loads (`COUNT_LOADS`).
-    cache: Mutex<HashMap<(Entry, bool), Arc<wgpu::RenderPipeline>>>,
+    cache: BuiltOnce<(Entry, bool), wgpu::RenderPipeline>,
 }
 
 fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
@@ -155,37 +155,33 @@ impl SsaoPipelines {
             shared_layout,
             pass_layout,
             pipeline_layout,
-            cache: Mutex::new(HashMap::new()),
+            cache: BuiltOnce::new(),
         }
     }
 
     /// The pipeline of `entry`, counting its loads or not, built on first use.
     fn get(&self, device: &wgpu::Device, entry: Entry, counting: bool) -> Arc<wgpu::RenderPipeline> {
-        let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
-        cache
-            .entry((entry, counting))
-            .or_insert_with(|| {
-                let label = format!("SSAO: {entry:?} (counting {counting})");
-                let constants = [("COUNT_LOADS", if counting { 1.0 } else { 0.0 })];
-                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some(&label),
-                    source: wgpu::ShaderSource::Wgsl(entry.source().into()),
-                });
-                let formats: &[wgpu::TextureFormat] = match entry {
-                    Entry::Temporal => &[OBSCURANCE_FORMAT, HISTORY_FORMAT],
-                    _ => &[OBSCURANCE_FORMAT],
-                };
-                Arc::new(fullscreen_pipeline(
-                    device,
-                    &label,
-                    &self.pipeline_layout,
-                    &module,
-                    ("vs_fullscreen", entry.fragment()),
-                    formats,
-                    &constants,
-                ))
-            })
-            .clone()
+        self.cache.get_or_build(&(entry, counting), || {
+            let label = format!("SSAO: {entry:?} (counting {counting})");
+            let constants = [("COUNT_LOADS", if counting { 1.0 } else { 0.0 })];
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(&label),
+                source: wgpu::ShaderSource::Wgsl(entry.source().into()),
+            });
+            let formats: &[wgpu::TextureFormat] = match entry {
+                Entry::Temporal => &[OBSCURANCE_FORMAT, HISTORY_FORMAT],
+                _ => &[OBSCURANCE_FORMAT],
+            };
+            fullscreen_pipeline(
+                device,
+                &label,
+                &self.pipeline_layout,
+                &module,
+                ("vs_fullscreen", entry.fragment()),
+                formats,
+                &constants,
+            )
+        })
     }
 }
 

@@ -46,6 +46,7 @@ pub mod gpu_array;
 pub mod pyramid;
 pub mod sat;
 
+use super::method::{wgsl_method_codes, Family, Frame, Method, MethodInfo, Override, Row, Settings};
 use super::param::{spec_named, Kind, MethodSpec, Param, Value};
 
 /// Most probes or ellipse eccentricity (`max_anisotropy`), as GPUs' 16×.
@@ -221,12 +222,6 @@ impl TextureFilter {
         self.spec().params.iter()
     }
 
-    /// `TEXTURE_FILTER | TEXTURE_DERIVATIVES << 8`, the pipeline key's texture part (the
-    /// filter picks the shader module, the derivatives an override constant).
-    pub fn pipeline_code(&self) -> u32 {
-        self.filter.shader_code() | (self.derivatives.shader_code() << 8)
-    }
-
     /// The frame uniform's `texture`: lod_bias, max_anisotropy, unused, unused.
     pub fn uniforms(&self) -> [f32; 4] {
         [self.lod_bias, self.max_anisotropy as f32, 0.0, 0.0]
@@ -382,6 +377,77 @@ pub static METHODS: &[MethodSpec<TextureFilter>] = &[
         params: &[DERIVATIVES, LOD_BIAS, MIP_SPACE, MAX_ANISOTROPY_PARAM],
     },
 ];
+
+/// The texture filter `m`'s lookups use: its `TextureFilter` part's, or bilinear at level 0.
+pub fn of(m: &Method) -> TextureFilter {
+    m.get::<TextureFilter>()
+        .copied()
+        .unwrap_or(TextureFilter::BILINEAR)
+}
+
+/// The texture-filtering family.
+pub struct TextureFiltering;
+
+impl Family for TextureFiltering {
+    fn title(&self) -> &'static str {
+        "Texture filtering"
+    }
+
+    fn methods(&self) -> Vec<MethodInfo> {
+        MethodInfo::of(METHODS)
+    }
+
+    /// Over N×N quadrature (n = 8, env_n = 8), unshadowed, without surface detail.
+    fn method(&self, name: &str) -> Option<Method> {
+        TextureFilter::by_name(name).map(|t| Method::of(t, 8))
+    }
+
+    fn wgsl_codes(&self) -> String {
+        wgsl_method_codes("TEX_", None, METHODS)
+    }
+
+    fn shading_sources(&self) -> &'static [(&'static str, &'static str)] {
+        &[
+            ("texture/filter.wgsl", include_str!("filter.wgsl")),
+            ("texture/nearest.wgsl", include_str!("nearest.wgsl")),
+            ("texture/mip_nearest.wgsl", include_str!("mip_nearest.wgsl")),
+            ("texture/trilinear.wgsl", include_str!("trilinear.wgsl")),
+            ("texture/sat.wgsl", include_str!("sat.wgsl")),
+            ("texture/ripmap.wgsl", include_str!("ripmap.wgsl")),
+            ("texture/footprint.wgsl", include_str!("footprint.wgsl")),
+            ("texture/ewa.wgsl", include_str!("ewa.wgsl")),
+            ("texture/anisotropic.wgsl", include_str!("anisotropic.wgsl")),
+        ]
+    }
+}
+
+/// The filter itself picks the shader module (its generated `texture_filtered`,
+/// pipelines.rs); the derivatives are an override.
+impl Settings for TextureFilter {
+    fn method_name(&self) -> &'static str {
+        self.spec().name
+    }
+
+    fn rows(&self) -> Vec<Row> {
+        Row::all(TextureFilter::rows(self))
+    }
+
+    fn overrides(&self) -> Vec<Override> {
+        vec![Override::geometry(
+            "TEXTURE_DERIVATIVES",
+            self.derivatives.shader_code(),
+        )]
+    }
+
+    fn check(&self, method: &Method, frame: &Frame<'_>) -> Result<(), String> {
+        if self.derivatives == Derivatives::Analytic && frame.deferred {
+            return Err(format!(
+                "method {method}: derivatives = analytic needs the forward pipeline (the G-buffer stores no ray differentials)"
+            ));
+        }
+        Ok(())
+    }
+}
 
 #[cfg(test)]
 mod tests {

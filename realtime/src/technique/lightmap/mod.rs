@@ -1,5 +1,5 @@
 //! Light maps: diffuse lighting precomputed per texel of a second parameterization of every
-//! static surface and looked up at render time (shaders/lightmap/lookup.wgsl). The map holds
+//! static surface and looked up at render time (technique/lightmap/lookup.wgsl). The map holds
 //! the irradiance E (W/m²) of each texel centre, direct and indirect, as the oracle bakes it
 //! (`oracle::bake`, `verity bake`; scenes::lightmap defines the charts and the atlas); a static
 //! diffuse surface of albedo ρ leaves L_o = ρ/π · E, exactly what the ground truth's `path`
@@ -22,7 +22,8 @@
 //! across texels but not interpolating: at a texel centre it returns (E₋₁ + 4E₀ + E₊₁)/6 along
 //! each axis, a blur of one texel that shows in a shadow edge's width.
 
-use super::param::{Kind, MethodSpec, Param, Value};
+use super::method::{wgsl_method_codes, Family, Method, MethodInfo, Override, Row, Settings};
+use super::param::{spec_named, Kind, MethodSpec, Param, Value};
 
 /// How the atlas is read between texel centres (WGSL `LIGHTMAP_METHOD`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -65,11 +66,6 @@ impl LightMapMethod {
             LightMapFilter::Bilinear => 1,
             LightMapFilter::Bicubic => 2,
         }
-    }
-
-    /// [`Self::shader_code`] in the low byte, WGSL `LIGHTMAP_SPECULAR` (0 none, 1 direct) above.
-    pub fn pipeline_code(&self) -> u32 {
-        self.shader_code() | u32::from(self.direct_specular) << 8
     }
 
     /// The method's row in [`METHODS`].
@@ -228,5 +224,53 @@ impl std::fmt::Debug for BakedMap {
             self.map.layout.height,
             self.map.digest()
         )
+    }
+}
+
+/// The light-map family.
+pub struct LightMaps;
+
+impl Family for LightMaps {
+    fn title(&self) -> &'static str {
+        "Light maps"
+    }
+
+    fn methods(&self) -> Vec<MethodInfo> {
+        MethodInfo::of(METHODS)
+    }
+
+    /// Over N×N quadrature (n = 8, env_n = 8), unshadowed.
+    fn method(&self, name: &str) -> Option<Method> {
+        spec_named(METHODS, name).map(|s| Method::of((s.default)(), 8))
+    }
+
+    fn shared_rows(&self) -> Vec<Row> {
+        Row::all(COMMON)
+    }
+
+    fn wgsl_codes(&self) -> String {
+        wgsl_method_codes("LIGHTMAP_", Some("NONE"), METHODS)
+    }
+
+    fn shading_sources(&self) -> &'static [(&'static str, &'static str)] {
+        &[("lightmap/lookup.wgsl", include_str!("lookup.wgsl"))]
+    }
+}
+
+impl Settings for LightMapMethod {
+    fn method_name(&self) -> &'static str {
+        self.spec().name
+    }
+
+    fn rows(&self) -> Vec<Row> {
+        Row::all(LightMapMethod::rows(self))
+    }
+
+    /// `LIGHTMAP_METHOD` and `LIGHTMAP_SPECULAR` (0 none, 1 direct).
+    fn overrides(&self) -> Vec<Override> {
+        vec![
+            Override::shading("LIGHTMAP_METHOD", self.shader_code()),
+            Override::shading("LIGHTMAP_SPECULAR", u32::from(self.direct_specular)),
+        ]
     }
 }

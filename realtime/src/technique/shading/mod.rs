@@ -1,5 +1,5 @@
 //! Shading frequency: where on a tessellated surface the lighting is evaluated
-//! (`shaders/shading/vertex.wgsl`). Every other method shades per pixel — Phong shading
+//! (`technique/shading/vertex.wgsl`). Every other method shades per pixel — Phong shading
 //! (Phong 1975, "Illumination for Computer Generated Pictures", CACM 18(6)): the vertex
 //! normals interpolated across each triangle and the lighting evaluated at every pixel.
 //! Gouraud shading (Gouraud 1971, "Continuous Shading of Curved Surfaces", IEEE Trans. Comput.
@@ -16,7 +16,8 @@
 //! (`direct-unshadowed`), so the shading frequency alone is measured; the tessellation's own
 //! error is the exact surface's (a `sphere` instead of the icosphere).
 
-use super::param::{Kind, MethodSpec, Param, Value};
+use super::method::{wgsl_method_codes, Family, Frame, Method, MethodInfo, Override, Row, Settings};
+use super::param::{spec_named, Kind, MethodSpec, Param, Value};
 
 /// Where Gouraud shading takes a textured base colour (albedo) from (WGSL `VERTEX_ALBEDO`).
 /// Fixed-function OpenGL lit vertices with the material's colour and applied the texture per
@@ -157,3 +158,59 @@ pub static METHODS: &[MethodSpec<ShadingFrequency>] = &[
         params: &[],
     },
 ];
+
+/// The shading-frequency family.
+pub struct ShadingFrequencies;
+
+impl Family for ShadingFrequencies {
+    fn title(&self) -> &'static str {
+        "Shading frequency"
+    }
+
+    fn methods(&self) -> Vec<MethodInfo> {
+        MethodInfo::of(METHODS)
+    }
+
+    /// Over N×N quadrature (n = 8, env_n = 8), unshadowed.
+    fn method(&self, name: &str) -> Option<Method> {
+        spec_named(METHODS, name).map(|s| Method::of((s.default)(), 8))
+    }
+
+    /// `SHADING_*` and `VERTEX_ALBEDO_*`.
+    fn wgsl_codes(&self) -> String {
+        wgsl_method_codes("SHADING_", None, METHODS) + &wgsl_codes()
+    }
+
+    fn shading_sources(&self) -> &'static [(&'static str, &'static str)] {
+        &[("shading/vertex.wgsl", include_str!("vertex.wgsl"))]
+    }
+}
+
+impl Settings for ShadingFrequency {
+    fn method_name(&self) -> &'static str {
+        self.spec().name
+    }
+
+    fn rows(&self) -> Vec<Row> {
+        Row::all(ShadingFrequency::rows(self))
+    }
+
+    /// `SHADING_FREQUENCY` and `VERTEX_ALBEDO` (a vertex-lit frequency also picks the forward
+    /// mesh pipeline's vertex-lit entry points, pipelines.rs).
+    fn overrides(&self) -> Vec<Override> {
+        vec![
+            Override::shading("SHADING_FREQUENCY", self.shader_code()),
+            Override::shading("VERTEX_ALBEDO", self.albedo_code()),
+        ]
+    }
+
+    fn check(&self, method: &Method, frame: &Frame<'_>) -> Result<(), String> {
+        if self.shader_code() != 0 && frame.deferred {
+            return Err(format!(
+                "method {method}: vertex lighting runs in the forward pass's vertex stage; the deferred pipeline lights \
+                 every pixel of its G-buffer"
+            ));
+        }
+        Ok(())
+    }
+}

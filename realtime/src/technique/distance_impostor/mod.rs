@@ -6,7 +6,7 @@
 //! 65504, the largest f16, "infinitely far"). A reflected or refracted ray x + R·t from the
 //! shading point x (relative to o) then finds the texel its hit lies in, instead of the
 //! plain map's texel along R, which is right only for x = o or an infinitely distant
-//! environment (`shaders/distance_impostor/lookup.wgsl`).
+//! environment (`technique/distance_impostor/lookup.wgsl`).
 //!
 //! The methods, their papers and their parameters with ranges and defaults are [`METHODS`]
 //! (docs/methods.md is made from it).
@@ -61,8 +61,9 @@
 use super::envmap::localization::{
     Localization, MAX_DISTANCE_LAYERS, MAX_ITERATIONS, MAX_LINEAR_STEPS, MAX_SECANT_STEPS,
 };
-use super::envmap::{EnvMapping, Parameterization};
-use super::param::{Kind, MethodSpec, Param, Value};
+use super::envmap::{self, EnvMapping, Parameterization};
+use super::method::{Family, Method, MethodInfo, Override, Row, Settings};
+use super::param::{spec_named, Kind, MethodSpec, Param, Value};
 
 /// `double_refraction`, a row of both methods.
 const DOUBLE_REFRACTION: Param<EnvMapping> = Param {
@@ -81,38 +82,17 @@ const DOUBLE_REFRACTION: Param<EnvMapping> = Param {
 };
 
 /// The search parameters of `distance_search`, read and written by name.
-fn search(e: &EnvMapping, name: &str) -> Option<Value> {
-    let Localization::Search {
-        linear_steps,
-        secant_steps,
-        layers,
-    } = e.localization
-    else {
-        return None;
-    };
-    Some(Value::Whole(match name {
-        "linear_steps" => linear_steps,
-        "secant_steps" => secant_steps,
-        _ => layers,
-    }))
-}
-
-fn set_search(e: &mut EnvMapping, name: &str, v: Value) -> Option<()> {
-    let Localization::Search {
-        linear_steps,
-        secant_steps,
-        layers,
-    } = &mut e.localization
-    else {
-        return None;
-    };
-    let v = v.whole()?;
-    match name {
-        "linear_steps" => *linear_steps = v,
-        "secant_steps" => *secant_steps = v,
-        _ => *layers = v,
+/// `distance_search`'s own parameters (linear_steps, secant_steps, layers), None for another
+/// localization.
+fn search(l: &mut Localization) -> Option<(&mut u32, &mut u32, &mut u32)> {
+    match l {
+        Localization::Search {
+            linear_steps,
+            secant_steps,
+            layers,
+        } => Some((linear_steps, secant_steps, layers)),
+        _ => None,
     }
-    Some(())
 }
 
 /// The distance-impostor methods: `envmap_cube` with [`Localization`] other than `Distant`,
@@ -171,8 +151,11 @@ pub static METHODS: &[MethodSpec<EnvMapping>] = &[
                 doc: "samples of the linear search (each fetches every layer)",
                 source: "",
                 unset: "",
-                get: |e| search(e, "linear_steps"),
-                set: |e, v| set_search(e, "linear_steps", v),
+                get: |e| search(&mut e.localization.clone()).map(|s| Value::Whole(*s.0)),
+                set: |e, v| {
+                    *search(&mut e.localization)?.0 = v.whole()?;
+                    Some(())
+                },
             },
             Param {
                 name: "secant_steps",
@@ -181,8 +164,11 @@ pub static METHODS: &[MethodSpec<EnvMapping>] = &[
                 doc: "secant refinements of the bracket found",
                 source: "",
                 unset: "",
-                get: |e| search(e, "secant_steps"),
-                set: |e, v| set_search(e, "secant_steps", v),
+                get: |e| search(&mut e.localization.clone()).map(|s| Value::Whole(*s.1)),
+                set: |e, v| {
+                    *search(&mut e.localization)?.1 = v.whole()?;
+                    Some(())
+                },
             },
             Param {
                 name: "layers",
@@ -192,13 +178,74 @@ pub static METHODS: &[MethodSpec<EnvMapping>] = &[
                 source:
                     "Everitt 2001, \"Interactive Order-Independent Transparency\", NVIDIA (depth peeling)",
                 unset: "",
-                get: |e| search(e, "layers"),
-                set: |e, v| set_search(e, "layers", v),
+                get: |e| search(&mut e.localization.clone()).map(|s| Value::Whole(*s.2)),
+                set: |e, v| {
+                    *search(&mut e.localization)?.2 = v.whole()?;
+                    Some(())
+                },
             },
             DOUBLE_REFRACTION,
         ],
     },
 ];
+
+/// The distance-impostor family: environment mapping with a localization.
+pub struct DistanceImpostors;
+
+impl Family for DistanceImpostors {
+    fn title(&self) -> &'static str {
+        "Distance impostors"
+    }
+
+    fn methods(&self) -> Vec<MethodInfo> {
+        MethodInfo::of(METHODS)
+    }
+
+    /// As the environment-mapping methods: n = 8, env_n = 8, unshadowed.
+    fn method(&self, name: &str) -> Option<Method> {
+        spec_named(METHODS, name).map(|s| Method::of((s.default)(), 8))
+    }
+
+    fn shared_rows(&self) -> Vec<Row> {
+        envmap::shared_rows()
+    }
+
+    fn shading_sources(&self) -> &'static [(&'static str, &'static str)] {
+        &[("distance_impostor/lookup.wgsl", include_str!("lookup.wgsl"))]
+    }
+}
+
+/// The settings of both families, here because a distance impostor is an environment map
+/// with a [`Localization`] other than `Distant`: its method is named by the localization.
+impl Settings for EnvMapping {
+    fn method_name(&self) -> &'static str {
+        spec_of(self).name
+    }
+
+    /// [`envmap::COMMON`], its method's own, then `detail` (the method's; a detail method's
+    /// rows follow as its `Detail` part's).
+    fn rows(&self) -> Vec<Row> {
+        let mut rows = Row::all(self.rows(spec_of(self)));
+        rows.push(Row(&envmap::DETAIL));
+        rows
+    }
+
+    fn overrides(&self) -> Vec<Override> {
+        vec![Override::shading(
+            "ENVMAP_METHOD",
+            self.parameterization.shader_code(),
+        )]
+    }
+}
+
+/// The environment-mapping or distance-impostor method `e` is.
+fn spec_of(e: &EnvMapping) -> &'static MethodSpec<EnvMapping> {
+    match e.localization {
+        Localization::Distant => &envmap::METHODS[e.parameterization.shader_code() as usize - 1],
+        Localization::Iterations(_) => &METHODS[0],
+        Localization::Search { .. } => &METHODS[1],
+    }
+}
 
 #[cfg(test)]
 mod tests {

@@ -1,5 +1,5 @@
 //! Area lights: how spheres, rectangles, disks and sun disks are shaded, unshadowed
-//! (`shaders/area/*.wgsl`). The ground truth is the oracle's `direct-unshadowed`.
+//! (`technique/area/*.wgsl`). The ground truth is the oracle's `direct-unshadowed`.
 //!
 //! Delta lights (point, spot, zero-diameter directional) are exact under every method; the
 //! environment lights surfaces by `env_n`×`env_n` cosine-weighted midpoint quadrature under
