@@ -703,3 +703,100 @@ impl Family for AreaLights {
         ]
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::technique::detail::Detail;
+    use crate::technique::envmap::EnvMapping;
+    use crate::technique::shadow::Shadow;
+
+    fn parse(name: &str, params: &[(&str, &str)]) -> Method {
+        let params: Vec<(String, String)> = params
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect();
+        Method::parse(name, &params).unwrap()
+    }
+
+    /// The geometry pipelines get the constants that move the surface, the shading ones every
+    /// constant; each part's by name, sorted, the area technique's always.
+    #[test]
+    fn overrides_are_named_and_scoped() {
+        let m = parse("envmap_cube", &[("detail", "pom")]);
+        let names =
+            |a: Applies| -> Vec<(&str, u32)> { m.overrides(a).iter().map(|o| (o.name, o.value)).collect() };
+        assert_eq!(
+            names(Applies::Geometry),
+            [("AREA_METHOD", 0), ("DETAIL_METHOD", 7)]
+        );
+        assert_eq!(
+            names(Applies::Shading),
+            [("AREA_METHOD", 0), ("DETAIL_METHOD", 7), ("ENVMAP_METHOD", 1)]
+        );
+        let plain = Method::representative_point();
+        assert_eq!(plain.overrides(Applies::Shading).len(), 1);
+        assert_eq!(plain.overrides(Applies::Shading)[0].value, 1);
+    }
+
+    /// A method names itself by the part it was looked up by, whatever parts join it; an
+    /// environment map's `detail` adds and removes its `Detail` part, after the map's rows.
+    #[test]
+    fn parts_are_found_by_type_and_the_primary_names_the_method() {
+        let mut m = parse("envmap_sphere", &[("detail", "relief_mapping")]);
+        assert_eq!(m.name(), "envmap_sphere");
+        assert!(m.get::<EnvMapping>().is_some() && m.get::<Shadow>().is_none());
+        let names: Vec<&str> = m.rows().iter().map(Row::name).collect();
+        let detail_at = names.iter().position(|n| *n == "detail").unwrap();
+        let steps_at = names.iter().position(|n| *n == "binary_steps").unwrap();
+        assert!(detail_at < steps_at, "{names:?}");
+        m.set_param("detail", Value::Keyword("none")).unwrap();
+        assert!(m.get::<Detail>().is_none());
+        assert_eq!(m, parse("envmap_sphere", &[]));
+        let toksvig = parse("aa_specular_toksvig", &[]);
+        assert_eq!(toksvig.name(), "aa_specular_toksvig");
+        assert_eq!(toksvig.parts().count(), 2);
+        assert_eq!(
+            toksvig
+                .clone()
+                .without::<crate::technique::antialias::AntiAliasing>()
+                .name(),
+            "area_quadrature"
+        );
+    }
+
+    /// A family refuses the frames it cannot be rendered in, naming the method and the reason.
+    #[test]
+    fn families_refuse_frames_they_cannot_render() {
+        let forward = Frame {
+            deferred: false,
+            max_texture_side: 8192,
+            msaa_counts: &[4],
+        };
+        let deferred = Frame {
+            deferred: true,
+            ..forward
+        };
+        assert!(parse("ssao_gtao", &[])
+            .check(&forward)
+            .unwrap_err()
+            .contains("G-buffer"));
+        assert!(parse("ssao_gtao", &[]).check(&deferred).is_ok());
+        assert!(parse("shading_gouraud", &[])
+            .check(&deferred)
+            .unwrap_err()
+            .contains("vertex"));
+        assert!(parse("shading_phong", &[]).check(&deferred).is_ok());
+        let small = Frame {
+            max_texture_side: 512,
+            ..forward
+        };
+        let e = parse("shadow_hard", &[]).check(&small).unwrap_err();
+        assert!(
+            e.starts_with("method shadow_hard(") && e.contains("map = 1024"),
+            "{e}"
+        );
+        let e = parse("aa_msaa", &[("samples", "8")]).check(&forward).unwrap_err();
+        assert!(e.contains("8 samples") && e.contains("it can do 4"), "{e}");
+    }
+}
