@@ -15,9 +15,9 @@ pub use super::setup::{
 };
 use super::setup::{io_err, measured_raster_settings};
 use super::{plan, stability, MaskSpec, Measure, ScenePoint, Study, Target, Variant};
+use crate::colormap;
 use crate::metrics::{self, Bias, Mask, MetricValue, RgbImage};
 use crate::progress::StepProgress;
-use crate::colormap;
 
 /// Runs `study` on `renderer`, writing images under `opts.out_dir`: at each scene point (the
 /// scene as written, or each scene-sweep value) its ground truth, masks and every variant.
