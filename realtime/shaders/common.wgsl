@@ -70,24 +70,16 @@ struct FrameUniforms {
     env_info: vec4<u32>,
     // Punctual/directional lights, area emitters, area quadrature n, unused.
     counts: vec4<u32>,
-    // Surface detail: height multiplier k, parallax bias, bump step (texels), unused.
-    detail: vec4<f32>,
-    // Surface detail: linear steps (POM: at normal incidence), POM's steps at grazing
-    // incidence, binary steps, self-shadow steps (0: none).
-    detail_steps: vec4<u32>,
-    // Texture filter: lod_bias (levels), max_anisotropy, unused, unused.
-    texture: vec4<f32>,
-    // Specular anti-aliasing (antialias/specular.wgsl): screen-space variance σ², clamp κ,
-    // unused, unused.
-    antialias: vec4<f32>,
     // Emissive meshes as lights: the triangle table's texture record (6 texels a triangle) or
     // NONE, the quadrature n per triangle (`mesh_n`), unused, unused.
     mesh_lights: vec4<u32>,
-    // Screen-space AO: the lighting's output (0 the shaded image, 1 the AO factor), unused ×3.
-    ambient_occlusion: vec4<u32>,
     // Energy compensation (energy/*.wgsl): the method (ENERGY_*; the shader reads the
     // pipeline's ENERGY_METHOD), its table's texture record or NONE, unused, unused.
     energy: vec4<u32>,
+    // Each family's block, by name (`families.detail.height_scale`): FamilyUniforms is
+    // generated from the registry (technique/mod.rs `wgsl_codes`), the blocks written by
+    // technique::family_uniform_bytes after the fields above.
+    families: FamilyUniforms,
 }
 
 struct Shape {

@@ -322,7 +322,7 @@ fn fs_lighting(@builtin(position) pos: vec4<f32>) -> ShadedOut {
     var out = lit_sample(g0, g1, g2, pos.xy);
     // An SSAO method's `output = ao`: the AO factor itself, 0 on the background (the oracle's
     // `ao` integrator).
-    if frame.ambient_occlusion.x == 1u {
+    if frame.families.ambient_occlusion.output == 1u {
         out.color = vec4<f32>(vec3<f32>(select(0.0, ambient_occlusion, g0.w >= 0.5)), 1.0);
     }
     flush_counters(u32(pos.y));
@@ -398,7 +398,7 @@ fn vs_shadow_mesh(@location(0) position: vec3<f32>, @builtin(instance_index) lay
 fn vs_shadow_analytic(v: AnalyticVertexIn, @builtin(instance_index) layer: u32) -> ShadowVarying {
     let sl = shadow.layers[layer];
     var clip = sl.view_proj * vec4<f32>(v.position, 1.0);
-    if v.shape == sl.info.y {
+    if v.shape == sl.own_shape {
         clip = vec4<f32>(0.0, 0.0, 2.0, 1.0);
     }
     return ShadowVarying(clip, v.shape, layer);
@@ -409,7 +409,7 @@ fn vs_shadow_analytic(v: AnalyticVertexIn, @builtin(instance_index) layer: u32) 
 @fragment
 fn fs_shadow_analytic(in: ShadowVarying) -> @builtin(frag_depth) f32 {
     let sl = shadow.layers[in.layer];
-    let side = shadow.settings.bias.w;
+    let side = shadow.settings.map_side;
     let ndc = vec2<f32>(2.0 * in.clip.x / side - 1.0, 1.0 - 2.0 * in.clip.y / side);
     let ray = shadow_ray(sl, ndc);
     let t = intersect_analytic(shapes[in.shape], ray.o, ray.d, 0.0);

@@ -16,12 +16,9 @@ use crate::pipelines::Stage;
 use crate::settings::RasterSettings;
 use crate::targets::{cleared_attachments, Targets};
 use crate::technique::antialias::post::AntiAliasPasses;
-use crate::technique::antialias::AntiAliasing;
-use crate::technique::detail::Detail;
 use crate::technique::shadow::maps::ShadowMaps;
 use crate::technique::ssao::passes::SsaoPasses;
-use crate::technique::ssao::{AmbientOcclusion, SsaoOutput};
-use crate::technique::{energy, texture};
+use crate::technique::{self, energy};
 use crate::timestamps::Timestamps;
 use crate::upload::SceneGpu;
 
@@ -43,10 +40,14 @@ impl Frame {
         settings: &RasterSettings,
         k: u32,
     ) -> Frame {
+        // The fields every method has, then the families' blocks (set once: a frame sequence
+        // rewrites only the view, `set_view`).
         let uniforms = frame_uniforms(scene, &scene.camera, Vec2::ZERO, sg, settings, k);
+        let mut contents = bytemuck::bytes_of(&uniforms).to_vec();
+        contents.extend(technique::family_uniform_bytes(&settings.method));
         let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame uniforms"),
-            contents: bytemuck::bytes_of(&uniforms),
+            contents: &contents,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
         let counters = device.create_buffer(&wgpu::BufferDescriptor {
@@ -133,10 +134,6 @@ fn frame_uniforms(
     let near = camera_near(scene);
     let m = cam.to_world.matrix3;
     let (env_kind, env_tex, env_radiance) = sg.env;
-    let (detail, detail_steps) = settings
-        .method
-        .get::<Detail>()
-        .map_or(([1.0, 0.0, 1.0, 0.0], [0; 4]), |d| d.uniforms());
     FrameUniforms {
         view_proj: view_proj(cam, w, h, near, jitter).to_cols_array_2d(),
         cam_pos: vec4(cam.position(), near),
@@ -149,28 +146,10 @@ fn frame_uniforms(
         env_radiance,
         env_info: [env_kind as u32, env_tex, settings.method.env_n, 0],
         counts: [sg.light_count, sg.emitter_count, settings.method.area_n, 0],
-        detail,
-        detail_steps,
-        texture: texture::of(&settings.method).uniforms(),
-        antialias: settings
-            .method
-            .get::<AntiAliasing>()
-            .map_or([0.0; 4], |a| a.uniforms()),
         mesh_lights: match settings.method.mesh_n {
             0 => [NONE, 0, 0, 0],
             n => [sg.emissive_triangles, n, 0, 0],
         },
-        ambient_occlusion: [
-            u32::from(
-                settings
-                    .method
-                    .get::<AmbientOcclusion>()
-                    .is_some_and(|a| a.output == SsaoOutput::AoFactor),
-            ),
-            0,
-            0,
-            0,
-        ],
         energy: [energy::code(&settings.method), sg.energy_table, 0, 0],
     }
 }

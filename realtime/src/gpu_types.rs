@@ -69,7 +69,8 @@ pub enum EnvKind {
     Map = 2,
 }
 
-/// Per-frame uniform (WGSL `FrameUniforms`).
+/// Per-frame uniform (WGSL `FrameUniforms`): the fields every method has. In the buffer the
+/// families' blocks follow it (WGSL `families`, [`crate::technique::family_uniform_bytes`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct FrameUniforms {
@@ -95,29 +96,14 @@ pub struct FrameUniforms {
     pub env_info: [u32; 4],
     /// Lights, area emitters, area quadrature n, unused.
     pub counts: [u32; 4],
-    /// Surface detail: height multiplier k, parallax bias, bump step (texels), unused
-    /// ([`crate::technique::detail::Detail::uniforms`]).
-    pub detail: [f32; 4],
-    /// Surface detail: linear steps (POM: at normal incidence), POM's steps at grazing
-    /// incidence, binary steps, self-shadow steps (0: none).
-    pub detail_steps: [u32; 4],
-    /// Texture filter: lod_bias, max_anisotropy, unused, unused
-    /// ([`crate::technique::texture::TextureFilter::uniforms`]).
-    pub texture: [f32; 4],
-    /// Specular anti-aliasing: screen-space variance σ², clamp κ, unused, unused
-    /// ([`crate::technique::antialias::AntiAliasing::uniforms`]).
-    pub antialias: [f32; 4],
     /// Emissive meshes as lights: the triangle table's texture record or NONE (none, or
     /// `mesh_n` = 0), the quadrature n per triangle, unused, unused.
     pub mesh_lights: [u32; 4],
-    /// Screen-space AO: what the lighting writes (0 the shaded image, 1 the AO factor: an
-    /// SSAO method's `output = ao`), unused ×3.
-    pub ambient_occlusion: [u32; 4],
     /// Energy compensation: the method (WGSL `ENERGY_*`), its table's texture record or NONE,
     /// unused, unused.
     pub energy: [u32; 4],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 64 + 17 * 16);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 64 + 12 * 16);
 
 /// One shape (WGSL `Shape`).
 #[repr(C)]

@@ -815,8 +815,9 @@ mod tests {
                 .unwrap_or_else(|| panic!("no WGSL struct {name}"));
             layouter[handle].size as usize
         };
+        let families = technique::family_uniform_bytes(&Method::default()).len();
         for (name, rust) in [
-            ("FrameUniforms", size_of::<FrameUniforms>()),
+            ("FrameUniforms", size_of::<FrameUniforms>() + families),
             ("Shape", size_of::<GpuShape>()),
             ("Material", size_of::<GpuMaterial>()),
             ("Light", size_of::<GpuLight>()),
@@ -834,6 +835,54 @@ mod tests {
                 "WGSL {name} and its Rust twin differ in size"
             );
         }
+    }
+
+    /// Each family's block of the frame uniform has its WGSL struct's size, and sits in WGSL's
+    /// `FamilyUniforms` (after the core fields) where technique::family_uniform_bytes writes it.
+    #[test]
+    fn family_uniform_blocks_sit_where_rust_writes_them() {
+        let module = module();
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).unwrap();
+        let named = |name: &str| {
+            module
+                .types
+                .iter()
+                .find(|(_, t)| t.name.as_deref() == Some(name))
+                .unwrap_or_else(|| panic!("no WGSL struct {name}"))
+        };
+        let members = |name: &str| match &named(name).1.inner {
+            naga::TypeInner::Struct { members, .. } => members.clone(),
+            other => panic!("{name} is not a struct: {other:?}"),
+        };
+        let frame = members("FrameUniforms");
+        let families = frame
+            .iter()
+            .find(|m| m.name.as_deref() == Some("families"))
+            .unwrap();
+        assert_eq!(families.offset as usize, size_of::<FrameUniforms>());
+        let blocks: Vec<_> = technique::uniform_blocks().collect();
+        let wgsl = members("FamilyUniforms");
+        assert_eq!(wgsl.len(), blocks.len());
+        let mut offset = 0;
+        for (block, member) in blocks.iter().zip(&wgsl) {
+            assert_eq!(member.name.as_deref(), Some(block.field));
+            assert_eq!(member.offset as usize, offset, "{}", block.field);
+            assert_eq!(
+                layouter[named(block.wgsl_type).0].size as usize,
+                block.size,
+                "{}",
+                block.wgsl_type
+            );
+            assert_eq!(
+                (block.bytes)(&Method::default()).len(),
+                block.size,
+                "{}",
+                block.field
+            );
+            offset = (offset + block.size).next_multiple_of(16);
+        }
+        assert_eq!(offset, technique::family_uniform_bytes(&Method::default()).len());
     }
 
     /// Every integer code Rust writes into a buffer and WGSL compares against is the same on

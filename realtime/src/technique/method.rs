@@ -208,12 +208,36 @@ pub trait Family: Sync {
         String::new()
     }
 
+    /// Its block of the frame uniform (WGSL `frame.families.<field>`), or None: the values its
+    /// shaders read by name.
+    fn uniforms(&self) -> Option<UniformBlock> {
+        None
+    }
+
     /// Its WGSL files that join the shading module, beside its Rust (name, source): its
     /// override constants, its uniforms' readers and the functions the shared shading code
     /// calls (none by default: a family whose passes are shader modules of their own).
     fn shading_sources(&self) -> &'static [(&'static str, &'static str)] {
         &[]
     }
+}
+
+/// A family's block of the frame uniform: a `#[repr(C)]` struct of its own, mirrored by a
+/// WGSL struct in its files, so that its parameters keep their names down to the shader
+/// (`frame.families.detail.height_scale`). The frame uniform's buffer is the core
+/// `FrameUniforms` followed by every family's block in registry order, each at a 16-byte
+/// boundary (WGSL's uniform layout for members of struct type, written `@align(16)` in the
+/// generated `FamilyUniforms`, [`super::wgsl_codes`]).
+#[derive(Clone, Copy, Debug)]
+pub struct UniformBlock {
+    /// Its field of WGSL `FamilyUniforms`.
+    pub field: &'static str,
+    /// Its WGSL struct's name.
+    pub wgsl_type: &'static str,
+    /// The Rust struct's size in bytes (checked against the WGSL struct's).
+    pub size: usize,
+    /// Its bytes for a method (the family's defaults where the method does not use it).
+    pub bytes: fn(&Method) -> Vec<u8>,
 }
 
 /// A method's name, what it does and its paper.

@@ -27,7 +27,7 @@ pub mod taa;
 use glam::Vec4;
 use scenes::texture::Texture;
 
-use super::method::{Family, Frame, Method, MethodInfo, Override, Row, Settings};
+use super::method::{Family, Frame, Method, MethodInfo, Override, Row, Settings, UniformBlock};
 use super::param::{spec_named, Kind, MethodSpec, Param, Value};
 use super::texture::TextureFilter;
 
@@ -178,11 +178,11 @@ impl AntiAliasing {
         }
     }
 
-    /// FrameUniforms `antialias`: σ², κ of the geometric method (zeros otherwise).
-    pub fn uniforms(&self) -> [f32; 4] {
+    /// Its block of the frame uniform: σ², κ of the geometric method (zeros otherwise).
+    pub fn uniforms(&self) -> SpecularAaUniforms {
         match *self {
-            AntiAliasing::SpecularGeometric { variance, clamp } => [variance, clamp, 0.0, 0.0],
-            _ => [0.0; 4],
+            AntiAliasing::SpecularGeometric { variance, clamp } => SpecularAaUniforms { variance, clamp },
+            _ => SpecularAaUniforms::default(),
         }
     }
 
@@ -562,6 +562,17 @@ pub static METHODS: &[MethodSpec<AntiAliasing>] = &[
     },
 ];
 
+/// The anti-aliasing family's block of the frame uniform (WGSL `SpecularAaUniforms`,
+/// antialias/specular.wgsl; `frame.families.specular_aa`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SpecularAaUniforms {
+    /// σ² of the pixel filter in screen space.
+    pub variance: f32,
+    /// Most α² the kernel adds (κ).
+    pub clamp: f32,
+}
+
 /// The anti-aliasing family.
 pub struct AntiAliasingFamily;
 
@@ -576,6 +587,20 @@ impl Family for AntiAliasingFamily {
 
     /// Over N×N quadrature (n = 8, env_n = 8), unshadowed; `aa_specular_toksvig` with its
     /// textures filtered trilinearly (Toksvig reads the shortening of MIP-filtered normals).
+    fn uniforms(&self) -> Option<UniformBlock> {
+        Some(UniformBlock {
+            field: "specular_aa",
+            wgsl_type: "SpecularAaUniforms",
+            size: std::mem::size_of::<SpecularAaUniforms>(),
+            bytes: |m| {
+                let u = m
+                    .get::<AntiAliasing>()
+                    .map_or_else(SpecularAaUniforms::default, AntiAliasing::uniforms);
+                bytemuck::bytes_of(&u).to_vec()
+            },
+        })
+    }
+
     fn method(&self, name: &str) -> Option<Method> {
         let aa = AntiAliasing::by_name(name)?;
         let mut m = Method::of(aa, 8);

@@ -24,6 +24,15 @@
 
 override SPECULAR_AA: u32 = 0u;
 
+// The family's block of the frame uniform (SpecularAaUniforms in antialias/mod.rs): the
+// geometric method's parameters (zeros under every other method).
+struct SpecularAaUniforms {
+    // σ² of the pixel filter in screen space.
+    variance: f32,
+    // Most α² the kernel adds (κ).
+    clamp: f32,
+}
+
 // |∂n/∂x|² + |∂n/∂y|² of the shading normal of the pixel being shaded (geometric), per target
 // pixel. Zero until set.
 var<private> normal_change: f32;
@@ -51,7 +60,7 @@ fn specular_aa_alpha(alpha: f32) -> f32 {
     }
     var a2 = alpha * alpha;
     if SPECULAR_AA == 1u {
-        a2 += min(2.0 * frame.antialias.x * normal_change, frame.antialias.y);
+        a2 += min(2.0 * frame.families.specular_aa.variance * normal_change, frame.families.specular_aa.clamp);
     } else if SPECULAR_AA == 2u {
         let l = clamp(normal_map_length, 1e-4, 1.0);
         a2 += 2.0 * (1.0 - l) / l;

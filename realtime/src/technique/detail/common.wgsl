@@ -18,11 +18,31 @@
 // ends there; on meshes uv' is kept whatever it is); a base seen from behind is drawn flat;
 // the shadow maps see the flat base. Authored normal maps are replaced by the detail normal.
 // Inputs: a Differential from surface.wgsl, the shape's `detail` fields (upload.rs), the
-// frame's `detail` uniforms.
+// family's block of the frame uniform (`frame.families.detail`).
 
 // The pipeline's surface-detail method: DETAIL_FLAT (0), DETAIL_NORMAL_MAPPING, …,
 // DETAIL_CONE_STEP, generated from the method tables (technique/mod.rs `wgsl_codes`).
 override DETAIL_METHOD: u32 = 0u;
+
+// The family's block of the frame uniform (DetailUniforms in detail/mod.rs).
+struct DetailUniforms {
+    // k in w = k·s·h.
+    height_scale: f32,
+    // Parallax mapping's bias, in units of the height range.
+    parallax_bias: f32,
+    // Bump mapping's finite-difference step, texels.
+    bump_delta: f32,
+    // Azimuths of the horizon map (0: none).
+    horizon_azimuths: u32,
+    // Linear steps (POM: at normal incidence; cone stepping: its cone steps).
+    steps: u32,
+    // POM's steps at grazing incidence (the others: `steps`).
+    max_steps: u32,
+    // Halvings of the binary search (cone stepping: relaxed cones when > 0).
+    binary_steps: u32,
+    // POM's self-shadow samples (0: no self-shadowing).
+    shadow_steps: u32,
+}
 
 // The displaced surface around one base point.
 struct DetailFrame {
@@ -51,7 +71,7 @@ struct DetailHit {
 }
 
 fn detail_frame(f: FrameUniforms, d: Differential, s: Shape) -> DetailFrame {
-    let k = f.detail.x;
+    let k = f.families.detail.height_scale;
     let a = s.detail_range.y * k;
     let b = s.detail_range.z * k;
     return DetailFrame(d.p, d.uv, d.ns, d.dpdu, d.dpdv, s.detail.x, s.detail.y, s.detail_range.x * k, min(a, b), max(a, b));

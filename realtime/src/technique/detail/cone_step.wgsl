@@ -17,15 +17,15 @@
 // from texel centres, which bilinear interpolation can cross (Bán, Valasek, Bálint & Vad 2024,
 // "Robust Cone Step Mapping", EG short papers), and relaxed cones checked along lines through
 // their apex only; a height multiplier k ≠ 1 rescales the ratios by 1/k.
-// Inputs: the shape's cone map (`detail.w`), the frame's `detail_steps` (steps, binary).
+// Inputs: the shape's cone map (`detail.w`), the family's uniforms (`steps`, `binary_steps`).
 
 fn cone_step(f: FrameUniforms, fr: DetailFrame, s: Shape, duv_dw: vec2<f32>) -> DetailHit {
-    let inv_k = 1.0 / max(f.detail.x, 1e-30);
+    let inv_k = 1.0 / max(f.families.detail.height_scale, 1e-30);
     let r = length(duv_dw);
-    let relaxed = f.detail_steps.z > 0u;
+    let relaxed = f.families.detail.binary_steps > 0u;
     var above = fr.hi;
     var w = fr.hi;
-    for (var i = 0u; i < f.detail_steps.x; i++) {
+    for (var i = 0u; i < f.families.detail.steps; i++) {
         count_iteration();
         let uv = fr.uv + duv_dw * w;
         let gap = w - detail_height(fr, uv);
@@ -42,7 +42,7 @@ fn cone_step(f: FrameUniforms, fr: DetailFrame, s: Shape, duv_dw: vec2<f32>) -> 
         below = ray_gap(fr, duv_dw, w) <= 0.0;
     }
     if below {
-        w = binary_refine(fr, duv_dw, above, w, f.detail_steps.z);
+        w = binary_refine(fr, duv_dw, above, w, f.families.detail.binary_steps);
     }
     return DetailHit(true, fr.uv + duv_dw * w, w);
 }

@@ -14,12 +14,12 @@
 // missed); blockers beyond the map's reach cast nothing; the base point is shadowed, not the
 // point of the displaced surface the camera would see (normal and bump mapping do not move
 // it); rectangles only, as POM's self-shadowing.
-// Inputs: the shape's `detail.w` (first horizon record), the frame's `detail` (k, D).
+// Inputs: the shape's `detail.w` (first horizon record), the family's uniforms (`height_scale`, `horizon_azimuths`).
 
 // V of a light in unit direction `wi` with angular radius tan⁻¹(tan_alpha) at surface point
 // sp under the horizon map; 1 without one (no azimuths, not a displaced rectangle).
 fn horizon_visibility(f: FrameUniforms, sp: SurfacePoint, wi: vec3<f32>, tan_alpha: f32) -> f32 {
-    let d = u32(f.detail.w);
+    let d = f.families.detail.horizon_azimuths;
     let s = shapes[sp.shape];
     if d == 0u || s.detail.x == NONE || s.detail.w == NONE || s.kind != SHAPE_RECTANGLE {
         return 1.0;
@@ -49,7 +49,7 @@ fn horizon_visibility(f: FrameUniforms, sp: SurfacePoint, wi: vec3<f32>, tan_alp
     let t = k - floor(k);
     let h0 = texture_sample(s.detail.w + k0 / 4u, sp.uv)[k0 % 4u];
     let h1 = texture_sample(s.detail.w + k1 / 4u, sp.uv)[k1 % 4u];
-    let beta = atan(mix(h0, h1, t) * f.detail.x);
+    let beta = atan(mix(h0, h1, t) * f.families.detail.height_scale);
     if tan_alpha <= 0.0 {
         return select(0.0, 1.0, e > beta);
     }

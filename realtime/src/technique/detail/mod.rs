@@ -23,7 +23,7 @@ use std::sync::{Arc, Mutex};
 
 use scenes::texture::Texture;
 
-use super::method::{wgsl_method_codes, Family, Method, MethodInfo, Override, Row, Settings};
+use super::method::{wgsl_method_codes, Family, Method, MethodInfo, Override, Row, Settings, UniformBlock};
 use super::param::{spec_named, Kind, MethodSpec, Param, Value};
 use cone_map::{cone_map, ConeKind};
 use horizon_map::{horizon_maps, MAX_HORIZON_DIRECTIONS};
@@ -158,46 +158,99 @@ impl Detail {
         COMMON.iter().chain(self.technique.spec().params)
     }
 
-    /// The frame uniform's `detail` (height_scale, bias, delta, horizon azimuths) and `detail_steps`
-    /// (linear steps or POM's minimum, POM's maximum, binary steps, self-shadow steps; 0 where
-    /// the technique has none).
-    pub fn uniforms(&self) -> ([f32; 4], [u32; 4]) {
-        let k = self.height_scale;
-        let horizon = self.horizon as f32;
+    /// Its block of the frame uniform.
+    pub fn uniforms(&self) -> DetailUniforms {
+        let base = DetailUniforms {
+            height_scale: self.height_scale,
+            ..DetailUniforms::FLAT
+        };
         match self.technique {
-            DetailTechnique::NormalMapping => ([k, 0.0, 1.0, horizon], [0; 4]),
-            DetailTechnique::BumpMapping { delta } => ([k, 0.0, delta, horizon], [0; 4]),
+            DetailTechnique::NormalMapping => DetailUniforms {
+                horizon_azimuths: self.horizon,
+                ..base
+            },
+            DetailTechnique::BumpMapping { delta } => DetailUniforms {
+                bump_delta: delta,
+                horizon_azimuths: self.horizon,
+                ..base
+            },
             DetailTechnique::Parallax { bias } | DetailTechnique::ParallaxOffsetLimited { bias } => {
-                ([k, bias, 1.0, 0.0], [0; 4])
+                DetailUniforms {
+                    parallax_bias: bias,
+                    ..base
+                }
             }
-            DetailTechnique::SteepParallax { steps } => ([k, 0.0, 1.0, 0.0], [steps, steps, 0, 0]),
-            DetailTechnique::ReliefMapping { steps, binary_steps } => {
-                ([k, 0.0, 1.0, 0.0], [steps, steps, binary_steps, 0])
-            }
+            DetailTechnique::SteepParallax { steps } => DetailUniforms {
+                steps,
+                max_steps: steps,
+                ..base
+            },
+            DetailTechnique::ReliefMapping { steps, binary_steps } => DetailUniforms {
+                steps,
+                max_steps: steps,
+                binary_steps,
+                ..base
+            },
             DetailTechnique::Pom {
                 min_steps,
                 max_steps,
                 self_shadow,
                 shadow_steps,
-            } => (
-                [k, 0.0, 1.0, 0.0],
-                [
-                    min_steps,
-                    max_steps,
-                    0,
-                    if self_shadow { shadow_steps } else { 0 },
-                ],
-            ),
+            } => DetailUniforms {
+                steps: min_steps,
+                max_steps,
+                shadow_steps: if self_shadow { shadow_steps } else { 0 },
+                ..base
+            },
             DetailTechnique::ConeStep {
                 steps,
                 relaxed,
                 binary_steps,
-            } => (
-                [k, 0.0, 1.0, 0.0],
-                [steps, steps, if relaxed { binary_steps } else { 0 }, 0],
-            ),
+            } => DetailUniforms {
+                steps,
+                max_steps: steps,
+                binary_steps: if relaxed { binary_steps } else { 0 },
+                ..base
+            },
         }
     }
+}
+
+/// The surface-detail family's block of the frame uniform (WGSL `DetailUniforms`,
+/// detail/common.wgsl; `frame.families.detail`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct DetailUniforms {
+    /// k in w = k·s·h.
+    pub height_scale: f32,
+    /// Parallax mapping's bias, in units of the height range.
+    pub parallax_bias: f32,
+    /// Bump mapping's finite-difference step, texels.
+    pub bump_delta: f32,
+    /// Azimuths of the horizon map (0: none).
+    pub horizon_azimuths: u32,
+    /// Linear steps (POM: at normal incidence; cone stepping: its cone steps).
+    pub steps: u32,
+    /// POM's steps at grazing incidence (the others: `steps`).
+    pub max_steps: u32,
+    /// Halvings of the binary search (cone stepping: relaxed cones when > 0).
+    pub binary_steps: u32,
+    /// POM's self-shadow samples (0: no self-shadowing).
+    pub shadow_steps: u32,
+}
+
+impl DetailUniforms {
+    /// A method without surface detail: displaced shapes drawn flat.
+    pub const FLAT: DetailUniforms = DetailUniforms {
+        height_scale: 1.0,
+        parallax_bias: 0.0,
+        bump_delta: 1.0,
+        horizon_azimuths: 0,
+        steps: 0,
+        max_steps: 0,
+        binary_steps: 0,
+        shadow_steps: 0,
+    };
 }
 
 impl fmt::Display for Detail {
@@ -650,6 +703,18 @@ impl Family for SurfaceDetail {
 
     fn wgsl_codes(&self) -> String {
         wgsl_method_codes("DETAIL_", Some("FLAT"), METHODS)
+    }
+
+    fn uniforms(&self) -> Option<UniformBlock> {
+        Some(UniformBlock {
+            field: "detail",
+            wgsl_type: "DetailUniforms",
+            size: std::mem::size_of::<DetailUniforms>(),
+            bytes: |m| {
+                let u = m.get::<Detail>().map_or(DetailUniforms::FLAT, Detail::uniforms);
+                bytemuck::bytes_of(&u).to_vec()
+            },
+        })
     }
 
     fn shading_sources(&self) -> &'static [(&'static str, &'static str)] {

@@ -11,7 +11,7 @@
 // under the base point, not the one the ray meets), no self-occlusion, no self-shadowing, no
 // silhouette — the missing occlusion the surface-detail studies bound from below. The
 // parallax family uses the same normal map at its uv'.
-// Inputs: the shape's height texture and derivative map, the frame's `detail.z` (δ).
+// Inputs: the shape's height texture and derivative map, the family's `bump_delta` (δ).
 
 // (w_u, w_v) from the baked map at uv.
 fn normal_map_gradient(fr: DetailFrame, s: Shape, uv: vec2<f32>) -> vec2<f32> {
@@ -21,7 +21,7 @@ fn normal_map_gradient(fr: DetailFrame, s: Shape, uv: vec2<f32>) -> vec2<f32> {
 // (w_u, w_v) by forward differences of w over δ texels at uv.
 fn bump_gradient(f: FrameUniforms, fr: DetailFrame, uv: vec2<f32>) -> vec2<f32> {
     let info = texture_infos[fr.tex];
-    let step = f.detail.z / vec2<f32>(f32(info.width), f32(info.height));
+    let step = f.families.detail.bump_delta / vec2<f32>(f32(info.width), f32(info.height));
     let w0 = detail_height(fr, uv);
     let wu = detail_height(fr, uv + vec2<f32>(step.x, 0.0));
     let wv = detail_height(fr, uv + vec2<f32>(0.0, step.y));

@@ -12,9 +12,9 @@
 // Failure mode: exact only where h is locally constant; the offset (a, b)/c grows as 1/cos θ,
 // so plain parallax swims and tears at grazing angles (the failure the view-angle study bounds
 // from below) while offset limiting undershoots there; no occlusion, no self-shadowing.
-// Inputs: the frame's `detail.y` (bias).
+// Inputs: the family's `parallax_bias`.
 
 fn parallax_offset(f: FrameUniforms, fr: DetailFrame, duv_dw: vec2<f32>, limit: f32) -> DetailHit {
-    let w = detail_height(fr, fr.uv) + f.detail.y * (fr.hi - fr.lo);
+    let w = detail_height(fr, fr.uv) + f.families.detail.parallax_bias * (fr.hi - fr.lo);
     return DetailHit(true, fr.uv + duv_dw * (w * limit), w);
 }

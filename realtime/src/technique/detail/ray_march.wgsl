@@ -24,7 +24,7 @@
 // parallax's stair steps; the secant is exact only for a linear profile. Self-shadowing is
 // evaluated on heightfield patches (rectangles) only: the G-buffer holds no tangent frame for a
 // mesh's shading pass.
-// Inputs: the frame's `detail_steps` (steps or min, max, binary, shadow).
+// Inputs: the family's uniforms (`steps`, `max_steps`, `binary_steps`, `shadow_steps`).
 
 // Heights where the ray is last above the surface and first at or below it, with the gaps there.
 struct Bracket {
@@ -79,14 +79,14 @@ fn binary_refine(fr: DetailFrame, duv_dw: vec2<f32>, above: f32, below: f32, hal
 }
 
 fn ray_march(f: FrameUniforms, fr: DetailFrame, duv_dw: vec2<f32>, cos_theta: f32) -> DetailHit {
-    var layers = f.detail_steps.x;
+    var layers = f.families.detail.steps;
     if DETAIL_METHOD == DETAIL_POM {
-        layers = u32(round(mix(f32(f.detail_steps.y), f32(f.detail_steps.x), cos_theta)));
+        layers = u32(round(mix(f32(f.families.detail.max_steps), f32(f.families.detail.steps), cos_theta)));
     }
     let b = linear_search(fr, duv_dw, max(layers, 1u));
     var w = b.below;
     if DETAIL_METHOD == DETAIL_RELIEF_MAPPING {
-        w = binary_refine(fr, duv_dw, b.above, b.below, f.detail_steps.z);
+        w = binary_refine(fr, duv_dw, b.above, b.below, f.families.detail.binary_steps);
     } else if DETAIL_METHOD == DETAIL_POM {
         let denom = b.gap_above - b.gap_below;
         if denom > 0.0 {
@@ -100,7 +100,7 @@ fn ray_march(f: FrameUniforms, fr: DetailFrame, duv_dw: vec2<f32>, cos_theta: f3
 // point `sp`, `tan_alpha` the tangent of the light's angular radius (0: a delta light); 1 unless
 // the pipeline is POM with self-shadowing and sp is on a displaced rectangle.
 fn detail_self_shadow(f: FrameUniforms, sp: SurfacePoint, wi: vec3<f32>, tan_alpha: f32) -> f32 {
-    if DETAIL_METHOD != DETAIL_POM || f.detail_steps.w == 0u {
+    if DETAIL_METHOD != DETAIL_POM || f.families.detail.shadow_steps == 0u {
         return 1.0;
     }
     let s = shapes[sp.shape];
@@ -119,7 +119,7 @@ fn detail_self_shadow(f: FrameUniforms, sp: SurfacePoint, wi: vec3<f32>, tan_alp
     let duv_dw = v.xy / v.z;
     let sin_e = clamp(dot(wi, n), 0.0, 1.0);
     let cos_e = sqrt(1.0 - sin_e * sin_e);
-    let samples = f.detail_steps.w;
+    let samples = f.families.detail.shadow_steps;
     let dw = (fr.hi - w0) / f32(samples);
     // The hit is only as exact as the search: heights within 1 % of the range of the shadow
     // ray count as below it (without this the ray shadows its own start: acne).

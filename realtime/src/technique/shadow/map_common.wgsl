@@ -68,29 +68,56 @@ struct ShadowLight {
     view_proj: mat4x4<f32>,
     // Its inverse (the shadow pass's rays through texels).
     inv_view_proj: mat4x4<f32>,
-    // Perspective: the eye (xyz), w = 1. Orthographic: a point on the view axis, w = 0.
-    eye: vec4<f32>,
-    // Unit view direction (xyz); w: the PCSS light-size term s — w_light in metres for
-    // perspective maps, 2·tan(θ/2) of the angular diameter θ for orthographic ones.
-    axis: vec4<f32>,
-    // Near and far view depth, and the texel footprint τ(z) = z·depth.z + depth.w.
-    depth: vec4<f32>,
-    // PCSS's search near plane (the nearest blocker depth it assumes); a cascade's far split
-    // z_{i+1} in camera view depth (f32 max for a map over the whole scene); unused ×2.
-    search: vec4<f32>,
-    // Shadowed (0/1), the light's own shape (NONE for scene lights), unused, unused.
-    info: vec4<u32>,
+    // Perspective: the eye. Orthographic: a point on the view axis.
+    eye: vec3<f32>,
+    // 1 perspective, 0 orthographic.
+    perspective: f32,
+    // Unit view direction.
+    axis: vec3<f32>,
+    // The PCSS light-size term s: w_light in metres for perspective maps, 2·tan(θ/2) of the
+    // angular diameter θ for orthographic ones.
+    light_size: f32,
+    // Near and far view depth.
+    near: f32,
+    far: f32,
+    // The texel footprint τ(z) = z·texel_slope + texel_offset.
+    texel_slope: f32,
+    texel_offset: f32,
+    // PCSS's search near plane (the nearest blocker depth it assumes).
+    search_near: f32,
+    // A cascade's far split z_{i+1} in camera view depth (f32 max for a map over the scene).
+    cascade_far: f32,
+    // 1: the layer is a shadowed light's; 0: unused.
+    shadowed: u32,
+    // The light's own shape (NONE for scene lights).
+    own_shape: u32,
 }
 
-// The method's parameters (shadow/maps.rs `GpuShadowSettings`).
+// The method's parameters by name (GpuShadowSettings in shadow/maps.rs); a technique's own are
+// 0 under the others.
 struct ShadowSettings {
-    // Constant bias (m), slope-scaled bias, normal offset (texels), map side (texels).
-    bias: vec4<f32>,
-    // pcf_box kernel k, pcf_poisson taps, pcss blocker samples, pcss filter samples.
-    taps: vec4<u32>,
-    // pcf_poisson radius (texels), pcss blocker depth (0 search, 1 ignore), receiver-plane
-    // depth bias (0/1), Poisson taps rotated per pixel (0/1).
-    filtering: vec4<f32>,
+    // Constant bias, m.
+    bias: f32,
+    slope_bias: f32,
+    // Normal offset, texels.
+    normal_offset: f32,
+    // Map side, texels.
+    map_side: f32,
+    // pcf_box's k.
+    kernel: u32,
+    // pcf_poisson's taps.
+    taps: u32,
+    // pcss's blocker-search and filter taps.
+    blocker_samples: u32,
+    filter_samples: u32,
+    // pcf_poisson's disk radius, texels.
+    radius: f32,
+    // pcss's blocker_depth = ignore (1) or the search (0).
+    ignore_blocker_depth: u32,
+    // Receiver-plane depth bias (1) or none (0).
+    receiver_plane: u32,
+    // Poisson taps rotated per pixel (1) or fixed (0).
+    rotate: u32,
 }
 
 struct ShadowUniforms {
@@ -142,25 +169,25 @@ fn shadow_plane_gradient(sl: ShadowLight, q: vec3<f32>, n: vec3<f32>, at: vec4<f
 }
 
 fn shadow_is_perspective(sl: ShadowLight) -> bool {
-    return sl.eye.w > 0.5;
+    return sl.perspective > 0.5;
 }
 
 // View depth of p along the light's axis.
 fn shadow_view_depth(sl: ShadowLight, p: vec3<f32>) -> f32 {
-    return dot(p - sl.eye.xyz, sl.axis.xyz);
+    return dot(p - sl.eye, sl.axis);
 }
 
 // World size of one texel at view depth z.
 fn shadow_texel_size(sl: ShadowLight, z: f32) -> f32 {
-    return sl.depth.z * z + sl.depth.w;
+    return sl.texel_slope * z + sl.texel_offset;
 }
 
 // Unit direction from p towards the light.
 fn shadow_to_light(sl: ShadowLight, p: vec3<f32>) -> vec3<f32> {
     if shadow_is_perspective(sl) {
-        return normalize(sl.eye.xyz - p);
+        return normalize(sl.eye - p);
     }
-    return -sl.axis.xyz;
+    return -sl.axis;
 }
 
 // (u, v, depth, clip w) of world point p; v = 0 is the top row, as texture coordinates.
@@ -173,8 +200,8 @@ fn shadow_project(sl: ShadowLight, p: vec3<f32>) -> vec4<f32> {
 // View depth of a stored depth d: perspective z = n·f/(f − d(f − n)) (the inverse of
 // glam's `perspective_rh`), orthographic z = n + d(f − n).
 fn shadow_linear_depth(sl: ShadowLight, d: f32) -> f32 {
-    let n = sl.depth.x;
-    let f = sl.depth.y;
+    let n = sl.near;
+    let f = sl.far;
     if shadow_is_perspective(sl) {
         return n * f / (f - d * (f - n));
     }
@@ -198,17 +225,17 @@ fn shadow_ray(sl: ShadowLight, ndc: vec2<f32>) -> ShadowRay {
 fn shadow_receiver(sl: ShadowLight, s: ShadowSettings, p: vec3<f32>, ng: vec3<f32>) -> ShadowReceiver {
     let wl = shadow_to_light(sl, p);
     let n = select(ng, -ng, dot(ng, wl) < 0.0);
-    let texel = shadow_texel_size(sl, max(shadow_view_depth(sl, p), sl.depth.x));
-    let q = p + n * (s.bias.z * texel);
+    let texel = shadow_texel_size(sl, max(shadow_view_depth(sl, p), sl.near));
+    let q = p + n * (s.normal_offset * texel);
     let cos_t = clamp(dot(n, wl), 0.0, 1.0);
     let tan_t = min(sqrt(max(1.0 - cos_t * cos_t, 0.0)) / max(cos_t, 1e-6), SHADOW_MAX_SLOPE);
-    let b = s.bias.x + s.bias.y * texel * tan_t;
+    let b = s.bias + s.slope_bias * texel * tan_t;
     let at = shadow_project(sl, q);
     let biased = shadow_project(sl, q + shadow_to_light(sl, q) * b);
     let inside = all(at.xy >= vec2<f32>(0.0)) && all(at.xy <= vec2<f32>(1.0));
     let valid = at.w > 0.0 && biased.w > 0.0 && inside && at.z >= 0.0 && at.z <= 1.0;
     var gradient = vec2<f32>(0.0);
-    if s.filtering.z > 0.5 {
+    if s.receiver_plane != 0u {
         gradient = shadow_plane_gradient(sl, q, n, at, SHADOW_PLANE_STEP * texel);
     }
     return ShadowReceiver(at.xy, biased.z, shadow_view_depth(sl, q), gradient, valid);
@@ -250,7 +277,7 @@ fn poisson_tap(k: u32, rot: vec2<f32>) -> vec2<f32> {
 fn shadow_layer(slot: u32, p: vec3<f32>, view_depth: f32) -> u32 {
     let m = shadow.slots[slot];
     if m.z == 1u {
-        let d = p - shadow.layers[m.x].eye.xyz;
+        let d = p - shadow.layers[m.x].eye;
         let a = abs(d);
         var axis = 2u;
         if a.x >= a.y && a.x >= a.z {
@@ -262,7 +289,7 @@ fn shadow_layer(slot: u32, p: vec3<f32>, view_depth: f32) -> u32 {
     }
     let last = m.x + max(m.y, 1u) - 1u;
     var layer = m.x;
-    while layer < last && view_depth > shadow.layers[layer].search.y {
+    while layer < last && view_depth > shadow.layers[layer].cascade_far {
         layer += 1u;
     }
     return layer;
@@ -278,7 +305,7 @@ fn interleaved_gradient_noise(frag: vec2<f32>) -> f32 {
 // The Poisson taps' rotation (cos φ, sin φ) at target pixel `frag`: φ = 2π·IGN when the
 // settings rotate them, else none.
 fn shadow_tap_rotation(s: ShadowSettings, frag: vec2<f32>) -> vec2<f32> {
-    if s.filtering.w < 0.5 {
+    if s.rotate == 0u {
         return vec2<f32>(1.0, 0.0);
     }
     let phi = 6.283185307 * interleaved_gradient_noise(frag);

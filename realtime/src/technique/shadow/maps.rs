@@ -114,31 +114,63 @@ pub struct GpuShadowLight {
     pub view_proj: [[f32; 4]; 4],
     /// Its inverse.
     pub inv_view_proj: [[f32; 4]; 4],
-    /// Eye (perspective, w = 1) or a point on the axis (orthographic, w = 0).
-    pub eye: [f32; 4],
-    /// Unit view direction; w = the PCSS light-size term.
-    pub axis: [f32; 4],
-    /// Near, far, texel footprint τ(z) = z·depth[2] + depth[3].
-    pub depth: [f32; 4],
-    /// PCSS's search near plane, the far end of the camera view-depth slice of a cascade
-    /// (f32::MAX for a map over the whole scene), unused, unused.
-    pub search: [f32; 4],
-    /// Shadowed (0/1), own shape or NONE, unused, unused.
-    pub info: [u32; 4],
+    /// Perspective: the eye. Orthographic: a point on the view axis.
+    pub eye: [f32; 3],
+    /// 1 perspective, 0 orthographic.
+    pub perspective: f32,
+    /// Unit view direction.
+    pub axis: [f32; 3],
+    /// The PCSS light-size term s: w_light in metres (perspective), 2·tan(θ/2) of the angular
+    /// diameter θ (orthographic).
+    pub light_size: f32,
+    /// Near view depth.
+    pub near: f32,
+    /// Far view depth.
+    pub far: f32,
+    /// The texel footprint τ(z) = z·texel_slope + texel_offset.
+    pub texel_slope: f32,
+    /// See `texel_slope`.
+    pub texel_offset: f32,
+    /// PCSS's search near plane (the nearest blocker depth it assumes).
+    pub search_near: f32,
+    /// A cascade's far split in camera view depth (f32::MAX for a map over the whole scene).
+    pub cascade_far: f32,
+    /// 1: the layer is a shadowed light's; 0: unused.
+    pub shadowed: u32,
+    /// The light's own shape (a sphere or rectangle emitter) or NONE.
+    pub own_shape: u32,
 }
-const _: () = assert!(std::mem::size_of::<GpuShadowLight>() == 2 * 64 + 5 * 16);
+const _: () = assert!(std::mem::size_of::<GpuShadowLight>() == 2 * 64 + 4 * 16);
 
-/// The method's parameters (WGSL `ShadowSettings`).
+/// The method's parameters (WGSL `ShadowSettings`), each by its name; a technique's own are 0
+/// under the others.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuShadowSettings {
-    /// Constant bias (m), slope-scaled bias, normal offset (texels), map side.
-    pub bias: [f32; 4],
-    /// pcf_box kernel, pcf_poisson taps, pcss blocker samples, pcss filter samples.
-    pub taps: [u32; 4],
-    /// pcf_poisson radius (texels), pcss blocker depth (0 search, 1 ignore), receiver-plane
-    /// depth bias (0/1), Poisson taps rotated per pixel (0/1).
-    pub filtering: [f32; 4],
+    /// Constant bias, m (`bias`).
+    pub bias: f32,
+    /// Slope-scaled bias (`slope_bias`).
+    pub slope_bias: f32,
+    /// Normal offset, texels (`normal_offset`).
+    pub normal_offset: f32,
+    /// Map side, texels (`map`).
+    pub map_side: f32,
+    /// `pcf_box`'s k.
+    pub kernel: u32,
+    /// `pcf_poisson`'s taps.
+    pub taps: u32,
+    /// `pcss`'s blocker-search taps.
+    pub blocker_samples: u32,
+    /// `pcss`'s filter taps.
+    pub filter_samples: u32,
+    /// `pcf_poisson`'s disk radius, texels.
+    pub radius: f32,
+    /// `pcss`'s `blocker_depth = ignore` (1) or the search (0).
+    pub ignore_blocker_depth: u32,
+    /// Receiver-plane depth bias (1) or none (0): `receiver_plane`, multi-tap kernels only.
+    pub receiver_plane: u32,
+    /// Poisson taps rotated per pixel (1) or fixed (0): `rotate`, Poisson-tap kernels only.
+    pub rotate: u32,
 }
 const _: () = assert!(std::mem::size_of::<GpuShadowSettings>() == 3 * 16);
 
@@ -428,11 +460,18 @@ fn gpu_light(f: &LightFrustum, side: u32) -> GpuShadowLight {
     GpuShadowLight {
         view_proj: f.view_proj.to_cols_array_2d(),
         inv_view_proj: f.view_proj.inverse().to_cols_array_2d(),
-        eye: f.eye.extend(if f.perspective { 1.0 } else { 0.0 }).to_array(),
-        axis: f.axis.extend(f.size).to_array(),
-        depth: [f.near, f.far, a, b],
-        search: [f.search_near, f.slice.map_or(f32::MAX, |s| s.1), 0.0, 0.0],
-        info: [1, f.own_shape.map_or(NONE, |s| s as u32), 0, 0],
+        eye: f.eye.to_array(),
+        perspective: if f.perspective { 1.0 } else { 0.0 },
+        axis: f.axis.to_array(),
+        light_size: f.size,
+        near: f.near,
+        far: f.far,
+        texel_slope: a,
+        texel_offset: b,
+        search_near: f.search_near,
+        cascade_far: f.slice.map_or(f32::MAX, |s| s.1),
+        shadowed: 1,
+        own_shape: f.own_shape.map_or(NONE, |s| s as u32),
     }
 }
 
@@ -444,14 +483,22 @@ pub fn shadow_uniforms(method: &Method, frusta: &[Vec<LightFrustum>]) -> GpuShad
     let Some(&s) = method.get::<Shadow>() else {
         return u;
     };
-    let mut taps = [0u32; 4];
-    let mut filter = [0.0f32; 4];
+    let multi_tap = !matches!(s.technique, ShadowTechnique::Hard | ShadowTechnique::PcfHw2x2);
+    let mut g = GpuShadowSettings {
+        bias: s.bias,
+        slope_bias: s.slope_bias,
+        normal_offset: s.normal_offset,
+        map_side: s.map as f32,
+        receiver_plane: u32::from(s.receiver_plane && multi_tap),
+        rotate: u32::from(s.rotate && s.uses_poisson_taps()),
+        ..GpuShadowSettings::zeroed()
+    };
     match s.technique {
         ShadowTechnique::Hard | ShadowTechnique::PcfHw2x2 => {}
-        ShadowTechnique::PcfBox { kernel } => taps[0] = kernel,
-        ShadowTechnique::PcfPoisson { taps: n, radius } => {
-            taps[1] = n;
-            filter[0] = radius;
+        ShadowTechnique::PcfBox { kernel } => g.kernel = kernel,
+        ShadowTechnique::PcfPoisson { taps, radius } => {
+            g.taps = taps;
+            g.radius = radius;
         }
         ShadowTechnique::Pcss {
             blocker_samples,
@@ -459,19 +506,12 @@ pub fn shadow_uniforms(method: &Method, frusta: &[Vec<LightFrustum>]) -> GpuShad
             blocker_depth,
             ..
         } => {
-            taps[2] = blocker_samples;
-            taps[3] = filter_samples;
-            filter[1] = f32::from(u8::from(blocker_depth == BlockerDepth::Ignore));
+            g.blocker_samples = blocker_samples;
+            g.filter_samples = filter_samples;
+            g.ignore_blocker_depth = u32::from(blocker_depth == BlockerDepth::Ignore);
         }
     }
-    let multi_tap = !matches!(s.technique, ShadowTechnique::Hard | ShadowTechnique::PcfHw2x2);
-    filter[2] = f32::from(u8::from(s.receiver_plane && multi_tap));
-    filter[3] = f32::from(u8::from(s.rotate && s.uses_poisson_taps()));
-    u.settings = GpuShadowSettings {
-        bias: [s.bias, s.slope_bias, s.normal_offset, s.map as f32],
-        taps,
-        filtering: filter,
-    };
+    u.settings = g;
     let disk = poisson_disk();
     for (k, pair) in u.poisson.iter_mut().enumerate() {
         *pair = [
@@ -937,18 +977,18 @@ pub(in crate::technique::shadow) mod tests {
         let frusta = light_frusta(&s, &shadow, 1.0);
         let u = shadow_uniforms(&Method::of(shadow, 0), &frusta);
         assert_eq!((u.slots[0], u.slots[1]), ([0, 1, 0, 0], [1, 3, 0, 0]));
-        assert_eq!(u.layers[0].search[1], f32::MAX);
+        assert_eq!(u.layers[0].cascade_far, f32::MAX);
         assert_eq!(frusta[1].len(), 3);
         for (layer, f) in u.layers[1..4].iter().zip(&frusta[1]) {
-            assert_eq!(layer.search[1], f.slice.unwrap().1);
+            assert_eq!(layer.cascade_far, f.slice.unwrap().1);
         }
-        assert_eq!(u.layers[4].info[0], 0, "unused layers are unshadowed");
-        assert_eq!(u.settings.filtering[3], 0.0, "shadow_hard has no taps to rotate");
+        assert_eq!(u.layers[4].shadowed, 0, "unused layers are unshadowed");
+        assert_eq!(u.settings.rotate, 0, "shadow_hard has no taps to rotate");
         let poisson = Shadow {
             technique: ShadowTechnique::PcfPoisson { taps: 8, radius: 2.0 },
             ..shadow
         };
         let u = shadow_uniforms(&Method::of(poisson, 0), &frusta);
-        assert_eq!(u.settings.filtering[3], 1.0);
+        assert_eq!(u.settings.rotate, 1);
     }
 }

@@ -36,7 +36,7 @@ const PCSS_IGNORED_BLOCKER_FRACTION: f32 = 0.5;
 
 // World width of the penumbra behind a blocker at view depth zb, seen from a receiver at zr.
 fn pcss_penumbra_width(sl: ShadowLight, zr: f32, zb: f32) -> f32 {
-    let w = max(zr - zb, 0.0) * sl.axis.w;
+    let w = max(zr - zb, 0.0) * sl.light_size;
     if shadow_is_perspective(sl) {
         return w / zb;
     }
@@ -45,8 +45,8 @@ fn pcss_penumbra_width(sl: ShadowLight, zr: f32, zb: f32) -> f32 {
 
 // Step 1: (average blocker view depth, blockers found).
 fn pcss_blocker_search(sl: ShadowLight, r: ShadowReceiver, layer: u32, samples: u32, side: f32, rot: vec2<f32>) -> vec2<f32> {
-    let zn = sl.search.x;
-    var width = max(r.z - zn, 0.0) * sl.axis.w;
+    let zn = sl.search_near;
+    var width = max(r.z - zn, 0.0) * sl.light_size;
     if shadow_is_perspective(sl) {
         width /= r.z;
     }

@@ -22,14 +22,14 @@
 // V from map layer `layer` (projection sl) at p with front geometric normal ng, the Poisson
 // taps turned by `rot`.
 fn shadow_visibility(sl: ShadowLight, layer: u32, s: ShadowSettings, p: vec3<f32>, ng: vec3<f32>, rot: vec2<f32>) -> f32 {
-    if SHADOW_METHOD == SHADOW_NONE || sl.info.x == 0u {
+    if SHADOW_METHOD == SHADOW_NONE || sl.shadowed == 0u {
         return 1.0;
     }
     let r = shadow_receiver(sl, s, p, ng);
     if !r.valid {
         return 1.0;
     }
-    let side = s.bias.w;
+    let side = s.map_side;
     switch SHADOW_METHOD {
         case SHADOW_HARD: {
             return shadow_hard(r, layer);
@@ -38,13 +38,13 @@ fn shadow_visibility(sl: ShadowLight, layer: u32, s: ShadowSettings, p: vec3<f32
             return pcf_hw_2x2(r, layer);
         }
         case SHADOW_PCF_BOX: {
-            return pcf_box(r, layer, s.taps.x, side);
+            return pcf_box(r, layer, s.kernel, side);
         }
         case SHADOW_PCF_POISSON: {
-            return pcf_poisson(r, layer, s.taps.y, s.filtering.x / side, rot);
+            return pcf_poisson(r, layer, s.taps, s.radius / side, rot);
         }
         default: {
-            return pcss(sl, r, layer, s.taps.z, s.taps.w, side, s.filtering.y > 0.5, rot);
+            return pcss(sl, r, layer, s.blocker_samples, s.filter_samples, side, s.ignore_blocker_depth != 0u, rot);
         }
     }
 }

@@ -30,7 +30,7 @@
 
 pub mod passes;
 
-use super::method::{Family, Frame, Method, MethodInfo, Override, Row, Settings};
+use super::method::{Family, Frame, Method, MethodInfo, Override, Row, Settings, UniformBlock};
 use super::param::{spec_named, Kind, MethodSpec, Param, Value};
 
 /// The estimator of an SSAO method (each a shader module of its own, passes.rs: no WGSL code
@@ -389,6 +389,15 @@ pub static METHODS: &[MethodSpec<AmbientOcclusion>] = &[
     },
 ];
 
+/// The SSAO family's block of the frame uniform (WGSL `AmbientOcclusionUniforms`,
+/// ssao/lighting.wgsl; `frame.families.ambient_occlusion`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct AmbientOcclusionUniforms {
+    /// What the lighting writes: 0 the shaded image, 1 the AO factor (`output = ao`).
+    pub output: u32,
+}
+
 /// The screen-space ambient occlusion family.
 pub struct AmbientOcclusionFamily;
 
@@ -408,6 +417,27 @@ impl Family for AmbientOcclusionFamily {
 
     fn shared_rows(&self) -> Vec<Row> {
         Row::all(COMMON)
+    }
+
+    fn uniforms(&self) -> Option<UniformBlock> {
+        Some(UniformBlock {
+            field: "ambient_occlusion",
+            wgsl_type: "AmbientOcclusionUniforms",
+            size: std::mem::size_of::<AmbientOcclusionUniforms>(),
+            bytes: |m| {
+                let output = m
+                    .get::<AmbientOcclusion>()
+                    .is_some_and(|a| a.output == SsaoOutput::AoFactor);
+                bytemuck::bytes_of(&AmbientOcclusionUniforms {
+                    output: u32::from(output),
+                })
+                .to_vec()
+            },
+        })
+    }
+
+    fn shading_sources(&self) -> &'static [(&'static str, &'static str)] {
+        &[("ssao/lighting.wgsl", include_str!("lighting.wgsl"))]
     }
 }
 

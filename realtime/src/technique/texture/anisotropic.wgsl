@@ -8,11 +8,11 @@
 // Failure mode: whatever the driver approximates (commonly footprint assembly with up to
 // max_anisotropy trilinear probes); texels are f16 (11 significant bits); the fetch counter
 // counts one trilinear lookup (8), not what the hardware reads.
-// Inputs: texture `t` (layer t of `scene_texture_array`), uv, `uv_footprint`, `frame.texture`.
+// Inputs: texture `t` (layer t of `scene_texture_array`), uv, `uv_footprint`, `frame.families.texture`.
 
 fn texture_anisotropic(t: u32, uv: vec2<f32>) -> vec4<f32> {
     let info = texture_infos[t];
-    let scale = exp2(frame.texture.x);
+    let scale = exp2(frame.families.texture.lod_bias);
     let dx = uv_footprint.xy * scale;
     let dy = uv_footprint.zw * scale;
     count_fetches(8u);

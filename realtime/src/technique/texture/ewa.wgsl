@@ -12,7 +12,7 @@
 // Heckbert §3.5.8 and pbrt (3rd ed.) §10.4.5 describe.
 // Failure mode: a Gaussian, not a box: softer than the pixel's box filter the ground truth is
 // (a bias both ways at edges of texture detail); the cost grows with the ellipse's area.
-// Inputs: texture `t` and its MIP levels, uv, `uv_footprint`, `frame.texture`.
+// Inputs: texture `t` and its MIP levels, uv, `uv_footprint`, `frame.families.texture`.
 
 // Largest half extent of the ellipse's bounding box visited, texels of the level.
 const EWA_MAX_RADIUS: f32 = 32.0;
@@ -72,14 +72,14 @@ fn texture_ewa(t: u32, uv: vec2<f32>) -> vec4<f32> {
     }
     // Lengthen the minor axis (perpendicular to the major one where it has none) to fit
     // max_anisotropy.
-    let least = lmaj / frame.texture.y;
+    let least = lmaj / frame.families.texture.max_anisotropy;
     if lmin < least {
         let dir = select(vec2<f32>(-major.y, major.x) / lmaj, minor / lmin, lmin > 0.0);
         minor = dir * least;
         lmin = least;
     }
     let top = f32(info.mip_count - 1u);
-    let l = clamp(log2(lmin) + frame.texture.x, 0.0, top);
+    let l = clamp(log2(lmin) + frame.families.texture.lod_bias, 0.0, top);
     let l0 = floor(l);
     let fl = l - l0;
     let e0 = ewa_level(t, uv, major, minor, u32(l0));

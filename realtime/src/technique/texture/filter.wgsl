@@ -16,11 +16,19 @@
 // Failure mode: hardware derivatives are wrong where the quad straddles a silhouette or a
 // G-buffer edge (deferred lighting differences its stored uv); the footprint is that of the
 // surface's base uv, not of a parallax-shifted one.
-// Inputs: `uv_footprint` (private), `frame.texture` (lod_bias, max_anisotropy).
+// Inputs: `uv_footprint` (private), the family's uniforms (`frame.families.texture`: `lod_bias`, `max_anisotropy`).
 
 // ∂(u,v)/∂x (xy) and ∂(u,v)/∂y (zw) of the pixel being shaded, per target pixel. Zero until
 // set: every filter then reads level 0 at a point.
 var<private> uv_footprint: vec4<f32>;
+
+// The family's block of the frame uniform (TextureUniforms in texture/mod.rs).
+struct TextureUniforms {
+    // Added to the level of detail λ, levels.
+    lod_bias: f32,
+    // Most probes (tex_footprint) or ellipse eccentricity (tex_ewa).
+    max_anisotropy: f32,
+}
 
 // Whether the method's filter reads a footprint at all (nearest and bilinear do not).
 fn filter_reads_footprint() -> bool {
@@ -86,7 +94,7 @@ fn footprint_texels(info: TextureInfo) -> vec4<f32> {
 // Level of detail λ = log₂ ρ + lod_bias (−∞ without a footprint: level 0).
 fn level_of_detail(info: TextureInfo) -> f32 {
     let j = footprint_texels(info);
-    return log2(max(length(j.xy), length(j.zw))) + frame.texture.x;
+    return log2(max(length(j.xy), length(j.zw))) + frame.families.texture.lod_bias;
 }
 
 // Number of levels of a full pyramid over `n` texels (down to 1).

@@ -8,7 +8,7 @@
 // Failure mode: the axes J·x̂ and J·ŷ stand in for the ellipse's (they are not orthogonal in
 // general); past max_anisotropy the probes blur across the short axis; the probes' boxes
 // overlap or leave gaps where N is rounded.
-// Inputs: texture `t` and its MIP levels, uv, `uv_footprint`, `frame.texture.y`.
+// Inputs: texture `t` and its MIP levels, uv, `uv_footprint`, `frame.families.texture.max_anisotropy`.
 
 fn texture_footprint(t: u32, uv: vec2<f32>) -> vec4<f32> {
     let info = texture_infos[t];
@@ -21,8 +21,8 @@ fn texture_footprint(t: u32, uv: vec2<f32>) -> vec4<f32> {
     if !(major > 0.0) || !(major < 1e30) {
         return texture_sample(t, uv);
     }
-    let n = u32(clamp(ceil(major / max(minor, 1e-6 * major)), 1.0, frame.texture.y));
-    let lambda = log2(major / f32(n)) + frame.texture.x;
+    let n = u32(clamp(ceil(major / max(minor, 1e-6 * major)), 1.0, frame.families.texture.max_anisotropy));
+    let lambda = log2(major / f32(n)) + frame.families.texture.lod_bias;
     var sum = vec4<f32>(0.0);
     for (var k = 0u; k < n; k++) {
         count_iteration();

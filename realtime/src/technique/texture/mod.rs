@@ -46,7 +46,9 @@ pub mod gpu_array;
 pub mod pyramid;
 pub mod sat;
 
-use super::method::{wgsl_method_codes, Family, Frame, Method, MethodInfo, Override, Row, Settings};
+use super::method::{
+    wgsl_method_codes, Family, Frame, Method, MethodInfo, Override, Row, Settings, UniformBlock,
+};
 use super::param::{spec_named, Kind, MethodSpec, Param, Value};
 
 /// Most probes or ellipse eccentricity (`max_anisotropy`), as GPUs' 16×.
@@ -222,9 +224,12 @@ impl TextureFilter {
         self.spec().params.iter()
     }
 
-    /// The frame uniform's `texture`: lod_bias, max_anisotropy, unused, unused.
-    pub fn uniforms(&self) -> [f32; 4] {
-        [self.lod_bias, self.max_anisotropy as f32, 0.0, 0.0]
+    /// Its block of the frame uniform.
+    pub fn uniforms(&self) -> TextureUniforms {
+        TextureUniforms {
+            lod_bias: self.lod_bias,
+            max_anisotropy: self.max_anisotropy as f32,
+        }
     }
 }
 
@@ -378,6 +383,17 @@ pub static METHODS: &[MethodSpec<TextureFilter>] = &[
     },
 ];
 
+/// The texture-filtering family's block of the frame uniform (WGSL `TextureUniforms`,
+/// texture/filter.wgsl; `frame.families.texture`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct TextureUniforms {
+    /// Added to the level of detail λ, levels.
+    pub lod_bias: f32,
+    /// Most probes (`tex_footprint`) or ellipse eccentricity (`tex_ewa`).
+    pub max_anisotropy: f32,
+}
+
 /// The texture filter `m`'s lookups use: its `TextureFilter` part's, or bilinear at level 0.
 pub fn of(m: &Method) -> TextureFilter {
     m.get::<TextureFilter>()
@@ -404,6 +420,17 @@ impl Family for TextureFiltering {
 
     fn wgsl_codes(&self) -> String {
         wgsl_method_codes("TEX_", None, METHODS)
+    }
+
+    /// Every method's lookups filter, so every method has the block (bilinear's without a
+    /// texture-filtering part).
+    fn uniforms(&self) -> Option<UniformBlock> {
+        Some(UniformBlock {
+            field: "texture",
+            wgsl_type: "TextureUniforms",
+            size: std::mem::size_of::<TextureUniforms>(),
+            bytes: |m| bytemuck::bytes_of(&of(m).uniforms()).to_vec(),
+        })
     }
 
     fn shading_sources(&self) -> &'static [(&'static str, &'static str)] {

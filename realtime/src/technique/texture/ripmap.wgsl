@@ -20,7 +20,7 @@ fn texture_ripmap(t: u32, uv: vec2<f32>) -> vec4<f32> {
     let j = footprint_texels(info);
     let extent = max(abs(j.xy), abs(j.zw));
     let top = vec2<f32>(f32(levels_over(info.width) - 1u), f32(levels_over(info.height) - 1u));
-    let l = clamp(log2(extent) + vec2<f32>(frame.texture.x), vec2<f32>(0.0), top);
+    let l = clamp(log2(extent) + vec2<f32>(frame.families.texture.lod_bias), vec2<f32>(0.0), top);
     let l0 = floor(select(vec2<f32>(0.0), l, l == l));
     let f = select(vec2<f32>(0.0), l, l == l) - l0;
     let i0 = u32(l0.x);
