@@ -99,6 +99,19 @@ pub struct Gpu {
     abandoned: std::sync::atomic::AtomicBool,
 }
 
+/// Set when any device of the process was abandoned ([`Gpu::wait_for`]).
+static ANY_ABANDONED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether a device of this process was abandoned with work in flight: it is never destroyed,
+/// and the driver's threads may still be running it. A program should then end without running
+/// the C libraries' exit handlers (`_exit`): on lavapipe, `exit` runs LLVM's and Mesa's static
+/// destructors under those threads, which crashed the process after its error was printed
+/// (SIGSEGV, or "LLVM ERROR" and SIGABRT; 5 of 30 runs of a 0.000001 s wait limit, two at a
+/// time).
+pub fn device_abandoned() -> bool {
+    ANY_ABANDONED.load(std::sync::atomic::Ordering::Relaxed)
+}
+
 impl Drop for Gpu {
     /// wgpu-core's queue, when destroyed, waits about 6 s in all for the last submission and
     /// panics if it has not finished ("We timed out while waiting on the last successful
@@ -233,6 +246,7 @@ impl Gpu {
         let start = std::time::Instant::now();
         let give_up = |e: String| {
             self.abandoned.store(true, std::sync::atomic::Ordering::Relaxed);
+            ANY_ABANDONED.store(true, std::sync::atomic::Ordering::Relaxed);
             RasterError::Gpu {
                 context: context.to_string(),
                 message: format!(

@@ -140,19 +140,30 @@ impl CliError {
 
 /// The `verity` program: parses `std::env::args_os()` and runs the subcommand.
 pub fn main() -> ExitCode {
+    ExitCode::from(run())
+}
+
+/// [`main`]'s exit status: the program as the `verity` binary runs it (which then ends the
+/// process itself where a device was abandoned, src/bin/verity.rs).
+pub fn run() -> u8 {
     realtime::gpu::quiet_headless_vulkan();
-    run_from(std::env::args_os())
+    exit_status(std::env::args_os())
 }
 
 /// Parses `args` (program name first) and runs the subcommand, printing errors on stderr.
 pub fn run_from(args: impl IntoIterator<Item = OsString>) -> ExitCode {
+    ExitCode::from(exit_status(args))
+}
+
+/// [`run_from`]'s exit status.
+fn exit_status(args: impl IntoIterator<Item = OsString>) -> u8 {
     let args: Vec<OsString> = args.into_iter().collect();
     let cli = match Cli::try_parse_from(&args) {
         Ok(cli) => cli,
         Err(e) => {
             // clap prints `error: …` with usage for mistakes, and help/version on stdout.
             let _ = e.print();
-            return ExitCode::from(e.exit_code().clamp(0, 255) as u8);
+            return e.exit_code().clamp(0, 255) as u8;
         }
     };
     let command_line = shell_words(&args);
@@ -163,13 +174,13 @@ pub fn run_from(args: impl IntoIterator<Item = OsString>) -> ExitCode {
     let outcome = panic::catch_unwind(AssertUnwindSafe(|| dispatch(cli, &command_line)));
     let _ = panic::take_hook();
     match outcome {
-        Ok(Ok(code)) => ExitCode::from(code),
+        Ok(Ok(code)) => code,
         Ok(Err(e)) => {
             // One line whatever the message quotes from a file (names, paths, parser output).
             eprintln!("error: {}", scenes::error::one_line(&e.message, MAX_ERROR_CHARS));
-            ExitCode::from(e.failure.exit_status())
+            e.failure.exit_status()
         }
-        Err(_) => ExitCode::from(Failure::Run.exit_status()),
+        Err(_) => Failure::Run.exit_status(),
     }
 }
 
