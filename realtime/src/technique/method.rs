@@ -510,6 +510,12 @@ impl Method {
         .with_primary(part)
     }
 
+    /// The method called `name` in a family's table `specs`, its settings at their defaults,
+    /// as [`Method::of`] builds it; None if the table has no such method.
+    pub fn from_table<T: Settings>(specs: &'static [MethodSpec<T>], name: &str, env_n: u32) -> Option<Self> {
+        spec_named(specs, name).map(|s| Method::of((s.default)(), env_n))
+    }
+
     /// The same method with `part` added (or put in place of its part of that type), named by
     /// it.
     pub fn with_primary<T: Settings>(mut self, part: T) -> Self {

@@ -63,7 +63,7 @@ use super::envmap::localization::{
 };
 use super::envmap::{self, EnvMapping, Parameterization};
 use super::method::{Family, Method, MethodInfo, Override, Row, Settings};
-use super::param::{spec_named, Kind, MethodSpec, Param, Value};
+use super::param::{Kind, MethodSpec, Param, Value};
 
 /// `double_refraction`, a row of both methods.
 const DOUBLE_REFRACTION: Param<EnvMapping> = Param {
@@ -203,7 +203,7 @@ impl Family for DistanceImpostors {
 
     /// As the environment-mapping methods: n = 8, env_n = 8, unshadowed.
     fn method(&self, name: &str) -> Option<Method> {
-        spec_named(METHODS, name).map(|s| Method::of((s.default)(), 8))
+        Method::from_table(METHODS, name, 8)
     }
 
     fn shared_rows(&self) -> Vec<Row> {

@@ -26,7 +26,7 @@
 pub mod tables;
 
 use super::method::{wgsl_method_codes, Family, Method, MethodInfo, Override, Row, Settings};
-use super::param::{spec_named, Kind, MethodSpec, Param, Value};
+use super::param::{Kind, MethodSpec, Param, Value};
 
 /// Which compensation (WGSL `ENERGY_*`, the pipeline constant `ENERGY_METHOD`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -151,7 +151,7 @@ impl Family for EnergyCompensationFamily {
 
     /// Over N×N quadrature (n = 8, env_n = 8), unshadowed.
     fn method(&self, name: &str) -> Option<Method> {
-        spec_named(METHODS, name).map(|s| Method::of((s.default)(), 8))
+        Method::from_table(METHODS, name, 8)
     }
 
     fn wgsl_codes(&self) -> String {

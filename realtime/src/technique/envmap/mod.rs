@@ -28,7 +28,7 @@ use glam::Vec3;
 
 use super::detail::{self, Detail};
 use super::method::{wgsl_method_codes, Family, Method, MethodInfo, Row};
-use super::param::{spec_named, Kind, MethodSpec, Param, Value};
+use super::param::{Kind, MethodSpec, Param, Value};
 use localization::Localization;
 
 pub(crate) mod build;
@@ -408,7 +408,7 @@ impl Family for EnvironmentMapping {
 
     /// Over N×N quadrature (n = 8, env_n = 8), unshadowed, without surface detail.
     fn method(&self, name: &str) -> Option<Method> {
-        spec_named(METHODS, name).map(|s| Method::of((s.default)(), 8))
+        Method::from_table(METHODS, name, 8)
     }
 
     fn shared_rows(&self) -> Vec<Row> {

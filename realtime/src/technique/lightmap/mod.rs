@@ -23,7 +23,7 @@
 //! each axis, a blur of one texel that shows in a shadow edge's width.
 
 use super::method::{wgsl_method_codes, Family, Method, MethodInfo, Override, Row, Settings};
-use super::param::{spec_named, Kind, MethodSpec, Param, Value};
+use super::param::{Kind, MethodSpec, Param, Value};
 
 /// How the atlas is read between texel centres (WGSL `LIGHTMAP_METHOD`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -241,7 +241,7 @@ impl Family for LightMaps {
 
     /// Over N×N quadrature (n = 8, env_n = 8), unshadowed.
     fn method(&self, name: &str) -> Option<Method> {
-        spec_named(METHODS, name).map(|s| Method::of((s.default)(), 8))
+        Method::from_table(METHODS, name, 8)
     }
 
     fn shared_rows(&self) -> Vec<Row> {

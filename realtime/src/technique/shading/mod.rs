@@ -17,7 +17,7 @@
 //! error is the exact surface's (a `sphere` instead of the icosphere).
 
 use super::method::{wgsl_method_codes, Family, Frame, Method, MethodInfo, Override, Row, Settings};
-use super::param::{spec_named, Kind, MethodSpec, Param, Value};
+use super::param::{Kind, MethodSpec, Param, Value};
 
 /// Where Gouraud shading takes a textured base colour (albedo) from (WGSL `VERTEX_ALBEDO`).
 /// Fixed-function OpenGL lit vertices with the material's colour and applied the texture per
@@ -173,7 +173,7 @@ impl Family for ShadingFrequencies {
 
     /// Over N×N quadrature (n = 8, env_n = 8), unshadowed.
     fn method(&self, name: &str) -> Option<Method> {
-        spec_named(METHODS, name).map(|s| Method::of((s.default)(), 8))
+        Method::from_table(METHODS, name, 8)
     }
 
     /// `SHADING_*` and `VERTEX_ALBEDO_*`.

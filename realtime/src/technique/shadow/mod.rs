@@ -27,7 +27,7 @@ pub mod maps;
 pub mod poisson;
 
 use super::method::{wgsl_method_codes, Family, Frame, Method, MethodInfo, Override, Row, Settings};
-use super::param::{spec_named, Kind, MethodSpec, Param, Value};
+use super::param::{Kind, MethodSpec, Param, Value};
 
 /// Largest Poisson tap count (`taps`, `blocker_samples`, `filter_samples`): the size of the
 /// tap table ([`poisson::POISSON_TAPS`]).
@@ -518,7 +518,7 @@ impl Family for ShadowMapping {
 
     /// Over N×N quadrature with n = 8, env_n = 0.
     fn method(&self, name: &str) -> Option<Method> {
-        spec_named(METHODS, name).map(|s| Method::of((s.default)(), 0))
+        Method::from_table(METHODS, name, 0)
     }
 
     fn shared_rows(&self) -> Vec<Row> {

@@ -31,7 +31,7 @@
 pub mod passes;
 
 use super::method::{Family, Frame, Method, MethodInfo, Override, Row, Settings, UniformBlock};
-use super::param::{spec_named, Kind, MethodSpec, Param, Value};
+use super::param::{Kind, MethodSpec, Param, Value};
 
 /// The estimator of an SSAO method (each a shader module of its own, passes.rs: no WGSL code
 /// selects it).
@@ -412,7 +412,7 @@ impl Family for AmbientOcclusionFamily {
 
     /// Over N×N quadrature (n = 8, env_n = 8), unshadowed.
     fn method(&self, name: &str) -> Option<Method> {
-        spec_named(METHODS, name).map(|s| Method::of((s.default)(), 8))
+        Method::from_table(METHODS, name, 8)
     }
 
     fn shared_rows(&self) -> Vec<Row> {
